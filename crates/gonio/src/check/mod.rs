@@ -1,0 +1,1 @@
+//! Checks: the statistical and numerical tests every sampler must pass.

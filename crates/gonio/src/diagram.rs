@@ -1,0 +1,451 @@
+//! The goniometric diagram: non-negative values on a latitude–longitude grid of directions.
+//!
+//! Frame (ALGORITHM §1): θ is the polar angle measured from +z, φ the azimuth measured from +x
+//! toward +y, so the direction of (θ, φ) is `(sin θ cos φ, sin θ sin φ, cos θ)`. Angles are stored in
+//! **radians**; the JSON format and [`Diagram::from_degrees`] speak degrees.
+//!
+//! * Parallels θ_j, j = 0..N−1: strictly increasing, within [0, π]. A hemisphere diagram lies in
+//!   [0, π/2]; photometric files converted by [`crate::photometry`] may cover the whole sphere.
+//! * Meridians φ_i, i = 0..M−1: strictly increasing, within [0, 2π); non-uniform spacing allowed;
+//!   M = 1 means rotationally symmetric. The last meridian wraps around to the first one.
+//! * Values p_{i,j} ≥ 0, finite, in any scale (candela, relative intensity, pdf…). Stored
+//!   row-major: `values[i * N + j]` is the value on meridian i at parallel j.
+//!
+//! **Pole values.** Meridians may disagree at θ = 0 (or θ = π): the values are kept as given, so the
+//! interpolated density is direction-dependent in an arbitrarily small neighbourhood of the pole and
+//! takes the value of meridian 0 exactly at the pole (where φ = atan2(0, 0) = 0). The pole is a single
+//! direction of measure zero, so no probability is changed by this, and no measured value is altered.
+//! See ALGORITHM §10 A12.
+
+use serde::{Deserialize, Serialize};
+use std::f64::consts::{PI, TAU};
+
+/// Largest number of grid nodes (M·N) a diagram may hold: 2²⁶ ≈ 67 million values (512 MiB of f64).
+///
+/// A 0.1° × 0.1° full-sphere grid has 6.5 million nodes, so real data stays far below this cap; it exists
+/// so that no input can make the library allocate without bound.
+pub const MAX_NODES: usize = 1 << 26;
+
+/// Why a diagram was refused. Indices are zero-based: `meridian` i indexes φ, `parallel` j indexes θ.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum DiagramError {
+    /// No parallels or no meridians were given.
+    #[error("the diagram needs at least one parallel (θ) and one meridian (φ); got {parallels} parallels and {meridians} meridians")]
+    Empty {
+        /// Number of parallels given.
+        parallels: usize,
+        /// Number of meridians given.
+        meridians: usize,
+    },
+    /// M·N exceeds [`MAX_NODES`] (or overflows).
+    #[error("the diagram has {meridians} × {parallels} nodes, more than the limit of {MAX_NODES}")]
+    TooLarge {
+        /// Number of parallels given.
+        parallels: usize,
+        /// Number of meridians given.
+        meridians: usize,
+    },
+    /// An angle is NaN or infinite.
+    #[error("{axis} angle #{index} is not finite ({value})")]
+    NonFiniteAngle {
+        /// `"theta"` or `"phi"`.
+        axis: &'static str,
+        /// Index of the angle.
+        index: usize,
+        /// The offending value, in the unit it was given.
+        value: f64,
+    },
+    /// An angle lies outside its range (θ in [0°, 180°], φ in [0°, 360°)).
+    #[error("{axis} angle #{index} = {value_deg}° is outside {range}")]
+    AngleOutOfRange {
+        /// `"theta"` or `"phi"`.
+        axis: &'static str,
+        /// Index of the angle.
+        index: usize,
+        /// The angle in degrees.
+        value_deg: f64,
+        /// The allowed range, in words.
+        range: &'static str,
+    },
+    /// Angles are not strictly increasing (unsorted or duplicated).
+    #[error("{axis} angles must be strictly increasing, but #{index} = {value_deg}° follows {previous_deg}°")]
+    NotIncreasing {
+        /// `"theta"` or `"phi"`.
+        axis: &'static str,
+        /// Index of the angle that is not larger than its predecessor.
+        index: usize,
+        /// That angle, in degrees.
+        value_deg: f64,
+        /// Its predecessor, in degrees.
+        previous_deg: f64,
+    },
+    /// The value table does not have M rows of N values.
+    #[error("values: expected {expected} entries in {what}, found {found}")]
+    Shape {
+        /// What was counted, e.g. `"values"` or `"values[3]"`.
+        what: String,
+        /// The expected count.
+        expected: usize,
+        /// The count found.
+        found: usize,
+    },
+    /// A value is NaN, infinite or negative.
+    #[error("values[{meridian}][{parallel}] = {value} is not a finite non-negative number")]
+    BadValue {
+        /// Meridian index i.
+        meridian: usize,
+        /// Parallel index j.
+        parallel: usize,
+        /// The offending value.
+        value: f64,
+    },
+    /// Every value is zero, so there is nothing to sample.
+    #[error("the diagram has zero total power: every value is 0")]
+    ZeroPower,
+    /// The diagram does not fit the domain of the sampler it was given to.
+    #[error("{0}")]
+    Domain(String),
+}
+
+/// A validated goniometric diagram. See the [module documentation](self) for the frame and layout.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Diagram {
+    theta: Vec<f64>,
+    phi: Vec<f64>,
+    values: Vec<f64>,
+}
+
+/// The native JSON form: `{"theta_deg": [...], "phi_deg": [...], "values": [[...], ...]}`, where
+/// `values[i][j]` is the value at (`phi_deg[i]`, `theta_deg[j]`). Unknown keys are refused.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DiagramJson {
+    /// Parallels θ_j in degrees from +z, strictly increasing.
+    pub theta_deg: Vec<f64>,
+    /// Meridians φ_i in degrees from +x toward +y, strictly increasing in [0, 360).
+    pub phi_deg: Vec<f64>,
+    /// `values[i][j]`: the value on meridian i at parallel j.
+    pub values: Vec<Vec<f64>>,
+}
+
+fn check_axis(
+    axis: &'static str,
+    angles: &[f64],
+    max: f64,
+    max_inclusive: bool,
+    range: &'static str,
+) -> Result<(), DiagramError> {
+    for (index, &a) in angles.iter().enumerate() {
+        if !a.is_finite() {
+            return Err(DiagramError::NonFiniteAngle {
+                axis,
+                index,
+                value: a,
+            });
+        }
+        let above = if max_inclusive { a > max } else { a >= max };
+        if a < 0.0 || above {
+            return Err(DiagramError::AngleOutOfRange {
+                axis,
+                index,
+                value_deg: a.to_degrees(),
+                range,
+            });
+        }
+        if index > 0 && a <= angles[index - 1] {
+            return Err(DiagramError::NotIncreasing {
+                axis,
+                index,
+                value_deg: a.to_degrees(),
+                previous_deg: angles[index - 1].to_degrees(),
+            });
+        }
+    }
+    Ok(())
+}
+
+impl Diagram {
+    /// Builds a diagram from angles in **radians** and a row-major value table
+    /// (`values[i * theta.len() + j]` on meridian i, parallel j).
+    ///
+    /// θ must be strictly increasing in [0, π], φ strictly increasing in [0, 2π), values finite
+    /// and ≥ 0, not all zero.
+    pub fn new(theta: Vec<f64>, phi: Vec<f64>, values: Vec<f64>) -> Result<Self, DiagramError> {
+        let (n, m) = (theta.len(), phi.len());
+        if n == 0 || m == 0 {
+            return Err(DiagramError::Empty {
+                parallels: n,
+                meridians: m,
+            });
+        }
+        match n.checked_mul(m) {
+            Some(c) if c <= MAX_NODES => {}
+            _ => {
+                return Err(DiagramError::TooLarge {
+                    parallels: n,
+                    meridians: m,
+                })
+            }
+        }
+        check_axis("theta", &theta, PI, true, "[0°, 180°]")?;
+        check_axis("phi", &phi, TAU, false, "[0°, 360°)")?;
+        if values.len() != n * m {
+            return Err(DiagramError::Shape {
+                what: "values".into(),
+                expected: n * m,
+                found: values.len(),
+            });
+        }
+        let mut any_positive = false;
+        for (k, &v) in values.iter().enumerate() {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(DiagramError::BadValue {
+                    meridian: k / n,
+                    parallel: k % n,
+                    value: v,
+                });
+            }
+            any_positive |= v > 0.0;
+        }
+        if !any_positive {
+            return Err(DiagramError::ZeroPower);
+        }
+        Ok(Self { theta, phi, values })
+    }
+
+    /// Builds a diagram from angles in **degrees** and nested rows, `values[i][j]` at (φ_i, θ_j).
+    pub fn from_degrees(
+        theta_deg: &[f64],
+        phi_deg: &[f64],
+        values: &[Vec<f64>],
+    ) -> Result<Self, DiagramError> {
+        if values.len() != phi_deg.len() {
+            return Err(DiagramError::Shape {
+                what: "values (one row per phi_deg entry)".into(),
+                expected: phi_deg.len(),
+                found: values.len(),
+            });
+        }
+        for (i, row) in values.iter().enumerate() {
+            if row.len() != theta_deg.len() {
+                return Err(DiagramError::Shape {
+                    what: format!("values[{i}] (one entry per theta_deg entry)"),
+                    expected: theta_deg.len(),
+                    found: row.len(),
+                });
+            }
+        }
+        // Angles are checked in degrees first so that 360° is refused even if rounding in the
+        // conversion would bring it just below 2π.
+        for (index, &p) in phi_deg.iter().enumerate() {
+            if p.is_finite() && p >= 360.0 {
+                return Err(DiagramError::AngleOutOfRange {
+                    axis: "phi",
+                    index,
+                    value_deg: p,
+                    range: "[0°, 360°)",
+                });
+            }
+        }
+        for (index, &t) in theta_deg.iter().enumerate() {
+            if t.is_finite() && t > 180.0 {
+                return Err(DiagramError::AngleOutOfRange {
+                    axis: "theta",
+                    index,
+                    value_deg: t,
+                    range: "[0°, 180°]",
+                });
+            }
+        }
+        let theta = theta_deg.iter().map(|t| deg(*t).min(PI)).collect();
+        let phi = phi_deg.iter().map(|p| deg(*p)).collect();
+        Self::new(theta, phi, values.concat())
+    }
+
+    /// Parses the native JSON form (see [`DiagramJson`]).
+    pub fn from_json_str(text: &str) -> Result<Self, crate::Error> {
+        let j: DiagramJson = serde_json::from_str(text).map_err(|e| crate::Error::Json {
+            line: e.line(),
+            column: e.column(),
+            message: e.to_string(),
+        })?;
+        Ok(Self::from_degrees(&j.theta_deg, &j.phi_deg, &j.values)?)
+    }
+
+    /// The native JSON form (angles in degrees).
+    pub fn to_json(&self) -> DiagramJson {
+        DiagramJson {
+            theta_deg: self.theta.iter().map(|t| t.to_degrees()).collect(),
+            phi_deg: self.phi.iter().map(|p| p.to_degrees()).collect(),
+            values: self.values.chunks(self.theta.len()).map(<[f64]>::to_vec).collect(),
+        }
+    }
+
+    /// Parallels θ_j in radians from +z, strictly increasing.
+    pub fn theta(&self) -> &[f64] {
+        &self.theta
+    }
+    /// Meridians φ_i in radians from +x toward +y, strictly increasing in [0, 2π).
+    pub fn phi(&self) -> &[f64] {
+        &self.phi
+    }
+    /// Row-major values: `values()[i * n_parallels() + j]` on meridian i at parallel j.
+    pub fn values(&self) -> &[f64] {
+        &self.values
+    }
+    /// Number of parallels N.
+    pub fn n_parallels(&self) -> usize {
+        self.theta.len()
+    }
+    /// Number of meridians M.
+    pub fn n_meridians(&self) -> usize {
+        self.phi.len()
+    }
+    /// The value on meridian `i` at parallel `j`.
+    pub fn value(&self, i: usize, j: usize) -> f64 {
+        self.values[i * self.theta.len() + j]
+    }
+    /// The largest value.
+    pub fn max_value(&self) -> f64 {
+        self.values.iter().fold(0.0, |a, &b| a.max(b))
+    }
+
+    /// The diagram interpolated **bilinearly in (θ, φ)** at polar angle `theta` and azimuth `phi`
+    /// (radians; φ taken modulo 2π), in the diagram's own units, not normalised.
+    ///
+    /// Between the last and the first meridian the interpolation wraps around through 2π; with
+    /// one meridian the value does not depend on φ. Outside [θ_0, θ_{N−1}] the value is 0 (a
+    /// direction the diagram does not cover carries no power).
+    pub fn interpolate(&self, theta: f64, phi: f64) -> f64 {
+        let n = self.theta.len();
+        let (t0, t1) = (self.theta[0], self.theta[n - 1]);
+        if !(theta >= t0 && theta <= t1) {
+            return 0.0;
+        }
+        let (j, t) = if n == 1 {
+            (0, 0.0)
+        } else {
+            let j = segment(&self.theta, theta);
+            let t = (theta - self.theta[j]) / (self.theta[j + 1] - self.theta[j]);
+            (j, t.clamp(0.0, 1.0))
+        };
+        let (i0, i1, e) = self.meridian_weights(phi);
+        let jn = (j + 1).min(n - 1);
+        let row = |i: usize| (1.0 - t) * self.value(i, j) + t * self.value(i, jn);
+        (1.0 - e) * row(i0) + e * row(i1)
+    }
+
+    /// The two meridians that bracket azimuth `phi` (radians) and the weight of the second:
+    /// `(i0, i1, e)` with value = (1−e)·row(i0) + e·row(i1), wrapping around 2π.
+    pub fn meridian_weights(&self, phi: f64) -> (usize, usize, f64) {
+        let m = self.phi.len();
+        let p = phi.rem_euclid(TAU);
+        if m == 1 {
+            return (0, 0, 0.0);
+        }
+        let (first, last) = (self.phi[0], self.phi[m - 1]);
+        if p >= last || p < first {
+            // Wrap sector from the last meridian to the first one (+2π).
+            let width = first + TAU - last;
+            let off = if p >= last { p - last } else { p + TAU - last };
+            return (m - 1, 0, (off / width).clamp(0.0, 1.0));
+        }
+        let i = segment(&self.phi, p);
+        let e = (p - self.phi[i]) / (self.phi[i + 1] - self.phi[i]);
+        (i, i + 1, e.clamp(0.0, 1.0))
+    }
+}
+
+/// Degrees to radians.
+fn deg(d: f64) -> f64 {
+    d.to_radians()
+}
+
+/// Index k of the segment [a_k, a_{k+1}] that holds `x`, for strictly increasing `a` with at least two
+/// entries: the largest k ≤ len−2 with a_k ≤ x (k = 0 when x < a_0).
+pub(crate) fn segment(a: &[f64], x: f64) -> usize {
+    let k = a.partition_point(|&v| v <= x);
+    k.saturating_sub(1).min(a.len() - 2)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn simple() -> Diagram {
+        Diagram::from_degrees(
+            &[0.0, 45.0, 90.0],
+            &[0.0, 90.0, 180.0, 270.0],
+            &[
+                vec![1.0, 2.0, 3.0],
+                vec![1.0, 4.0, 0.0],
+                vec![1.0, 2.0, 3.0],
+                vec![1.0, 0.0, 0.0],
+            ],
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn interpolation_hits_nodes_and_wraps() {
+        let d = simple();
+        for i in 0..4 {
+            for j in 0..3 {
+                let v = d.interpolate(d.theta()[j], d.phi()[i]);
+                assert!((v - d.value(i, j)).abs() < 1e-12, "node ({i},{j})");
+            }
+        }
+        // halfway between meridian 3 (270°) and meridian 0 (360°) at θ = 45°: (0 + 2)/2
+        let v = d.interpolate(45f64.to_radians(), 315f64.to_radians());
+        assert!((v - 1.0).abs() < 1e-12);
+        // outside the θ range
+        let h = Diagram::from_degrees(&[10.0, 20.0], &[0.0], &[vec![1.0, 1.0]]).unwrap();
+        assert_eq!(h.interpolate(5f64.to_radians(), 0.0), 0.0);
+    }
+
+    #[test]
+    fn refuses_bad_input() {
+        let r = |t: &[f64], p: &[f64], v: &[Vec<f64>]| Diagram::from_degrees(t, p, v).unwrap_err();
+        assert!(matches!(
+            r(&[0.0, 0.0], &[0.0], &[vec![1.0, 1.0]]),
+            DiagramError::NotIncreasing { .. }
+        ));
+        assert!(matches!(
+            r(&[0.0, 90.0], &[360.0], &[vec![1.0, 1.0]]),
+            DiagramError::AngleOutOfRange { .. }
+        ));
+        assert!(matches!(
+            r(&[0.0, 90.0], &[0.0], &[vec![1.0, -1.0]]),
+            DiagramError::BadValue { .. }
+        ));
+        assert!(matches!(
+            r(&[0.0, 90.0], &[0.0], &[vec![0.0, 0.0]]),
+            DiagramError::ZeroPower
+        ));
+        assert!(matches!(
+            r(&[0.0, 90.0], &[0.0], &[vec![1.0]]),
+            DiagramError::Shape { .. }
+        ));
+        assert!(matches!(
+            r(&[0.0, f64::NAN], &[0.0], &[vec![1.0, 1.0]]),
+            DiagramError::NonFiniteAngle { .. }
+        ));
+        assert!(matches!(r(&[], &[0.0], &[vec![]]), DiagramError::Empty { .. }));
+    }
+
+    #[test]
+    fn json_round_trip_and_unknown_keys() {
+        let d = simple();
+        let text = serde_json::to_string(&d.to_json()).unwrap();
+        let back = Diagram::from_json_str(&text).unwrap();
+        assert_eq!(back.n_meridians(), 4);
+        for (a, b) in back.values().iter().zip(d.values()) {
+            assert_eq!(a, b);
+        }
+        let bad = r#"{"theta_deg":[0,90],"phi_deg":[0],"values":[[1,1]],"extra":1}"#;
+        assert!(matches!(
+            Diagram::from_json_str(bad),
+            Err(crate::Error::Json { .. })
+        ));
+    }
+}

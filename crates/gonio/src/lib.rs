@@ -1,0 +1,43 @@
+//! # gonio — goniometric diagram mapping
+//!
+//! Importance sampling of a tabulated directional distribution (a luminaire's goniometric diagram
+//! from an IES LM-63 or EULUMDAT file, or any non-negative table on a (θ, φ) grid) through the
+//! Havran–Dmitriev–Seidel mapping (Eurographics 2003): a bijective, continuous map from the unit
+//! square to the hemisphere or sphere, with closed-form inverse and the exact pdf of every sample.
+//!
+//! The modules follow the data flow **file → diagram → mapping → samples → checks**:
+//!
+//! * [`photometry`] reads IES LM-63 and EULUMDAT files and expands their symmetry into a
+//! * [`diagram::Diagram`], which [`mapping`] turns into a [`mapping::HemisphereMap`] or
+//!   [`mapping::SphereMap`], both [`sampler::Sampler`]s, as are the [`baselines`];
+//! * [`sequence`] provides the points of the unit square (Halton, Owen-scrambled Sobol', iid);
+//! * [`check`] holds the statistical tests every sampler must pass.
+//!
+//! The mathematics and every formula's derivation are in `shared/design/ALGORITHM.md`; section
+//! numbers (§) in the documentation refer to it.
+//!
+//! ```
+//! use gonio::{Diagram, HemisphereMap, Sampler};
+//! // A cosine-like lobe on 3 parallels × 1 meridian (rotationally symmetric), values in candela.
+//! let d = Diagram::from_degrees(&[0.0, 45.0, 90.0], &[0.0], &[vec![1.0, 0.7, 0.0]]).unwrap();
+//! let map = HemisphereMap::new(&d).unwrap();
+//! let s = map.sample([0.3, 0.7]);
+//! assert!((map.pdf(s.direction) - s.pdf).abs() < 1e-12 * s.pdf);
+//! let u = map.invert(s.direction).unwrap();
+//! assert!((u[0] - 0.3).abs() < 1e-10 && (u[1] - 0.7).abs() < 1e-10);
+//! ```
+#![warn(missing_docs)]
+
+pub mod baselines;
+pub mod check;
+pub mod diagram;
+pub mod error;
+pub mod mapping;
+pub mod photometry;
+pub mod sampler;
+pub mod sequence;
+
+pub use diagram::{Diagram, DiagramError};
+pub use error::Error;
+pub use mapping::{HemisphereMap, SphereMap};
+pub use sampler::{Domain, InvertError, Point2, Sample, Sampler, Vec3};

@@ -1,0 +1,157 @@
+//! The one sampler contract every method of the project implements: the HDS mapping on the
+//! hemisphere and on the sphere, and every baseline. The CLI, the checks, the benchmarks and the
+//! plots take any `&dyn Sampler` without special cases (STYLE.md).
+//!
+//! Directions are unit vectors `[x, y, z]` in the sampler's frame; densities are **per steradian**
+//! with respect to solid angle; points of the unit square are `[u, v]` with 0 ≤ u, v ≤ 1.
+
+use rayon::prelude::*;
+
+/// A unit direction `[x, y, z]`.
+pub type Vec3 = [f64; 3];
+/// A point `[u, v]` of the unit square [0, 1]².
+pub type Point2 = [f64; 2];
+
+/// One sample: a unit direction and the exact density (per steradian) of the map that produced it.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Sample {
+    /// The sampled unit direction.
+    pub direction: Vec3,
+    /// Density of the sampler at `direction`, per steradian. Equal to [`Sampler::pdf`] there.
+    pub pdf: f64,
+}
+
+/// The part of the sphere a sampler covers.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Domain {
+    /// The upper hemisphere z ≥ 0 (2π sr).
+    Hemisphere,
+    /// The whole sphere (4π sr).
+    Sphere,
+}
+
+impl Domain {
+    /// Solid angle of the domain in steradians.
+    pub fn solid_angle(self) -> f64 {
+        match self {
+            Domain::Hemisphere => 2.0 * std::f64::consts::PI,
+            Domain::Sphere => 4.0 * std::f64::consts::PI,
+        }
+    }
+    /// Whether the unit direction `d` lies in the domain.
+    pub fn contains(self, d: Vec3) -> bool {
+        match self {
+            Domain::Hemisphere => d[2] >= 0.0,
+            Domain::Sphere => true,
+        }
+    }
+}
+
+/// Why [`Sampler::invert`] gave no point.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+pub enum InvertError {
+    /// The method has no inverse (e.g. rejection sampling).
+    #[error("this sampling method has no inverse")]
+    Unsupported,
+    /// The direction is not in the sampler's domain or is not a finite non-zero vector.
+    #[error("the direction lies outside the sampler's domain")]
+    OutsideDomain,
+}
+
+/// A map from the unit square to directions with its exact density and (where it exists) its inverse.
+///
+/// Contract, for every implementation:
+/// * `sample(u)` is defined for every `u` in the closed square [0, 1]² and returns a finite unit
+///   direction in [`Sampler::domain`] with `pdf == self.pdf(direction)` (up to round-off);
+/// * `pdf(d)` is the density of `sample` per steradian, 0 outside the domain and where the target is 0;
+/// * `invert(sample(u)) == u` wherever the pdf is positive (away from measure-zero seams that the
+///   implementation documents).
+pub trait Sampler: Send + Sync {
+    /// Short name of the method, as the CLI's `--method` spells it.
+    fn name(&self) -> &'static str;
+    /// The domain the samples lie in.
+    fn domain(&self) -> Domain;
+    /// Maps a point of the unit square to a direction and its density.
+    fn sample(&self, u: Point2) -> Sample;
+    /// Density of [`Sampler::sample`] at a unit direction, per steradian.
+    fn pdf(&self, direction: Vec3) -> f64;
+    /// The point of the unit square that `sample` maps to `direction`.
+    fn invert(&self, direction: Vec3) -> Result<Point2, InvertError>;
+    /// The target density the sampler approximates (the diagram interpolated bilinearly in (θ, φ),
+    /// normalised to integrate to 1 over the domain), per steradian.
+    fn target_pdf(&self, direction: Vec3) -> f64;
+    /// Bytes held by the sampler's precomputed tables.
+    fn memory_bytes(&self) -> usize;
+
+    /// Samples every point of `u` into the same position of `out`; allocates nothing.
+    ///
+    /// # Panics
+    /// If the two slices differ in length (a programming error, not an input error).
+    fn sample_batch(&self, u: &[Point2], out: &mut [Sample]) {
+        assert_eq!(u.len(), out.len(), "sample_batch: slices differ in length");
+        for (o, &p) in out.iter_mut().zip(u) {
+            *o = self.sample(p);
+        }
+    }
+}
+
+/// Points per rayon task in the parallel batch functions.
+const PAR_CHUNK: usize = 4096;
+
+/// [`Sampler::sample_batch`] on all rayon threads. Each output depends only on its own input point,
+/// so the result is identical for any number of threads.
+///
+/// # Panics
+/// If the two slices differ in length.
+pub fn sample_batch_par<S: Sampler + ?Sized>(sampler: &S, u: &[Point2], out: &mut [Sample]) {
+    assert_eq!(u.len(), out.len(), "sample_batch_par: slices differ in length");
+    out.par_chunks_mut(PAR_CHUNK)
+        .zip(u.par_chunks(PAR_CHUNK))
+        .for_each(|(o, p)| sampler.sample_batch(p, o));
+}
+
+/// [`Sampler::pdf`] for every direction, on all rayon threads.
+///
+/// # Panics
+/// If the two slices differ in length.
+pub fn pdf_batch_par<S: Sampler + ?Sized>(sampler: &S, dirs: &[Vec3], out: &mut [f64]) {
+    assert_eq!(dirs.len(), out.len(), "pdf_batch_par: slices differ in length");
+    out.par_chunks_mut(PAR_CHUNK)
+        .zip(dirs.par_chunks(PAR_CHUNK))
+        .for_each(|(o, d)| {
+            for (o, d) in o.iter_mut().zip(d) {
+                *o = sampler.pdf(*d);
+            }
+        });
+}
+
+/// Polar angle θ (radians from +z) and azimuth φ in [0, 2π) (radians from +x toward +y) of a unit
+/// direction.
+pub fn spherical(d: Vec3) -> (f64, f64) {
+    let theta = d[2].clamp(-1.0, 1.0).acos();
+    let mut phi = d[1].atan2(d[0]);
+    if phi < 0.0 {
+        phi += std::f64::consts::TAU;
+    }
+    if phi >= std::f64::consts::TAU {
+        phi = 0.0;
+    }
+    (theta, phi)
+}
+
+/// The unit direction of polar angle θ and azimuth φ (radians).
+pub fn direction(theta: f64, phi: f64) -> Vec3 {
+    let (st, ct) = theta.sin_cos();
+    let (sp, cp) = phi.sin_cos();
+    [st * cp, st * sp, ct]
+}
+
+/// `d` scaled to unit length, or `None` if it is zero or not finite.
+pub fn normalize(d: Vec3) -> Option<Vec3> {
+    let l = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+    if l.is_finite() && l > 0.0 && d.iter().all(|c| c.is_finite()) {
+        Some([d[0] / l, d[1] / l, d[2] / l])
+    } else {
+        None
+    }
+}
