@@ -335,6 +335,40 @@ impl Diagram {
         (1.0 - e) * row(i0) + e * row(i1)
     }
 
+    /// Sector widths β_i = φ_{i+1} − φ_i in radians, the last one wrapping to φ_0 + 2π
+    /// (one sector of width 2π when M = 1).
+    pub fn sector_widths(&self) -> Vec<f64> {
+        let m = self.phi.len();
+        (0..m)
+            .map(|i| {
+                if i + 1 < m {
+                    self.phi[i + 1] - self.phi[i]
+                } else {
+                    self.phi[0] + TAU - self.phi[i]
+                }
+            })
+            .collect()
+    }
+
+    /// ∫ over the sphere of the diagram interpolated bilinearly in (θ, φ) (see
+    /// [`Diagram::interpolate`]), dω in steradians, in closed form. For a diagram in candela this is the
+    /// luminous flux in lumens.
+    pub fn integral(&self) -> f64 {
+        let (n, m) = (self.theta.len(), self.phi.len());
+        let beta = self.sector_widths();
+        let mut total = 0.0;
+        for j in 0..n.saturating_sub(1) {
+            let (w0, w1) = cell_weights(self.theta[j], self.theta[j + 1]);
+            for (i, b) in beta.iter().enumerate() {
+                let i1 = (i + 1) % m;
+                let a = self.value(i, j) + self.value(i1, j);
+                let c = self.value(i, j + 1) + self.value(i1, j + 1);
+                total += 0.5 * b * (a * w0 + c * w1);
+            }
+        }
+        total
+    }
+
     /// The two meridians that bracket azimuth `phi` (radians) and the weight of the second:
     /// `(i0, i1, e)` with value = (1−e)·row(i0) + e·row(i1), wrapping around 2π.
     pub fn meridian_weights(&self, phi: f64) -> (usize, usize, f64) {
@@ -354,6 +388,17 @@ impl Diagram {
         let e = (p - self.phi[i]) / (self.phi[i + 1] - self.phi[i]);
         (i, i + 1, e.clamp(0.0, 1.0))
     }
+}
+
+/// (∫(1−t) sin θ dθ, ∫ t sin θ dθ) over [a, b] with t = (θ − a)/(b − a): the weights of the two
+/// end values of a linear-in-θ profile in the solid-angle integral of one cell.
+pub(crate) fn cell_weights(a: f64, b: f64) -> (f64, f64) {
+    let h = b - a;
+    // (sin b − sin a)/h written without cancellation.
+    let mean_cos = 2.0 * (0.5 * (a + b)).cos() * (0.5 * h).sin() / h;
+    let w1 = mean_cos - b.cos();
+    let w0 = (a.cos() - b.cos()) - w1;
+    (w0, w1)
 }
 
 /// Degrees to radians.
@@ -401,6 +446,19 @@ mod tests {
         // outside the θ range
         let h = Diagram::from_degrees(&[10.0, 20.0], &[0.0], &[vec![1.0, 1.0]]).unwrap();
         assert_eq!(h.interpolate(5f64.to_radians(), 0.0), 0.0);
+    }
+
+    #[test]
+    fn integral_of_constant_is_solid_angle() {
+        let d = Diagram::from_degrees(&[0.0, 30.0, 90.0], &[0.0, 10.0, 200.0], &vec![vec![2.0; 3]; 3])
+            .unwrap();
+        let want = 2.0 * 2.0 * PI;
+        assert!((d.integral() - want).abs() < 1e-12 * want);
+        // cos θ on the upper hemisphere, sampled finely: ∫ cos θ dω = π
+        let t: Vec<f64> = (0..=900).map(|k| k as f64 * 0.1).collect();
+        let row: Vec<f64> = t.iter().map(|x| x.to_radians().cos()).collect();
+        let d = Diagram::from_degrees(&t, &[0.0], &[row]).unwrap();
+        assert!((d.integral() - PI).abs() < 1e-5);
     }
 
     #[test]
