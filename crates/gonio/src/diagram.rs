@@ -257,7 +257,10 @@ impl Diagram {
                 });
             }
         }
-        let theta = theta_deg.iter().map(|t| deg(*t).min(PI)).collect();
+        let theta = theta_deg
+            .iter()
+            .map(|t| if deg(*t) > PI { PI } else { deg(*t) })
+            .collect();
         let phi = phi_deg.iter().map(|p| deg(*p)).collect();
         Self::new(theta, phi, values.concat())
     }
@@ -277,7 +280,11 @@ impl Diagram {
         DiagramJson {
             theta_deg: self.theta.iter().map(|t| t.to_degrees()).collect(),
             phi_deg: self.phi.iter().map(|p| p.to_degrees()).collect(),
-            values: self.values.chunks(self.theta.len()).map(<[f64]>::to_vec).collect(),
+            values: self
+                .values
+                .chunks(self.theta.len())
+                .map(<[f64]>::to_vec)
+                .collect(),
         }
     }
 
@@ -450,8 +457,12 @@ mod tests {
 
     #[test]
     fn integral_of_constant_is_solid_angle() {
-        let d = Diagram::from_degrees(&[0.0, 30.0, 90.0], &[0.0, 10.0, 200.0], &vec![vec![2.0; 3]; 3])
-            .unwrap();
+        let d = Diagram::from_degrees(
+            &[0.0, 30.0, 90.0],
+            &[0.0, 10.0, 200.0],
+            &vec![vec![2.0; 3]; 3],
+        )
+        .unwrap();
         let want = 2.0 * 2.0 * PI;
         assert!((d.integral() - want).abs() < 1e-12 * want);
         // cos θ on the upper hemisphere, sampled finely: ∫ cos θ dω = π
@@ -488,7 +499,10 @@ mod tests {
             r(&[0.0, f64::NAN], &[0.0], &[vec![1.0, 1.0]]),
             DiagramError::NonFiniteAngle { .. }
         ));
-        assert!(matches!(r(&[], &[0.0], &[vec![]]), DiagramError::Empty { .. }));
+        assert!(matches!(
+            r(&[], &[0.0], &[vec![]]),
+            DiagramError::Empty { .. }
+        ));
     }
 
     #[test]

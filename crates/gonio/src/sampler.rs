@@ -104,7 +104,11 @@ const PAR_CHUNK: usize = 4096;
 /// # Panics
 /// If the two slices differ in length.
 pub fn sample_batch_par<S: Sampler + ?Sized>(sampler: &S, u: &[Point2], out: &mut [Sample]) {
-    assert_eq!(u.len(), out.len(), "sample_batch_par: slices differ in length");
+    assert_eq!(
+        u.len(),
+        out.len(),
+        "sample_batch_par: slices differ in length"
+    );
     out.par_chunks_mut(PAR_CHUNK)
         .zip(u.par_chunks(PAR_CHUNK))
         .for_each(|(o, p)| sampler.sample_batch(p, o));
@@ -115,7 +119,11 @@ pub fn sample_batch_par<S: Sampler + ?Sized>(sampler: &S, u: &[Point2], out: &mu
 /// # Panics
 /// If the two slices differ in length.
 pub fn pdf_batch_par<S: Sampler + ?Sized>(sampler: &S, dirs: &[Vec3], out: &mut [f64]) {
-    assert_eq!(dirs.len(), out.len(), "pdf_batch_par: slices differ in length");
+    assert_eq!(
+        dirs.len(),
+        out.len(),
+        "pdf_batch_par: slices differ in length"
+    );
     out.par_chunks_mut(PAR_CHUNK)
         .zip(dirs.par_chunks(PAR_CHUNK))
         .for_each(|(o, d)| {
