@@ -27,6 +27,8 @@
 //! assert!((u[0] - 0.3).abs() < 1e-10 && (u[1] - 0.7).abs() < 1e-10);
 //! ```
 #![warn(missing_docs)]
+// `!(x > 0.0)` is used on purpose throughout: it is true for NaN, which must take the safe branch.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod baselines;
 pub mod check;
@@ -36,6 +38,7 @@ pub mod mapping;
 pub mod photometry;
 pub mod sampler;
 pub mod sequence;
+pub mod synthetic;
 
 pub use diagram::{Diagram, DiagramError};
 pub use error::Error;

@@ -1,0 +1,267 @@
+//! [`SphereMap`]: the HDS mapping over the whole sphere, for luminaires that emit both down and up.
+//!
+//! Two layouts (ALGORITHM §13), measured against each other in `docs/SPHERE.md`:
+//! * [`SphereLayout::Split`] (the default): one hemisphere map per side of the horizon, each built
+//!   from its half of the diagram (the lower half mirrored), chosen by the first coordinate of the
+//!   square in proportion to the hemispheres' power. Low distortion everywhere; the map is continuous
+//!   except across the seam line u = P_lower of the square, where the sample jumps between
+//!   hemispheres.
+//! * [`SphereLayout::Lambert`]: a single map whose M_E is the whole-sphere Lambert lift, the disk of
+//!   radius √2 (x_j = √(1 − cos θ_j) up to θ = π). Continuous on the whole square, but the far pole
+//!   is the whole rim of the disk, so cells near θ = π are strongly stretched.
+//!
+//! In both, every sample's pdf is D/(2T) with T the total disk power of the map(s), so at every node
+//! the pdf is the node value times one constant.
+
+use super::complete::{complete, hemisphere_part, with_horizon_node, FarEnd};
+use super::core::HdsCore;
+use crate::diagram::{Diagram, DiagramError};
+use crate::sampler::{spherical, Domain, InvertError, Point2, Sample, Sampler, Vec3};
+use std::f64::consts::{FRAC_PI_2, PI};
+
+/// How the sphere is laid out on the unit square (see the [module documentation](self)).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SphereLayout {
+    /// Two hemisphere maps side by side on the square, split by power.
+    Split,
+    /// One map with the whole-sphere Lambert lift (disk of radius √2).
+    Lambert,
+}
+
+#[derive(Debug, Clone)]
+enum Layout {
+    Split {
+        upper: Option<HdsCore>,
+        lower: Option<HdsCore>,
+        /// Probability of the lower hemisphere, T_lower / (T_lower + T_upper).
+        p_lower: f64,
+    },
+    Lambert(Box<HdsCore>),
+}
+
+/// The HDS map from the unit square onto the whole sphere. Directions are in the diagram's frame
+/// (θ from +z). A diagram that covers only θ ∈ [0°, 90°] or [90°, 180°] gives zero density on the
+/// other hemisphere, which is never sampled.
+#[derive(Debug, Clone)]
+pub struct SphereMap {
+    layout: Layout,
+    inv_2t: f64,
+    inv_target_total: f64,
+    ratio_bound: (f64, f64),
+}
+
+fn mirror(d: Vec3) -> Vec3 {
+    [d[0], d[1], -d[2]]
+}
+
+impl SphereMap {
+    /// Builds the map with the default [`SphereLayout::Split`] layout.
+    ///
+    /// Each hemisphere that the diagram reaches into is completed as in
+    /// [`crate::HemisphereMap`] (pole: mean of the nearest parallel; horizon: the diagram's node at
+    /// 90°, inserted by linear interpolation in θ if the diagram crosses 90° without one, or zeros if
+    /// the diagram ends before it).
+    pub fn new(diagram: &Diagram) -> Result<Self, DiagramError> {
+        Self::with_layout(diagram, SphereLayout::Split)
+    }
+
+    /// Builds the map with the chosen layout. [`SphereLayout::Lambert`] needs a diagram that
+    /// reaches into both hemispheres; its missing poles get the mean of the nearest parallel.
+    pub fn with_layout(diagram: &Diagram, layout: SphereLayout) -> Result<Self, DiagramError> {
+        match layout {
+            SphereLayout::Split => {
+                let d = with_horizon_node(diagram);
+                let build = |upper: bool| -> Result<Option<HdsCore>, DiagramError> {
+                    match hemisphere_part(&d, upper) {
+                        Some(part) => Ok(Some(HdsCore::build(complete(
+                            &part,
+                            FRAC_PI_2,
+                            FarEnd::Zero,
+                        )?))),
+                        None => Ok(None),
+                    }
+                };
+                let (upper, lower) = (build(true)?, build(false)?);
+                let t = |c: &Option<HdsCore>| c.as_ref().map_or(0.0, |c| c.total());
+                let z = |c: &Option<HdsCore>| c.as_ref().map_or(0.0, |c| c.target_total());
+                let range = |c: &Option<HdsCore>| c.as_ref().map_or((1.0, 1.0), |c| c.db_range());
+                let (tu, tl) = (t(&upper), t(&lower));
+                if !(tu + tl > 0.0) {
+                    return Err(DiagramError::ZeroPower);
+                }
+                let total = tu + tl;
+                let target_total = z(&upper) + z(&lower);
+                let (ru, rl) = (range(&upper), range(&lower));
+                let scale = target_total / (2.0 * total);
+                Ok(SphereMap {
+                    layout: Layout::Split {
+                        upper,
+                        lower,
+                        p_lower: tl / total,
+                    },
+                    inv_2t: 0.5 / total,
+                    inv_target_total: 1.0 / target_total,
+                    ratio_bound: (ru.0.min(rl.0) * scale, ru.1.max(rl.1) * scale),
+                })
+            }
+            SphereLayout::Lambert => {
+                let theta = diagram.theta();
+                if !(theta[0] < FRAC_PI_2 && theta[theta.len() - 1] > FRAC_PI_2) {
+                    return Err(DiagramError::Domain(
+                        "the Lambert sphere layout needs a diagram that spans the horizon".into(),
+                    ));
+                }
+                let core = HdsCore::build(complete(diagram, PI, FarEnd::Mean)?);
+                let scale = core.target_total() / (2.0 * core.total());
+                let (lo, hi) = core.db_range();
+                Ok(SphereMap {
+                    inv_2t: 0.5 / core.total(),
+                    inv_target_total: 1.0 / core.target_total(),
+                    ratio_bound: (lo * scale, hi * scale),
+                    layout: Layout::Lambert(Box::new(core)),
+                })
+            }
+        }
+    }
+
+    /// The layout in use.
+    pub fn layout(&self) -> SphereLayout {
+        match self.layout {
+            Layout::Split { .. } => SphereLayout::Split,
+            Layout::Lambert(_) => SphereLayout::Lambert,
+        }
+    }
+
+    /// Guaranteed (min, max) of `pdf / target_pdf` wherever the target is positive (see
+    /// [`crate::HemisphereMap::ratio_bound`]).
+    pub fn ratio_bound(&self) -> (f64, f64) {
+        self.ratio_bound
+    }
+
+    /// Probability that a sample lies in the lower hemisphere (z < 0) for the split layout, which
+    /// is also where the seam of the square lies (u = this value); `None` for the Lambert layout.
+    pub fn lower_probability(&self) -> Option<f64> {
+        match &self.layout {
+            Layout::Split { p_lower, .. } => Some(*p_lower),
+            Layout::Lambert(_) => None,
+        }
+    }
+
+    /// ∫ over the sphere of the completed diagram interpolated bilinearly in (θ, φ), in diagram units
+    /// × sr (lumens for a diagram in candela).
+    pub fn target_power(&self) -> f64 {
+        1.0 / self.inv_target_total
+    }
+
+    fn target_value(&self, d: Vec3) -> f64 {
+        match &self.layout {
+            Layout::Split { upper, lower, .. } => {
+                let (core, dir) = if d[2] < 0.0 {
+                    (lower, mirror(d))
+                } else {
+                    (upper, d)
+                };
+                core.as_ref().map_or(0.0, |c| {
+                    let (t, p) = spherical(dir);
+                    c.diagram().interpolate(t, p)
+                })
+            }
+            Layout::Lambert(c) => {
+                let (t, p) = spherical(d);
+                c.diagram().interpolate(t, p)
+            }
+        }
+    }
+}
+
+impl Sampler for SphereMap {
+    fn name(&self) -> &'static str {
+        "hds"
+    }
+    fn domain(&self) -> Domain {
+        Domain::Sphere
+    }
+    #[inline]
+    fn sample(&self, u: Point2) -> Sample {
+        let (direction, d) = match &self.layout {
+            Layout::Split {
+                upper,
+                lower,
+                p_lower,
+            } => {
+                match (upper, lower) {
+                    (Some(up), Some(l)) => {
+                        if u[0] < *p_lower {
+                            let (dir, d) = l.sample([(u[0] / p_lower).min(1.0), u[1]]);
+                            (mirror(dir), d)
+                        } else {
+                            let w = ((u[0] - p_lower) / (1.0 - p_lower)).clamp(0.0, 1.0);
+                            up.sample([w, u[1]])
+                        }
+                    }
+                    (Some(up), None) => up.sample(u),
+                    (None, Some(l)) => {
+                        let (dir, d) = l.sample(u);
+                        (mirror(dir), d)
+                    }
+                    // Refused at build time (zero power).
+                    (None, None) => ([0.0, 0.0, 1.0], 0.0),
+                }
+            }
+            Layout::Lambert(c) => c.sample(u),
+        };
+        Sample {
+            direction,
+            pdf: d * self.inv_2t,
+        }
+    }
+    #[inline]
+    fn pdf(&self, d: Vec3) -> f64 {
+        let dens = match &self.layout {
+            Layout::Split { upper, lower, .. } => {
+                if d[2] < 0.0 {
+                    lower.as_ref().map_or(0.0, |c| c.density(mirror(d)))
+                } else {
+                    upper.as_ref().map_or(0.0, |c| c.density(d))
+                }
+            }
+            Layout::Lambert(c) => c.density(d),
+        };
+        dens * self.inv_2t
+    }
+    fn invert(&self, d: Vec3) -> Result<Point2, InvertError> {
+        if !d.iter().all(|c| c.is_finite()) {
+            return Err(InvertError::OutsideDomain);
+        }
+        match &self.layout {
+            Layout::Split {
+                upper,
+                lower,
+                p_lower,
+            } => {
+                if d[2] < 0.0 {
+                    let l = lower.as_ref().ok_or(InvertError::OutsideDomain)?;
+                    let w = l.invert(mirror(d));
+                    Ok([w[0] * p_lower, w[1]])
+                } else {
+                    let up = upper.as_ref().ok_or(InvertError::OutsideDomain)?;
+                    let w = up.invert(d);
+                    Ok([(p_lower + w[0] * (1.0 - p_lower)).min(1.0), w[1]])
+                }
+            }
+            Layout::Lambert(c) => Ok(c.invert(d)),
+        }
+    }
+    fn target_pdf(&self, d: Vec3) -> f64 {
+        self.target_value(d) * self.inv_target_total
+    }
+    fn memory_bytes(&self) -> usize {
+        match &self.layout {
+            Layout::Split { upper, lower, .. } => {
+                upper.as_ref().map_or(0, |c| c.memory_bytes())
+                    + lower.as_ref().map_or(0, |c| c.memory_bytes())
+            }
+            Layout::Lambert(c) => c.memory_bytes(),
+        }
+    }
+}
