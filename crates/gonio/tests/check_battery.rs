@@ -63,7 +63,7 @@ impl Sampler for ConcentricCosine {
         d[2].max(0.0) * FRAC_1_PI
     }
     fn invert(&self, d: Vec3) -> Result<Point2, InvertError> {
-        if !(d[2] >= 0.0) {
+        if d[2].is_nan() || d[2] < 0.0 {
             return Err(InvertError::OutsideDomain);
         }
         Ok(disk_to_square([d[0], d[1]]))
