@@ -146,11 +146,14 @@ impl Sequence {
 
     /// [`Sequence::fill`] on all rayon threads; the result is identical to the sequential one.
     pub fn fill_par(&self, start_index: u64, out: &mut [Point2]) {
-        out.par_chunks_mut(PAR_CHUNK)
+        // A Random fill pays for reaching its start index, so give it whole generator blocks.
+        let chunk = match self {
+            Sequence::Random(_) => random::BLOCK_POINTS,
+            _ => PAR_CHUNK,
+        };
+        out.par_chunks_mut(chunk)
             .enumerate()
-            .for_each(|(c, chunk)| {
-                self.fill(start_index.wrapping_add((c * PAR_CHUNK) as u64), chunk)
-            });
+            .for_each(|(c, part)| self.fill(start_index.wrapping_add((c * chunk) as u64), part));
     }
 }
 
@@ -214,7 +217,7 @@ mod tests {
     fn fill_par_equals_fill_and_point() {
         for kind in SequenceKind::ALL {
             let seq = Sequence::new(kind, 99);
-            let n = 3 * PAR_CHUNK + 17;
+            let n = random::BLOCK_POINTS + 3 * PAR_CHUNK + 17;
             let mut a = vec![[0.0; 2]; n];
             let mut b = vec![[0.0; 2]; n];
             seq.fill(5, &mut a);

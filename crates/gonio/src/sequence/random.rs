@@ -8,6 +8,8 @@ use rand_xoshiro::Xoshiro256PlusPlus;
 /// log₂ of the number of points per block; block b is drawn from the seeded generator after b
 /// jumps of 2¹²⁸ steps.
 const BLOCK_BITS: u32 = 16;
+/// Points per block.
+pub(crate) const BLOCK_POINTS: usize = 1 << BLOCK_BITS;
 
 /// Iid uniform points of [0, 1)² from `Xoshiro256PlusPlus::seed_from_u64(seed)`.
 ///

@@ -38,7 +38,8 @@ const KEPT_MASK: u64 = !((1u64 << (64 - KEPT_BITS)) - 1);
 /// all the levels from one 1-digit to the next, so a coordinate costs (number of 1-digits + 1)
 /// hashes. Coordinates are scrambled to 53 binary digits, the precision of an `f64` in [0, 1).
 ///
-/// Indices are 64-bit; the sequence does not repeat before 2⁶⁴ points.
+/// Indices are 64-bit. The generator matrices are 64 × 64, but an `f64` keeps 53 binary digits, so
+/// unscrambled points are distinct for indices below 2⁵³ (scrambled ones almost surely beyond).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Sobol {
     /// Per-dimension hash keys; `None` for the unscrambled sequence.
