@@ -1,0 +1,363 @@
+//! Pearson's chi-square goodness-of-fit test of a sampler's histogram against its own pdf, in the
+//! manner of Mitsuba 3's `ChiSquareTest`.
+
+use super::grid::BinGrid;
+use super::{for_each_sample_chunk, sidak_threshold, Status};
+use crate::sampler::{Point2, Sample, Sampler};
+use crate::sequence::{Random, Sequence};
+use statrs::distribution::{ChiSquared, ContinuousCDF};
+
+/// Settings of the chi-square test.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct ChiSquareOptions {
+    /// `[z_bins, phi_bins]`; `None` takes [`BinGrid::chi_square_default`] (16 × 32 hemisphere,
+    /// 32 × 32 sphere).
+    pub resolution: Option<[usize; 2]>,
+    /// Number of iid sample points (ignored by [`chi_square_points`]).
+    pub samples: usize,
+    /// Seed of the [`Random`] stream of sample points.
+    pub seed: u64,
+    /// Significance level α of the whole family of tests.
+    pub alpha: f64,
+    /// Number K of chi-square tests run at level α together (Šidák correction); at least 1.
+    pub tests: usize,
+    /// Bins whose expected count is below this are pooled (Mitsuba uses 5).
+    pub min_expected: f64,
+    /// Gauss–Legendre nodes per axis and bin for the pdf integrals.
+    pub quad_nodes: usize,
+}
+
+impl Default for ChiSquareOptions {
+    fn default() -> Self {
+        ChiSquareOptions {
+            resolution: None,
+            samples: 1_000_000,
+            seed: 0x00c0_ffee,
+            alpha: 0.01,
+            tests: 1,
+            min_expected: 5.0,
+            quad_nodes: 6,
+        }
+    }
+}
+
+impl ChiSquareOptions {
+    /// The bin grid these options give for `sampler`'s domain.
+    pub fn grid(&self, sampler: &dyn Sampler) -> BinGrid {
+        match self.resolution {
+            Some([nz, np]) => BinGrid::new(sampler.domain(), nz, np),
+            None => BinGrid::chi_square_default(sampler.domain()),
+        }
+    }
+}
+
+/// Pearson's statistic after pooling, from expected and observed counts per bin.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct PooledChiSquare {
+    /// Σ (observed − expected)² / expected over the bins after pooling.
+    pub chi2: f64,
+    /// Degrees of freedom: number of bins after pooling − 1 (0 if fewer than two bins remain).
+    pub dof: usize,
+    /// Number of original bins merged into the pooled bin.
+    pub pooled_bins: usize,
+    /// Expected count of the pooled bin.
+    pub pooled_expected: f64,
+    /// Observed count of the pooled bin.
+    pub pooled_observed: u64,
+    /// Samples that fell into bins of expected count exactly 0 (each one is a failure).
+    pub zero_expected_hits: u64,
+    /// Largest |observed − expected| / expected over the bins that were not pooled.
+    pub max_rel_deviation: f64,
+    /// Flat index of the bin with the largest relative deviation.
+    pub max_rel_deviation_bin: Option<usize>,
+}
+
+/// Pearson's chi-square statistic with Mitsuba's pooling rule.
+///
+/// Bins are visited in increasing order of expected count. A bin of expected count exactly 0 takes
+/// no part (but every sample in it is counted in `zero_expected_hits`); a bin with expected count
+/// below `min_expected` joins the pool, and so does the next bin while the pool's expected count is
+/// still below `min_expected`; every other bin contributes (o − e)²/e on its own. The pool then
+/// counts as one bin. Non-finite or negative expected counts must be rejected by the caller.
+///
+/// # Panics
+/// If the slices differ in length.
+pub fn pooled_chi_square(expected: &[f64], observed: &[u64], min_expected: f64) -> PooledChiSquare {
+    assert_eq!(expected.len(), observed.len(), "pooled_chi_square: lengths");
+    let mut order: Vec<usize> = (0..expected.len()).collect();
+    order.sort_by(|&a, &b| expected[a].total_cmp(&expected[b]));
+    let mut r = PooledChiSquare {
+        chi2: 0.0,
+        dof: 0,
+        pooled_bins: 0,
+        pooled_expected: 0.0,
+        pooled_observed: 0,
+        zero_expected_hits: 0,
+        max_rel_deviation: 0.0,
+        max_rel_deviation_bin: None,
+    };
+    let mut bins = 0usize;
+    for i in order {
+        let (e, o) = (expected[i], observed[i]);
+        if e == 0.0 {
+            r.zero_expected_hits += o;
+        } else if e < min_expected || (r.pooled_bins > 0 && r.pooled_expected < min_expected) {
+            r.pooled_bins += 1;
+            r.pooled_expected += e;
+            r.pooled_observed += o;
+        } else {
+            let d = o as f64 - e;
+            r.chi2 += d * d / e;
+            bins += 1;
+            let rel = d.abs() / e;
+            if rel > r.max_rel_deviation || r.max_rel_deviation_bin.is_none() {
+                r.max_rel_deviation = rel;
+                r.max_rel_deviation_bin = Some(i);
+            }
+        }
+    }
+    if r.pooled_bins > 0 && r.pooled_expected > 0.0 {
+        let d = r.pooled_observed as f64 - r.pooled_expected;
+        r.chi2 += d * d / r.pooled_expected;
+        bins += 1;
+    }
+    r.dof = bins.saturating_sub(1);
+    r
+}
+
+/// Everything the chi-square test measured; serialisable for `gonio check --json`.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct ChiSquareReport {
+    /// Pass or fail.
+    pub status: Status,
+    /// One line saying why.
+    pub message: String,
+    /// Number of sample points drawn.
+    pub points: usize,
+    /// Bins in z = cos θ.
+    pub z_bins: usize,
+    /// Bins in φ.
+    pub phi_bins: usize,
+    /// The statistic after pooling (see [`pooled_chi_square`]).
+    pub chi2: f64,
+    /// Degrees of freedom.
+    pub dof: usize,
+    /// chi2 / dof: about 1 for a correct sampler with iid points, far below 1 for good QMC points.
+    pub chi2_per_dof: f64,
+    /// P(χ²_dof ≥ chi2), from `statrs`' survival function. Meaningful for iid points only.
+    pub p_value: f64,
+    /// Family significance level α.
+    pub alpha: f64,
+    /// Number K of tests in the family.
+    pub tests: usize,
+    /// Per-test threshold 1 − (1 − α)^(1/K); the test passes if `p_value ≥ threshold`.
+    pub threshold: f64,
+    /// Bins merged into the pool.
+    pub pooled_bins: usize,
+    /// Expected count of the pool.
+    pub pooled_expected: f64,
+    /// Observed count of the pool.
+    pub pooled_observed: u64,
+    /// Samples in bins of expected count 0 (immediate failure).
+    pub zero_expected_hits: u64,
+    /// Largest |observed − expected| / expected over the unpooled bins.
+    pub max_rel_deviation: f64,
+    /// `[iz, iφ]` of that bin.
+    pub max_rel_deviation_bin: Option<[usize; 2]>,
+    /// Σ expected / points: the integral of the pdf over the domain by the bin quadrature (≈ 1).
+    pub expected_total: f64,
+    /// Samples whose direction is not finite or lies outside the domain (immediate failure).
+    pub invalid_samples: usize,
+}
+
+/// The chi-square test on `opts.samples` iid points of a [`Random`] stream seeded with
+/// `opts.seed`: expected counts are `samples · ∫_bin pdf dω` (Gauss–Legendre per bin, no
+/// renormalisation, so a pdf that does not integrate to 1 fails), observed counts come from
+/// [`Sampler::sample_batch`] in parallel chunks.
+pub fn chi_square_test(sampler: &dyn Sampler, opts: &ChiSquareOptions) -> ChiSquareReport {
+    chi_square_test_with_progress(sampler, opts, &|_| {})
+}
+
+pub(crate) fn chi_square_test_with_progress(
+    sampler: &dyn Sampler,
+    opts: &ChiSquareOptions,
+    progress: &dyn Fn(f64),
+) -> ChiSquareReport {
+    let grid = opts.grid(sampler);
+    let mut observed = vec![0u64; grid.len()];
+    let mut invalid = 0usize;
+    let seq = Sequence::from(Random::new(opts.seed));
+    for_each_sample_chunk(sampler, &seq, opts.samples, progress, |_, _, samples| {
+        count(&grid, samples, &mut observed, &mut invalid)
+    });
+    finish(sampler, opts, &grid, opts.samples, &observed, invalid)
+}
+
+/// The chi-square statistic of the given points (iid or not) against `sampler`'s pdf, on the bins
+/// and with the pooling of `opts` (`opts.samples` and `opts.seed` are ignored).
+///
+/// For low-discrepancy points (Halton, Sobol') the p-value and the pass/fail verdict are not
+/// meaningful; read [`ChiSquareReport::chi2_per_dof`] instead, which for a correct sampler falls
+/// far below 1 (too *good* a fit is what QMC points give).
+pub fn chi_square_points(
+    sampler: &dyn Sampler,
+    points: &[Point2],
+    opts: &ChiSquareOptions,
+) -> ChiSquareReport {
+    let grid = opts.grid(sampler);
+    let mut observed = vec![0u64; grid.len()];
+    let mut invalid = 0usize;
+    let mut buf = vec![Sample::default(); super::CHUNK.min(points.len())];
+    for chunk in points.chunks(super::CHUNK) {
+        let out = &mut buf[..chunk.len()];
+        crate::sampler::sample_batch_par(sampler, chunk, out);
+        count(&grid, out, &mut observed, &mut invalid);
+    }
+    finish(sampler, opts, &grid, points.len(), &observed, invalid)
+}
+
+fn count(grid: &BinGrid, samples: &[Sample], observed: &mut [u64], invalid: &mut usize) {
+    for s in samples {
+        match grid.bin_of(s.direction) {
+            Some(b) => observed[b] += 1,
+            None => *invalid += 1,
+        }
+    }
+}
+
+fn finish(
+    sampler: &dyn Sampler,
+    opts: &ChiSquareOptions,
+    grid: &BinGrid,
+    points: usize,
+    observed: &[u64],
+    invalid: usize,
+) -> ChiSquareReport {
+    let integrals = grid.integrate(opts.quad_nodes, |d| sampler.pdf(d));
+    let expected: Vec<f64> = integrals.iter().map(|&p| p * points as f64).collect();
+    let tests = opts.tests.max(1);
+    let threshold = sidak_threshold(opts.alpha, tests);
+    let mut r = ChiSquareReport {
+        status: Status::Fail,
+        message: String::new(),
+        points,
+        z_bins: grid.z_bins(),
+        phi_bins: grid.phi_bins(),
+        chi2: f64::NAN,
+        dof: 0,
+        chi2_per_dof: f64::NAN,
+        p_value: f64::NAN,
+        alpha: opts.alpha,
+        tests,
+        threshold,
+        pooled_bins: 0,
+        pooled_expected: 0.0,
+        pooled_observed: 0,
+        zero_expected_hits: 0,
+        max_rel_deviation: f64::NAN,
+        max_rel_deviation_bin: None,
+        expected_total: integrals.iter().sum(),
+        invalid_samples: invalid,
+    };
+    if let Some(bad) = expected.iter().position(|e| !(e.is_finite() && *e >= 0.0)) {
+        let [iz, ip] = grid.bin_coords(bad);
+        r.message = format!(
+            "the pdf integrates to {} over bin (z {iz}, phi {ip}): not a finite non-negative density",
+            integrals[bad]
+        );
+        return r;
+    }
+    let pooled = pooled_chi_square(&expected, observed, opts.min_expected);
+    r.chi2 = pooled.chi2;
+    r.dof = pooled.dof;
+    r.pooled_bins = pooled.pooled_bins;
+    r.pooled_expected = pooled.pooled_expected;
+    r.pooled_observed = pooled.pooled_observed;
+    r.zero_expected_hits = pooled.zero_expected_hits;
+    r.max_rel_deviation = pooled.max_rel_deviation;
+    r.max_rel_deviation_bin = pooled.max_rel_deviation_bin.map(|b| grid.bin_coords(b));
+    if pooled.dof > 0 {
+        r.chi2_per_dof = pooled.chi2 / pooled.dof as f64;
+        r.p_value = ChiSquared::new(pooled.dof as f64)
+            .map(|d| d.sf(pooled.chi2))
+            .unwrap_or(f64::NAN);
+    }
+    r.message = if invalid > 0 {
+        format!("{invalid} samples have a non-finite direction or lie outside the domain")
+    } else if pooled.zero_expected_hits > 0 {
+        format!(
+            "{} samples fell into bins where the pdf integrates to 0",
+            pooled.zero_expected_hits
+        )
+    } else if pooled.dof == 0 {
+        "fewer than two bins after pooling: too few samples for the resolution".to_string()
+    } else if !super::within(threshold, r.p_value) {
+        format!(
+            "p = {:.3e} < {:.3e}: the histogram does not follow the pdf (worst bin {:?}, {:+.1} %)",
+            r.p_value,
+            threshold,
+            r.max_rel_deviation_bin.unwrap_or_default(),
+            100.0 * r.max_rel_deviation
+        )
+    } else {
+        r.status = Status::Pass;
+        format!("p = {:.3} ≥ {:.3e}", r.p_value, threshold)
+    };
+    r
+}
+
+impl ChiSquareReport {
+    /// One line for the human-readable summary.
+    pub fn summary(&self) -> String {
+        format!(
+            "chi2 = {:.1}, dof {}, chi2/dof {:.3}, p = {:.3e} (threshold {:.3e}, alpha {}, K {}); \
+             {}×{} bins, {} pooled; {} samples — {}",
+            self.chi2,
+            self.dof,
+            self.chi2_per_dof,
+            self.p_value,
+            self.threshold,
+            self.alpha,
+            self.tests,
+            self.z_bins,
+            self.phi_bins,
+            self.pooled_bins,
+            self.points,
+            self.message
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pooling_by_hand() {
+        // Sorted expected: 0 (o 0), 1, 2, 3 → pooled (6 < 5? no: 1+2 = 3 < 5, +3 → 6 ≥ 5 stop),
+        // then 10 and 20 on their own.
+        let e = [10.0, 1.0, 0.0, 2.0, 20.0, 3.0];
+        let o = [12, 0, 0, 4, 18, 2];
+        let r = pooled_chi_square(&e, &o, 5.0);
+        assert_eq!(r.pooled_bins, 3);
+        assert_eq!(r.pooled_expected, 6.0);
+        assert_eq!(r.pooled_observed, 6);
+        assert_eq!(r.dof, 2);
+        let want = 4.0 / 10.0 + 4.0 / 20.0 + 0.0;
+        assert!((r.chi2 - want).abs() < 1e-15);
+        assert_eq!(r.max_rel_deviation_bin, Some(0));
+        assert_eq!(r.zero_expected_hits, 0);
+        let r = pooled_chi_square(&[0.0, 10.0, 10.0], &[3, 5, 9], 5.0);
+        assert_eq!(r.zero_expected_hits, 3);
+        assert_eq!(r.dof, 1);
+    }
+
+    #[test]
+    fn pool_grows_past_threshold() {
+        // 4 < 5 pools; pool (4) < 5 so the next bin (6) joins; 7 stands alone.
+        let r = pooled_chi_square(&[6.0, 4.0, 7.0], &[6, 4, 7], 5.0);
+        assert_eq!(r.pooled_bins, 2);
+        assert_eq!(r.dof, 1);
+        assert_eq!(r.chi2, 0.0);
+    }
+}

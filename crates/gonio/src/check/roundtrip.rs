@@ -1,0 +1,267 @@
+//! Round trip: `invert(sample(u)) ≈ u`.
+
+use super::{sample_defect, Status};
+use crate::sampler::{InvertError, Point2, Sample, Sampler};
+use crate::sequence::{Sequence, SequenceKind};
+use rayon::prelude::*;
+
+/// Settings of the round-trip check.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct RoundTripOptions {
+    /// Number of sequence points.
+    pub points: usize,
+    /// Which sequence supplies them.
+    pub sequence: SequenceKind,
+    /// Its seed.
+    pub seed: u64,
+    /// K: besides the sequence points, the lines u = k/K and v = k/K for k = 0 … K (the square's
+    /// edges included) are tested; 0 tests no lines.
+    pub lines: usize,
+    /// Evenly spaced points per line, end points (the square's corners) included.
+    pub points_per_line: usize,
+    /// Largest accepted max(|u′ − u|, |v′ − v|).
+    pub tolerance: f64,
+}
+
+impl Default for RoundTripOptions {
+    fn default() -> Self {
+        RoundTripOptions {
+            points: 100_000,
+            sequence: SequenceKind::Sobol,
+            seed: 0x0005_eed5,
+            lines: 16,
+            points_per_line: 257,
+            tolerance: 1e-8,
+        }
+    }
+}
+
+/// What the round-trip check measured.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct RoundTripReport {
+    /// Pass, fail, or not applicable (the sampler has no inverse).
+    pub status: Status,
+    /// One line saying why.
+    pub message: String,
+    /// Points whose round trip was measured.
+    pub tested: usize,
+    /// Points skipped because the sample's pdf is 0 (the map need not be invertible there).
+    pub skipped_zero_pdf: usize,
+    /// Samples with a non-finite or non-unit direction, a direction outside the domain, or a
+    /// non-finite or negative pdf (failures).
+    pub invalid_samples: usize,
+    /// Samples of positive pdf whose inversion failed or gave a non-finite point (failures).
+    pub invert_failures: usize,
+    /// Tested points where u′ = invert(sample(u)) differs from u by more than the tolerance but
+    /// sample(u′) is the same direction (within the tolerance, max norm): points where the map is
+    /// not injective (seams, poles). Their error counts as that direction difference.
+    pub seam_points: usize,
+    /// Largest max(|u′ − u|, |v′ − v|) over the tested points (seam points: the direction
+    /// difference instead).
+    pub max_error: f64,
+    /// The point u of the square with the largest error.
+    pub worst_point: Option<Point2>,
+    /// What `invert(sample(worst_point))` gave.
+    pub worst_inverse: Option<Point2>,
+    /// The tolerance applied.
+    pub tolerance: f64,
+}
+
+#[derive(Default)]
+struct Acc {
+    tested: usize,
+    skipped: usize,
+    invalid: usize,
+    invert_failures: usize,
+    seam: usize,
+    unsupported: bool,
+    max_error: f64,
+    worst: Option<(Point2, Point2)>,
+}
+
+impl Acc {
+    fn add(&mut self, sampler: &dyn Sampler, tolerance: f64, u: Point2, s: &Sample) {
+        if sample_defect(sampler.domain(), s).is_some() {
+            self.invalid += 1;
+            return;
+        }
+        if s.pdf == 0.0 {
+            self.skipped += 1;
+            return;
+        }
+        match sampler.invert(s.direction) {
+            Err(InvertError::Unsupported) => self.unsupported = true,
+            Err(InvertError::OutsideDomain) => self.invert_failures += 1,
+            Ok(w) if !(w[0].is_finite() && w[1].is_finite()) => self.invert_failures += 1,
+            Ok(w) => {
+                let mut e = (w[0] - u[0]).abs().max((w[1] - u[1]).abs());
+                if e > tolerance {
+                    // Where the map is not injective (an azimuth seam v = 0 ≡ v = 1, a pole
+                    // reached from a whole edge) any preimage is a correct inverse: accept u′
+                    // if it samples the same direction.
+                    let d = sampler.sample(w).direction;
+                    let dd = (0..3)
+                        .map(|i| (d[i] - s.direction[i]).abs())
+                        .fold(0.0, f64::max);
+                    if dd <= tolerance {
+                        self.seam += 1;
+                        e = dd;
+                    }
+                }
+                self.tested += 1;
+                if e > self.max_error || self.worst.is_none() {
+                    self.max_error = e;
+                    self.worst = Some((u, w));
+                }
+            }
+        }
+    }
+
+    fn merge(mut self, o: Acc) -> Acc {
+        self.tested += o.tested;
+        self.skipped += o.skipped;
+        self.invalid += o.invalid;
+        self.invert_failures += o.invert_failures;
+        self.seam += o.seam;
+        self.unsupported |= o.unsupported;
+        if o.worst.is_some() && (self.worst.is_none() || o.max_error > self.max_error) {
+            self.max_error = o.max_error;
+            self.worst = o.worst;
+        }
+        self
+    }
+}
+
+/// The points of the lines u = k/K and v = k/K, k = 0 … K, `per_line` points each.
+fn line_points(k_lines: usize, per_line: usize) -> Vec<Point2> {
+    let mut pts = Vec::new();
+    if k_lines == 0 || per_line == 0 {
+        return pts;
+    }
+    let t = |j: usize| {
+        if per_line == 1 {
+            0.5
+        } else {
+            j as f64 / (per_line - 1) as f64
+        }
+    };
+    for k in 0..=k_lines {
+        let c = k as f64 / k_lines as f64;
+        for j in 0..per_line {
+            pts.push([c, t(j)]);
+            pts.push([t(j), c]);
+        }
+    }
+    pts
+}
+
+/// Measures max |invert(sample(u)) − u| over `opts.points` sequence points and the grid lines of
+/// `opts` (see [`RoundTripOptions`]). Points of zero pdf are skipped; an inverse reporting
+/// [`InvertError::Unsupported`] makes the item [`Status::NotApplicable`]. Where the map is not
+/// injective (e.g. v = 0 and v = 1 on an azimuth seam) an inverse u′ ≠ u is accepted if
+/// `sample(u′)` gives the same direction ([`RoundTripReport::seam_points`]).
+pub fn round_trip(sampler: &dyn Sampler, opts: &RoundTripOptions) -> RoundTripReport {
+    round_trip_with_progress(sampler, opts, &|_| {})
+}
+
+pub(crate) fn round_trip_with_progress(
+    sampler: &dyn Sampler,
+    opts: &RoundTripOptions,
+    progress: &dyn Fn(f64),
+) -> RoundTripReport {
+    let seq = Sequence::new(opts.sequence, opts.seed);
+    let lines = line_points(opts.lines, opts.points_per_line);
+    let total = opts.points + lines.len();
+    let mut acc = Acc::default();
+    let mut pts = vec![[0.0; 2]; super::CHUNK.min(total)];
+    let mut done = 0usize;
+    let run = |u: &[Point2]| {
+        u.par_chunks(1024)
+            .map(|c| {
+                let mut a = Acc::default();
+                for &p in c {
+                    a.add(sampler, opts.tolerance, p, &sampler.sample(p));
+                }
+                a
+            })
+            .collect::<Vec<_>>()
+            .into_iter()
+            .fold(Acc::default(), Acc::merge)
+    };
+    while done < opts.points && !acc.unsupported {
+        let n = (opts.points - done).min(super::CHUNK);
+        seq.fill_par(done as u64, &mut pts[..n]);
+        acc = acc.merge(run(&pts[..n]));
+        done += n;
+        progress(done as f64 / total as f64);
+    }
+    if !acc.unsupported {
+        acc = acc.merge(run(&lines));
+    }
+    progress(1.0);
+
+    let mut r = RoundTripReport {
+        status: Status::Fail,
+        message: String::new(),
+        tested: acc.tested,
+        skipped_zero_pdf: acc.skipped,
+        invalid_samples: acc.invalid,
+        invert_failures: acc.invert_failures,
+        seam_points: acc.seam,
+        max_error: acc.max_error,
+        worst_point: acc.worst.map(|w| w.0),
+        worst_inverse: acc.worst.map(|w| w.1),
+        tolerance: opts.tolerance,
+    };
+    r.message = if acc.unsupported {
+        r.status = Status::NotApplicable;
+        format!("the '{}' sampler has no inverse", sampler.name())
+    } else if acc.invalid > 0 {
+        format!("{} samples are invalid (direction or pdf)", acc.invalid)
+    } else if acc.invert_failures > 0 {
+        format!(
+            "the inverse failed on {} sampled directions of positive pdf",
+            acc.invert_failures
+        )
+    } else if acc.tested == 0 {
+        "no point of positive pdf to test".to_string()
+    } else if !super::within(acc.max_error, opts.tolerance) {
+        format!(
+            "max error {:.3e} > {:.1e} at u = {:?} (inverse {:?})",
+            acc.max_error,
+            opts.tolerance,
+            r.worst_point.unwrap_or_default(),
+            r.worst_inverse.unwrap_or_default()
+        )
+    } else {
+        r.status = Status::Pass;
+        format!("max error {:.3e} ≤ {:.1e}", acc.max_error, opts.tolerance)
+    };
+    r
+}
+
+impl RoundTripReport {
+    /// One line for the human-readable summary.
+    pub fn summary(&self) -> String {
+        format!(
+            "max |invert(sample(u)) - u| = {:.3e} over {} points ({} on seams, {} skipped at \
+             pdf 0) — {}",
+            self.max_error, self.tested, self.seam_points, self.skipped_zero_pdf, self.message
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lines_include_edges_and_corners() {
+        let p = line_points(4, 5);
+        assert_eq!(p.len(), 5 * 5 * 2);
+        for c in [[0.0, 0.0], [1.0, 1.0], [0.0, 1.0], [1.0, 0.0], [0.25, 0.5]] {
+            assert!(p.contains(&c), "{c:?}");
+        }
+        assert!(line_points(0, 5).is_empty());
+    }
+}
