@@ -56,11 +56,6 @@ impl HemisphereMap {
         }
     }
 
-    #[cfg(test)]
-    pub(crate) fn core(&self) -> &HdsCore {
-        &self.core
-    }
-
     /// The completed diagram the map was built from (see the type's documentation).
     pub fn diagram(&self) -> &Diagram {
         self.core.diagram()

@@ -28,6 +28,8 @@ pub enum SphereLayout {
     Lambert,
 }
 
+// One SphereMap exists per luminaire: the size of the enum does not matter.
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone)]
 enum Layout {
     Split {
