@@ -469,3 +469,26 @@ fn constructors_refuse_bad_input() {
     let smp = b.sample([0.4, 0.6]);
     assert!(smp.direction[2] > (0.05f64).to_radians().cos());
 }
+
+/// The chi-square helper has power: samples of one diagram against the pdf of a slightly different
+/// one (azimuthal modulation 0.8 vs 0.7) are refused.
+#[test]
+fn chi_square_detects_a_wrong_density() {
+    let make = |k: f64| {
+        build(&grid(10.0, 90.0), &grid(30.0, 330.0), move |t, p| {
+            (1.0 + k * p.cos()) * (0.3 + t.cos())
+        })
+    };
+    let (right, wrong) = (make(0.8), make(0.7));
+    let bins = Bins::new(Domain::Hemisphere);
+    let sampler = Bilinear::new(&right, Domain::Hemisphere).unwrap();
+    let other = Bilinear::new(&wrong, Domain::Hemisphere).unwrap();
+    let p = chi_square_p(
+        &sampler,
+        &bins.probabilities(&other, 12),
+        &bins,
+        CHI2_SAMPLES,
+        3,
+    );
+    assert!(p < 1e-6, "p = {p}");
+}

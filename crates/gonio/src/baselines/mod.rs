@@ -187,7 +187,7 @@ impl Target {
             });
         }
         let integral = diagram.integral();
-        if !(integral.is_finite() && integral > 0.0) || !(1.0 / integral).is_finite() {
+        if !(integral.is_finite() && integral > 0.0 && (1.0 / integral).is_finite()) {
             return Err(BaselineError::NoPower { integral });
         }
         Ok(Self {

@@ -124,7 +124,7 @@ impl PiecewiseConstant {
         }
         let mut marginal = vec![0.0; n + 1];
         let (total, marginal_last) = build_cdf(&row_sums, &mut marginal);
-        if !(total > 0.0) {
+        if total <= 0.0 {
             return Err(BaselineError::EmptyImage { resolution });
         }
         // f / (Σf / R²) is the density on the unit square; the map divides it by its area A.

@@ -51,7 +51,7 @@ impl Rejection {
         let target = Target::new(diagram, domain)?;
         let max_value = diagram.max_value();
         let rate = target.integral / (domain.solid_angle() * max_value);
-        if !(rate >= MIN_ACCEPTANCE) {
+        if rate < MIN_ACCEPTANCE {
             return Err(BaselineError::AcceptanceTooLow {
                 rate,
                 min: MIN_ACCEPTANCE,
