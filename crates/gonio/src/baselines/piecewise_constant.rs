@@ -1,0 +1,229 @@
+//! A piecewise-constant image over an equal-area map, sampled marginal–conditionally (the method of
+//! pbrt-v4's `GoniometricLight`).
+
+use super::equal_area::{
+    equal_area_hemisphere_to_square, equal_area_sphere_to_square, equal_area_square_to_hemisphere,
+    equal_area_square_to_sphere,
+};
+use super::{build_cdf, clamp_unit, invert_cdf, BaselineError, Target};
+use crate::diagram::Diagram;
+use crate::sampler::{normalize, spherical, Domain, InvertError, Point2, Sample, Sampler, Vec3};
+use rayon::prelude::*;
+
+/// Default image resolution R (pixels per side): 256 × 256 pixels, 64 Ki pixels, about 1 MiB of
+/// tables. On the sphere a pixel covers 4π/R² ≈ 1.9·10⁻⁴ sr (about 0.8° × 0.8°), on the hemisphere
+/// half that; the same resolution as pbrt-v4 scenes commonly give goniometric images.
+pub const DEFAULT_RESOLUTION: usize = 256;
+
+/// Largest accepted image resolution (pixels per side): 4096² pixels, about 256 MiB of tables.
+pub const MAX_RESOLUTION: usize = 4096;
+
+/// Sub-pixel points per axis averaged into each pixel: S = 4, i.e. the midpoint rule on a 4 × 4 grid
+/// of the pixel in the square, mapped through the equal-area map (so each point stands for the same
+/// solid angle and the mean is the pixel's mean target up to the quadrature error).
+pub const SUPERSAMPLING: usize = 4;
+
+/// Piecewise-constant 2D sampling over an equal-area map of the unit square.
+///
+/// * **Map** `m`: on [`Domain::Sphere`], Clarberg's octahedral equal-area map
+///   ([`super::equal_area::equal_area_square_to_sphere`], area A = 4π); on [`Domain::Hemisphere`],
+///   the concentric map followed by the Lambert lift
+///   ([`super::equal_area::equal_area_square_to_hemisphere`], A = 2π), so that no pixel straddles
+///   the equator and every sample lies in z ≥ 0 (Clarberg's sphere map folds the lower hemisphere
+///   into the square's corners and its equator crosses pixels diagonally).
+/// * **Image**: R × R pixels over the square, pixel (row r, column c) = [c/R, (c+1)/R] × [r/R, (r+1)/R]
+///   in (u, v); its value f_rc is the target averaged over S × S = 4 × 4 sub-pixel midpoints mapped
+///   through `m`.
+/// * **Sampling**: u₁ picks the row by inverting the marginal CDF of the row sums (binary search),
+///   u₀ the column by inverting that row's conditional CDF; the continuous offsets inside the pixel
+///   make the map continuous within rows; the point is mapped through `m`.
+/// * **Density**, exactly: pdf(ω) = f_rc / (Σ f / R²) / A per steradian, where (r, c) is the pixel
+///   holding m⁻¹(ω). (Σ f / R² is the mean pixel value, so f_rc / mean is the density on the square.)
+/// * **Inverse**: m⁻¹, then the two piecewise-linear CDFs evaluated at the point, in closed form.
+///
+/// Weaknesses inherent to the method: the density is constant per pixel, so pdf ≠ target inside
+/// pixels where the target varies; a pixel whose average is positive but that contains directions of
+/// zero target (at the edge of a beam or of the diagram's θ range) gives those directions pdf > 0;
+/// a pixel whose sub-pixel points all miss a narrow positive feature gives it pdf = 0 (biased).
+/// Pixels of value 0 are never sampled. Samples on pixel boundaries (a set of measure zero) report
+/// the density of the pixel they were drawn from, which [`Sampler::pdf`] may attribute to the
+/// neighbouring pixel; `invert` is discontinuous across row boundaries in u₀.
+#[derive(Debug, Clone)]
+pub struct PiecewiseConstant {
+    target: Target,
+    resolution: usize,
+    /// Density per steradian of each pixel, row-major (`pdf[r * R + c]`).
+    pdf: Vec<f64>,
+    /// Normalised CDF of the row sums, R + 1 entries.
+    marginal: Vec<f64>,
+    marginal_last: usize,
+    /// Normalised CDF of each row, R rows of R + 1 entries.
+    conditional: Vec<f64>,
+    conditional_last: Vec<u32>,
+}
+
+impl PiecewiseConstant {
+    /// A piecewise-constant sampler at the [`DEFAULT_RESOLUTION`] (256 × 256 pixels).
+    ///
+    /// # Errors
+    /// As [`PiecewiseConstant::with_resolution`].
+    pub fn new(diagram: &Diagram, domain: Domain) -> Result<Self, BaselineError> {
+        Self::with_resolution(diagram, domain, DEFAULT_RESOLUTION)
+    }
+
+    /// A piecewise-constant sampler with `resolution` × `resolution` pixels. Building costs
+    /// R² · S² target evaluations (run on the rayon threads).
+    ///
+    /// # Errors
+    /// [`BaselineError::NotHemisphere`], [`BaselineError::NoPower`] as for every baseline;
+    /// [`BaselineError::Resolution`] unless 1 ≤ `resolution` ≤ [`MAX_RESOLUTION`];
+    /// [`BaselineError::EmptyImage`] if every pixel averages to 0.
+    pub fn with_resolution(
+        diagram: &Diagram,
+        domain: Domain,
+        resolution: usize,
+    ) -> Result<Self, BaselineError> {
+        let target = Target::new(diagram, domain)?;
+        if !(1..=MAX_RESOLUTION).contains(&resolution) {
+            return Err(BaselineError::Resolution {
+                resolution,
+                max: MAX_RESOLUTION,
+            });
+        }
+        let n = resolution;
+        let map = square_map(domain);
+        let mut image = vec![0.0; n * n];
+        let s = SUPERSAMPLING;
+        image.par_chunks_mut(n).enumerate().for_each(|(r, row)| {
+            for (c, px) in row.iter_mut().enumerate() {
+                let mut sum = 0.0;
+                for a in 0..s {
+                    for b in 0..s {
+                        let p = [
+                            (c as f64 + (a as f64 + 0.5) / s as f64) / n as f64,
+                            (r as f64 + (b as f64 + 0.5) / s as f64) / n as f64,
+                        ];
+                        let (t, ph) = spherical(map(p));
+                        sum += target.at(t, ph);
+                    }
+                }
+                *px = sum / (s * s) as f64;
+            }
+        });
+
+        let mut conditional = vec![0.0; n * (n + 1)];
+        let mut conditional_last = vec![0u32; n];
+        let mut row_sums = vec![0.0; n];
+        for r in 0..n {
+            let (sum, last) = build_cdf(
+                &image[r * n..(r + 1) * n],
+                &mut conditional[r * (n + 1)..(r + 1) * (n + 1)],
+            );
+            row_sums[r] = sum;
+            conditional_last[r] = last as u32;
+        }
+        let mut marginal = vec![0.0; n + 1];
+        let (total, marginal_last) = build_cdf(&row_sums, &mut marginal);
+        if total <= 0.0 {
+            return Err(BaselineError::EmptyImage { resolution });
+        }
+        // f / (Σf / R²) is the density on the unit square; the map divides it by its area A.
+        let scale = (n * n) as f64 / (total * domain.solid_angle());
+        for v in image.iter_mut() {
+            *v *= scale;
+        }
+        Ok(Self {
+            target,
+            resolution,
+            pdf: image,
+            marginal,
+            marginal_last,
+            conditional,
+            conditional_last,
+        })
+    }
+
+    /// Pixels per side of the image.
+    pub fn resolution(&self) -> usize {
+        self.resolution
+    }
+
+    /// The pixel (row, column) holding the point `p` of the square.
+    #[inline]
+    fn pixel(&self, p: Point2) -> (usize, usize) {
+        let n = self.resolution;
+        let idx = |x: f64| ((x * n as f64) as usize).min(n - 1);
+        (idx(p[1]), idx(p[0]))
+    }
+
+    #[inline]
+    fn to_square(&self, d: Vec3) -> Point2 {
+        match self.target.domain {
+            Domain::Hemisphere => equal_area_hemisphere_to_square(d),
+            Domain::Sphere => equal_area_sphere_to_square(d),
+        }
+    }
+}
+
+/// The equal-area map of the domain (area = the domain's solid angle).
+fn square_map(domain: Domain) -> fn(Point2) -> Vec3 {
+    match domain {
+        Domain::Hemisphere => equal_area_square_to_hemisphere,
+        Domain::Sphere => equal_area_square_to_sphere,
+    }
+}
+
+impl Sampler for PiecewiseConstant {
+    fn name(&self) -> &'static str {
+        "piecewise-constant"
+    }
+    fn domain(&self) -> Domain {
+        self.target.domain
+    }
+    fn sample(&self, u: Point2) -> Sample {
+        let n = self.resolution;
+        let (r, dv) = invert_cdf(&self.marginal, self.marginal_last, clamp_unit(u[1]));
+        let row = &self.conditional[r * (n + 1)..(r + 1) * (n + 1)];
+        let (c, du) = invert_cdf(row, self.conditional_last[r] as usize, clamp_unit(u[0]));
+        let p = [(c as f64 + du) / n as f64, (r as f64 + dv) / n as f64];
+        let direction = match self.target.domain {
+            Domain::Hemisphere => equal_area_square_to_hemisphere(p),
+            Domain::Sphere => equal_area_square_to_sphere(p),
+        };
+        Sample {
+            direction,
+            pdf: self.pdf[r * n + c],
+        }
+    }
+    fn pdf(&self, direction: Vec3) -> f64 {
+        match normalize(direction) {
+            Some(d) if self.target.domain.contains(d) => {
+                let (r, c) = self.pixel(self.to_square(d));
+                self.pdf[r * self.resolution + c]
+            }
+            _ => 0.0,
+        }
+    }
+    fn invert(&self, direction: Vec3) -> Result<Point2, InvertError> {
+        let d = normalize(direction).ok_or(InvertError::OutsideDomain)?;
+        if !self.target.domain.contains(d) {
+            return Err(InvertError::OutsideDomain);
+        }
+        let n = self.resolution;
+        let p = self.to_square(d);
+        let (r, c) = self.pixel(p);
+        let du = (p[0] * n as f64 - c as f64).clamp(0.0, 1.0);
+        let dv = (p[1] * n as f64 - r as f64).clamp(0.0, 1.0);
+        let row = &self.conditional[r * (n + 1)..(r + 1) * (n + 1)];
+        let u0 = row[c] + du * (row[c + 1] - row[c]);
+        let u1 = self.marginal[r] + dv * (self.marginal[r + 1] - self.marginal[r]);
+        Ok([u0.clamp(0.0, 1.0), u1.clamp(0.0, 1.0)])
+    }
+    fn target_pdf(&self, direction: Vec3) -> f64 {
+        self.target.pdf(direction)
+    }
+    fn memory_bytes(&self) -> usize {
+        std::mem::size_of::<f64>() * (self.pdf.len() + self.marginal.len() + self.conditional.len())
+            + std::mem::size_of::<u32>() * self.conditional_last.len()
+    }
+}

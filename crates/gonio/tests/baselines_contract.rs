@@ -1,0 +1,494 @@
+//! The sampler contract for every baseline, on several diagram families and both domains:
+//! pdf consistency, round trip, normalisation, edges of the square, and a chi-square test.
+//!
+//! Tolerances (stated once, used below):
+//! * `pdf(sample(u).direction)` vs `sample(u).pdf`: relative 1e-9;
+//! * `invert(sample(u))` vs `u`: absolute 1e-9 per coordinate, where the method inverts and pdf > 0;
+//! * ∫ pdf dω over the domain: |· − 1| ≤ 2e-3 (midpoint rule on 120 × 240 × 12 × 12 points equal in
+//!   (cos θ, φ); the bound is set by the discontinuities of the piecewise-constant pdf and of the
+//!   diagrams whose θ range ends inside the domain, the continuous cases reach ~1e-5);
+//! * chi-square: 100 000 iid samples (fixed seed), 20 × 40 bins equal in (cos θ, φ) per hemisphere,
+//!   expected counts from the sampler's own pdf by 12 × 12 midpoint quadrature per bin, bins with
+//!   expected < 5 pooled; the test fails when the p-value is below α = 0.01.
+
+use gonio::baselines::{
+    BaselineError, Bilinear, Method, PiecewiseConstant, Rejection, Uniform, MIN_ACCEPTANCE,
+};
+use gonio::sampler::{direction, Domain, InvertError, Sampler};
+use gonio::Diagram;
+use rand::{Rng, SeedableRng};
+use rand_xoshiro::Xoshiro256PlusPlus;
+use statrs::distribution::{ChiSquared, ContinuousCDF};
+use std::f64::consts::PI;
+
+const ALPHA: f64 = 0.01;
+const CHI2_SAMPLES: usize = 100_000;
+const PDF_REL_TOL: f64 = 1e-9;
+const INVERT_TOL: f64 = 1e-9;
+const NORMALISATION_TOL: f64 = 2e-3;
+
+struct Case {
+    name: &'static str,
+    diagram: Diagram,
+    domain: Domain,
+}
+
+fn grid(step: f64, to: f64) -> Vec<f64> {
+    let n = (to / step).round() as usize;
+    (0..=n).map(|k| k as f64 * step).collect()
+}
+
+fn build(theta: &[f64], phi: &[f64], f: impl Fn(f64, f64) -> f64) -> Diagram {
+    let values: Vec<Vec<f64>> = phi
+        .iter()
+        .map(|p| {
+            theta
+                .iter()
+                .map(|t| f(t.to_radians(), p.to_radians()))
+                .collect()
+        })
+        .collect();
+    Diagram::from_degrees(theta, phi, &values).unwrap()
+}
+
+fn random_grid(theta: &[f64], phi: &[f64], seed: u64) -> Diagram {
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
+    let values: Vec<Vec<f64>> = phi
+        .iter()
+        .map(|_| {
+            theta
+                .iter()
+                .map(|_| {
+                    if rng.gen::<f64>() < 0.3 {
+                        0.0
+                    } else {
+                        10.0 * rng.gen::<f64>()
+                    }
+                })
+                .collect()
+        })
+        .collect();
+    Diagram::from_degrees(theta, phi, &values).unwrap()
+}
+
+fn cases() -> Vec<Case> {
+    let h = Domain::Hemisphere;
+    let s = Domain::Sphere;
+    let lobe_h = build(&grid(5.0, 90.0), &[0.0], |t, _| t.cos().powi(8));
+    vec![
+        Case {
+            name: "constant/hemisphere",
+            diagram: build(
+                &[0.0, 30.0, 60.0, 90.0],
+                &[0.0, 90.0, 180.0, 270.0],
+                |_, _| 1.0,
+            ),
+            domain: h,
+        },
+        Case {
+            name: "constant/sphere",
+            diagram: build(&[0.0, 45.0, 90.0, 135.0, 180.0], &[0.0], |_, _| 2.0),
+            domain: s,
+        },
+        Case {
+            name: "cos^8 lobe/hemisphere",
+            diagram: lobe_h.clone(),
+            domain: h,
+        },
+        Case {
+            name: "cos^8 lobe (hemisphere diagram)/sphere",
+            diagram: lobe_h,
+            domain: s,
+        },
+        Case {
+            name: "two-sided lobe/sphere",
+            diagram: build(&grid(5.0, 180.0), &[0.0], |t, _| {
+                t.cos().max(0.0).powi(8) + 0.3 * (-t.cos()).max(0.0).powi(2)
+            }),
+            domain: s,
+        },
+        Case {
+            name: "random 7x8 with zeros/hemisphere",
+            diagram: random_grid(
+                &[0.0, 8.0, 20.0, 33.0, 50.0, 61.0, 77.0, 90.0],
+                &[15.0, 60.0, 100.0, 170.0, 200.0, 260.0, 330.0],
+                11,
+            ),
+            domain: h,
+        },
+        Case {
+            name: "random 7x8 with zeros, θ in [20°, 165°]/sphere",
+            diagram: random_grid(
+                &[20.0, 35.0, 60.0, 90.0, 100.0, 130.0, 150.0, 165.0],
+                &[0.0, 40.0, 100.0, 150.0, 220.0, 290.0, 340.0],
+                12,
+            ),
+            domain: s,
+        },
+        Case {
+            name: "azimuthally asymmetric/hemisphere",
+            diagram: build(&grid(10.0, 90.0), &grid(30.0, 330.0), |t, p| {
+                (1.0 + 0.8 * p.cos()) * (0.3 + t.cos())
+            }),
+            domain: h,
+        },
+        Case {
+            name: "azimuthally asymmetric/sphere",
+            diagram: build(&grid(15.0, 180.0), &grid(30.0, 330.0), |t, p| {
+                (1.0 + 0.8 * (p - 1.0).cos()) * (1.2 + t.cos())
+            }),
+            domain: s,
+        },
+    ]
+}
+
+/// Smooth diagrams that agree at the poles, for the pdf/target test of the piecewise-constant image.
+fn smooth_cases() -> Vec<Case> {
+    vec![
+        Case {
+            name: "smooth/hemisphere",
+            diagram: build(&grid(5.0, 90.0), &grid(15.0, 345.0), |t, p| {
+                1.0 + 0.5 * t.sin() * p.cos() + 0.5 * t.cos()
+            }),
+            domain: Domain::Hemisphere,
+        },
+        Case {
+            name: "smooth/sphere",
+            diagram: build(&grid(5.0, 180.0), &grid(15.0, 345.0), |t, p| {
+                1.5 + 0.5 * t.sin() * p.sin() + 0.5 * t.cos()
+            }),
+            domain: Domain::Sphere,
+        },
+    ]
+}
+
+/// Bins equal in solid angle: `nz` bands of cos θ per hemisphere × `nphi` sectors of φ.
+struct Bins {
+    z_min: f64,
+    nz: usize,
+    nphi: usize,
+}
+
+impl Bins {
+    fn new(domain: Domain) -> Self {
+        match domain {
+            Domain::Hemisphere => Bins {
+                z_min: 0.0,
+                nz: 20,
+                nphi: 40,
+            },
+            Domain::Sphere => Bins {
+                z_min: -1.0,
+                nz: 40,
+                nphi: 40,
+            },
+        }
+    }
+    fn dz(&self) -> f64 {
+        (1.0 - self.z_min) / self.nz as f64
+    }
+    fn index(&self, d: [f64; 3]) -> usize {
+        let iz = (((d[2] - self.z_min) / self.dz()) as usize).min(self.nz - 1);
+        let mut phi = d[1].atan2(d[0]);
+        if phi < 0.0 {
+            phi += 2.0 * PI;
+        }
+        let ip = ((phi / (2.0 * PI) * self.nphi as f64) as usize).min(self.nphi - 1);
+        iz * self.nphi + ip
+    }
+    /// ∫ pdf dω over every bin: midpoint rule with q × q points per bin, equal in (z, φ).
+    fn probabilities(&self, s: &dyn Sampler, q: usize) -> Vec<f64> {
+        let dz = self.dz();
+        let dphi = 2.0 * PI / self.nphi as f64;
+        let cell = dz * dphi / (q * q) as f64;
+        let mut out = vec![0.0; self.nz * self.nphi];
+        for iz in 0..self.nz {
+            for ip in 0..self.nphi {
+                let mut sum = 0.0;
+                for a in 0..q {
+                    let z = self.z_min + (iz as f64 + (a as f64 + 0.5) / q as f64) * dz;
+                    for b in 0..q {
+                        let phi = (ip as f64 + (b as f64 + 0.5) / q as f64) * dphi;
+                        sum += s.pdf(direction(z.acos(), phi));
+                    }
+                }
+                out[iz * self.nphi + ip] = sum * cell;
+            }
+        }
+        out
+    }
+}
+
+/// Chi-square p-value of `n` iid samples against the sampler's own pdf.
+fn chi_square_p(s: &dyn Sampler, probabilities: &[f64], bins: &Bins, n: usize, seed: u64) -> f64 {
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
+    let mut observed = vec![0.0; probabilities.len()];
+    for _ in 0..n {
+        let smp = s.sample([rng.gen(), rng.gen()]);
+        observed[bins.index(smp.direction)] += 1.0;
+    }
+    let (mut stat, mut used) = (0.0, 0usize);
+    let (mut pool_o, mut pool_e) = (0.0, 0.0);
+    for (o, p) in observed.iter().zip(probabilities) {
+        let e = p * n as f64;
+        if e < 5.0 {
+            pool_o += o;
+            pool_e += e;
+        } else {
+            stat += (o - e) * (o - e) / e;
+            used += 1;
+        }
+    }
+    if pool_e > 0.0 {
+        stat += (pool_o - pool_e) * (pool_o - pool_e) / pool_e;
+        used += 1;
+    } else if pool_o > 0.0 {
+        return 0.0; // samples where the pdf integrates to 0
+    }
+    let dist = ChiSquared::new((used - 1) as f64).unwrap();
+    1.0 - dist.cdf(stat)
+}
+
+fn assert_unit_in_domain(s: &dyn Sampler, d: [f64; 3], what: &str) {
+    assert!(d.iter().all(|c| c.is_finite()), "{what}: {d:?} not finite");
+    let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+    assert!((len - 1.0).abs() < 1e-12, "{what}: |{d:?}| = {len}");
+    assert!(s.domain().contains(d), "{what}: {d:?} outside the domain");
+}
+
+/// Every check of the contract for one sampler on one case.
+fn check_contract(s: &dyn Sampler, case: &Case, invertible: bool, pdf_is_target: bool) {
+    let what = format!("{} on {}", s.name(), case.name);
+    assert_eq!(s.domain(), case.domain, "{what}");
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(1);
+
+    // pdf consistency, round trip, pdf = target.
+    let mut inverted = 0;
+    for _ in 0..5000 {
+        let u = [rng.gen::<f64>(), rng.gen::<f64>()];
+        let smp = s.sample(u);
+        assert_unit_in_domain(s, smp.direction, &what);
+        let p = s.pdf(smp.direction);
+        assert!(
+            (p - smp.pdf).abs() <= PDF_REL_TOL * p.max(smp.pdf),
+            "{what}: pdf {p} vs sample pdf {} at u = {u:?}",
+            smp.pdf
+        );
+        assert!(smp.pdf > 0.0, "{what}: a sample of zero density at {u:?}");
+        if pdf_is_target {
+            let t = s.target_pdf(smp.direction);
+            assert!(
+                (t - p).abs() <= PDF_REL_TOL * t,
+                "{what}: pdf {p} vs target {t}"
+            );
+        }
+        match s.invert(smp.direction) {
+            Ok(v) => {
+                assert!(invertible, "{what}");
+                assert!(
+                    (v[0] - u[0]).abs() < INVERT_TOL && (v[1] - u[1]).abs() < INVERT_TOL,
+                    "{what}: invert(sample({u:?})) = {v:?}"
+                );
+                inverted += 1;
+            }
+            Err(e) => {
+                assert!(!invertible, "{what}: invert failed: {e}");
+                assert_eq!(e, InvertError::Unsupported);
+            }
+        }
+    }
+    assert!(!invertible || inverted == 5000);
+    if pdf_is_target {
+        for _ in 0..5000 {
+            let d = direction(rng.gen::<f64>().acos() * 2.0, 2.0 * PI * rng.gen::<f64>());
+            let (p, t) = (s.pdf(d), s.target_pdf(d));
+            assert!(
+                (p - t).abs() <= PDF_REL_TOL * t,
+                "{what}: pdf {p} vs target {t} at {d:?}"
+            );
+        }
+    }
+    // Below the equator a hemisphere sampler has density 0 and no inverse.
+    if case.domain == Domain::Hemisphere {
+        let d = direction(2.0, 1.0);
+        assert_eq!(s.pdf(d), 0.0, "{what}");
+        assert_eq!(s.target_pdf(d), 0.0, "{what}");
+        if invertible {
+            assert_eq!(s.invert(d), Err(InvertError::OutsideDomain), "{what}");
+        }
+    }
+
+    // Edges and corners of the closed square.
+    let edge = [0.0, 1e-300, 1e-12, 0.25, 0.5, 1.0 - 1e-12, 1.0 - 1e-17, 1.0];
+    for &a in &edge {
+        for &b in &edge {
+            let smp = s.sample([a, b]);
+            assert_unit_in_domain(s, smp.direction, &format!("{what} at [{a}, {b}]"));
+            assert!(
+                smp.pdf.is_finite() && smp.pdf >= 0.0,
+                "{what} at [{a}, {b}]"
+            );
+        }
+    }
+
+    // Normalisation and chi-square.
+    let bins = Bins::new(case.domain);
+    let probs = bins.probabilities(s, 12);
+    let total: f64 = probs.iter().sum();
+    assert!(
+        (total - 1.0).abs() <= NORMALISATION_TOL,
+        "{what}: ∫pdf dω = {total}"
+    );
+    let p = chi_square_p(s, &probs, &bins, CHI2_SAMPLES, 2);
+    assert!(p >= ALPHA, "{what}: chi-square p-value {p} < {ALPHA}");
+    eprintln!("{what}: ∫pdf = {total:.6}, chi-square p = {p:.3}");
+}
+
+#[test]
+fn uniform_contract() {
+    for case in cases() {
+        let s = Uniform::new(&case.diagram, case.domain).unwrap();
+        let constant = case.name.starts_with("constant");
+        check_contract(&s, &case, true, constant);
+        assert_eq!(s.memory_bytes(), 0);
+    }
+}
+
+#[test]
+fn rejection_contract() {
+    for case in cases() {
+        let s = Rejection::new(&case.diagram, case.domain).unwrap();
+        check_contract(&s, &case, false, true);
+        // Deterministic in u.
+        assert_eq!(s.sample([0.3, 0.7]), s.sample([0.3, 0.7]));
+        let want = case.diagram.integral() / (case.domain.solid_angle() * case.diagram.max_value());
+        assert!((s.acceptance_rate() - want).abs() < 1e-15);
+    }
+    let c = &cases()[0];
+    let s = Rejection::new(&c.diagram, c.domain).unwrap();
+    assert!((s.acceptance_rate() - 1.0).abs() < 1e-12);
+    assert_eq!(s.max_trials(), 1);
+}
+
+#[test]
+fn bilinear_contract() {
+    for case in cases() {
+        let s = Bilinear::new(&case.diagram, case.domain).unwrap();
+        check_contract(&s, &case, true, true);
+    }
+}
+
+#[test]
+fn piecewise_constant_contract() {
+    for case in cases() {
+        let s = PiecewiseConstant::new(&case.diagram, case.domain).unwrap();
+        check_contract(&s, &case, true, false);
+        assert_eq!(s.resolution(), 256);
+    }
+}
+
+/// On a constant diagram covering the domain every pixel is exact; on smooth diagrams the pixel
+/// average stays within 2 % of the target at 256 × 256 pixels (pixels of ≤ 0.8°, log-gradient ≤ 1).
+#[test]
+fn piecewise_constant_approximates_target() {
+    for case in &cases()[..2] {
+        let s = PiecewiseConstant::new(&case.diagram, case.domain).unwrap();
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(5);
+        for _ in 0..2000 {
+            let d = s.sample([rng.gen(), rng.gen()]).direction;
+            let r = s.pdf(d) / s.target_pdf(d);
+            assert!((r - 1.0).abs() < 1e-12, "{}: pdf/target = {r}", case.name);
+        }
+    }
+    for case in smooth_cases() {
+        let s = PiecewiseConstant::new(&case.diagram, case.domain).unwrap();
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(6);
+        let (mut worst, mut mean) = (0.0f64, 0.0);
+        let n = 20_000;
+        for _ in 0..n {
+            let d = s.sample([rng.gen(), rng.gen()]).direction;
+            let e = (s.pdf(d) / s.target_pdf(d) - 1.0).abs();
+            worst = worst.max(e);
+            mean += e / n as f64;
+        }
+        eprintln!(
+            "{}: |pdf/target − 1| max {worst:.2e}, mean {mean:.2e}",
+            case.name
+        );
+        assert!(
+            worst < 0.02 && mean < 0.005,
+            "{}: max {worst}, mean {mean}",
+            case.name
+        );
+    }
+}
+
+#[test]
+fn constructors_refuse_bad_input() {
+    let sphere = build(&[0.0, 90.0, 180.0], &[0.0], |_, _| 1.0);
+    for m in [
+        Method::Uniform,
+        Method::Rejection,
+        Method::PiecewiseConstant,
+        Method::Bilinear,
+    ] {
+        assert!(matches!(
+            m.build_baseline(&sphere, Domain::Hemisphere),
+            Err(BaselineError::NotHemisphere { .. })
+        ));
+        let single = build(&[30.0], &[0.0], |_, _| 1.0);
+        assert!(matches!(
+            m.build_baseline(&single, Domain::Sphere),
+            Err(BaselineError::NoPower { .. })
+        ));
+        let s = m.build_baseline(&sphere, Domain::Sphere).unwrap();
+        assert_eq!(s.name(), m.as_str());
+    }
+    assert!(matches!(
+        Method::Hds.build_baseline(&sphere, Domain::Sphere),
+        Err(BaselineError::NotABaseline(Method::Hds))
+    ));
+    assert!(matches!(
+        PiecewiseConstant::with_resolution(&sphere, Domain::Sphere, 0),
+        Err(BaselineError::Resolution { .. })
+    ));
+    let narrow = build(&[10.0, 10.01], &[0.0], |_, _| 1.0);
+    assert!(matches!(
+        PiecewiseConstant::with_resolution(&narrow, Domain::Sphere, 1),
+        Err(BaselineError::EmptyImage { .. })
+    ));
+    let pencil = Diagram::from_degrees(&[0.0, 0.05], &[0.0], &[vec![1.0, 0.0]]).unwrap();
+    match Rejection::new(&pencil, Domain::Sphere) {
+        Err(BaselineError::AcceptanceTooLow { rate, min }) => {
+            assert!(rate < min && min == MIN_ACCEPTANCE)
+        }
+        other => panic!("{other:?}"),
+    }
+    // …while the exact samplers handle the same pencil beam.
+    let b = Bilinear::new(&pencil, Domain::Sphere).unwrap();
+    let smp = b.sample([0.4, 0.6]);
+    assert!(smp.direction[2] > (0.05f64).to_radians().cos());
+}
+
+/// The chi-square helper has power: samples of one diagram against the pdf of a slightly different
+/// one (azimuthal modulation 0.8 vs 0.7) are refused.
+#[test]
+fn chi_square_detects_a_wrong_density() {
+    let make = |k: f64| {
+        build(&grid(10.0, 90.0), &grid(30.0, 330.0), move |t, p| {
+            (1.0 + k * p.cos()) * (0.3 + t.cos())
+        })
+    };
+    let (right, wrong) = (make(0.8), make(0.7));
+    let bins = Bins::new(Domain::Hemisphere);
+    let sampler = Bilinear::new(&right, Domain::Hemisphere).unwrap();
+    let other = Bilinear::new(&wrong, Domain::Hemisphere).unwrap();
+    let p = chi_square_p(
+        &sampler,
+        &bins.probabilities(&other, 12),
+        &bins,
+        CHI2_SAMPLES,
+        3,
+    );
+    assert!(p < 1e-6, "p = {p}");
+}
