@@ -169,6 +169,28 @@ impl HdsCore {
         }
     }
 
+    /// The intermediate points of the forward map (for pictures and tests).
+    pub(crate) fn stages(&self, uv: [f64; 2]) -> super::Stages {
+        let (rb, phib) = square_to_disk(uv);
+        let i = self.cum.partition_point(|&g| g <= phib).clamp(1, self.m) - 1;
+        let eps = solve_wedge(
+            self.beta[i],
+            self.r2[i],
+            self.r2[i + 1],
+            (phib - self.cum[i]) / self.kappa,
+        );
+        let phi = self.phi[i] + eps * self.beta[i];
+        let rho2 = (1.0 - eps) * self.r2[i] + eps * self.r2[i + 1];
+        let (direction, _) = self.sample(uv);
+        super::Stages {
+            square: uv,
+            disk_b: (rb, phib),
+            star_c: (rb * rho2.max(0.0).sqrt(), phi),
+            disk_d: (sphere_to_disk_radius(direction), phi),
+            direction,
+        }
+    }
+
     /// The forward map: a point of the unit square to (direction, D at the sample).
     #[inline]
     pub(crate) fn sample(&self, uv: [f64; 2]) -> (Vec3, f64) {

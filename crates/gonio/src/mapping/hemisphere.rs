@@ -78,6 +78,11 @@ impl HemisphereMap {
         self.core.target_total()
     }
 
+    /// The intermediate points of the forward map at `u` (see [`super::Stages`]).
+    pub fn stages(&self, u: Point2) -> super::Stages {
+        self.core.stages(u)
+    }
+
     /// The slide's count of additional precomputed floats, M·N + 2M + 2 (§4, A10), for this grid.
     pub fn paper_table_floats(&self) -> usize {
         let d = self.diagram();

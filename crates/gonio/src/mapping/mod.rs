@@ -24,3 +24,19 @@ mod sphere;
 
 pub use hemisphere::HemisphereMap;
 pub use sphere::{SphereLayout, SphereMap};
+
+/// The intermediate points of one forward evaluation F(u) = M_E(M_D(M_C(M_B(u)))), in polar
+/// coordinates (radius, azimuth in radians) on each disk. For pictures of the stages and for tests.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Stages {
+    /// The input point of the unit square.
+    pub square: [f64; 2],
+    /// After M_B: the unit disk (r_B, φ_B), φ_B ∈ [0, 2π).
+    pub disk_b: (f64, f64),
+    /// After M_C: the star domain (r_C, φ_C), r_C ≤ ρ(φ_C) (may exceed 1, §10 A9).
+    pub star_c: (f64, f64),
+    /// After M_D: the disk (r_D, φ_D), r_D ≤ 1 for a hemisphere (≤ √2 for the Lambert sphere).
+    pub disk_d: (f64, f64),
+    /// After M_E: the unit direction (in the hemisphere map's own frame: z ≥ 0).
+    pub direction: [f64; 3],
+}
