@@ -8,8 +8,13 @@ use super::{
 use crate::diagram::{segment, Diagram};
 use std::f64::consts::PI;
 
-/// Angles closer than this (degrees) are the same plane.
-const SAME_ANGLE_DEG: f64 = 1e-9;
+/// Mirror images closer than this (degrees) to another plane are the same plane (floating-point
+/// round-off of 180° − C and the like); stored planes are at least `MIN_ANGLE_STEP_DEG` apart.
+const SAME_ANGLE_DEG: f64 = 1e-12;
+
+/// A first or last vertical angle within this many degrees of 0°, 90° or 180° is taken to be there
+/// (its θ snapped; its values unchanged) instead of adding a zero row next to it.
+const SNAP_DEG: f64 = 1e-6;
 
 /// Negative values no larger in magnitude than this fraction of the table's largest value are
 /// round-off and clamped to 0 (with a warning); anything more negative is an error.
@@ -65,7 +70,7 @@ pub(crate) fn vertical_plan(vert: &[f64]) -> (Option<f64>, Option<f64>) {
     } else {
         (0.0, 180.0)
     };
-    ((a > lo).then_some(lo), (b < hi).then_some(hi))
+    ((a > lo + SNAP_DEG).then_some(lo), (b < hi - SNAP_DEG).then_some(hi))
 }
 
 /// Checks the type C vertical angles and reports the padding rule as a warning.
@@ -148,7 +153,7 @@ pub(crate) fn classify(
                 message: format!("the first horizontal angle is {a}°, not 0°"),
             });
         }
-        if (b - a - 360.0).abs() < SAME_ANGLE_DEG {
+        if is_closing(horiz) {
             check_duplicate_plane(raw, vert.len(), n, ht.1, warnings);
         }
         Symmetry::None
@@ -185,6 +190,12 @@ pub(crate) fn check_duplicate_plane(
     }
 }
 
+/// Whether the last plane closes the set: it lies at the first angle + 360° (within 1e-9°).
+pub(crate) fn is_closing(horiz: &[f64]) -> bool {
+    let n = horiz.len();
+    n > 1 && (horiz[n - 1] - horiz[0] - 360.0).abs() < 1e-9
+}
+
 /// The images of stored plane angle `c` (degrees) under the symmetry, identity first.
 fn images(sym: Symmetry, c: f64) -> Vec<f64> {
     match sym {
@@ -212,7 +223,12 @@ pub(crate) fn meridians(sym: Symmetry, horiz: &[f64]) -> Vec<(f64, usize)> {
     if sym == Symmetry::Rotational {
         return vec![(norm360(horiz[0]), 0)];
     }
-    for (k, &c) in horiz.iter().enumerate() {
+    let stored = if sym == Symmetry::None && is_closing(horiz) {
+        &horiz[..horiz.len() - 1]
+    } else {
+        horiz
+    };
+    for (k, &c) in stored.iter().enumerate() {
         for (m, img) in images(sym, c).into_iter().enumerate() {
             all.push((norm360(img), u8::from(m > 0), k));
         }
@@ -254,9 +270,20 @@ fn type_c(p: &Photometry) -> Result<Diagram, crate::Error> {
         rows.push((g, None));
     }
     rows.reverse(); // θ = 180° − γ ascending
+    let snap = |g: f64| {
+        [0.0, 90.0, 180.0]
+            .into_iter()
+            .find(|b| (g - b).abs() <= SNAP_DEG)
+            .unwrap_or(g)
+    };
+    let last = rows.len() - 1;
     let theta: Vec<f64> = rows
         .iter()
-        .map(|&(g, _)| (180.0 - g).to_radians().min(PI))
+        .enumerate()
+        .map(|(k, &(g, _))| {
+            let g = if k == 0 || k == last { snap(g) } else { g };
+            (180.0 - g).to_radians().min(PI)
+        })
         .collect();
     let mer = meridians(p.symmetry, &p.horizontal_angles_deg);
     let phi: Vec<f64> = mer.iter().map(|&(c, _)| c.to_radians()).collect();

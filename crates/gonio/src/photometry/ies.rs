@@ -253,9 +253,7 @@ pub(crate) fn read_ies(bytes: &[u8], resolver: &dyn TiltResolver) -> Result<Phot
         PhotometricType::C => {
             check_angles(&cur, &vert, &vt, "vertical angle", 0.0, 180.0)?;
             // A closing plane at first + 360° is allowed even when the first angle is not 0.
-            let n = horiz.len();
-            let closing = n > 1 && (horiz[n - 1] - horiz[0] - 360.0).abs() < 1e-9;
-            let hi = if closing { horiz[0] + 360.0 } else { 360.0 };
+            let hi = if expand::is_closing(&horiz) { horiz[0] + 360.0 } else { 360.0 };
             check_angles(&cur, &horiz, &ht, "horizontal angle", 0.0, hi)?;
         }
         PhotometricType::B => {

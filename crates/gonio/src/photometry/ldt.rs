@@ -233,7 +233,7 @@ pub(crate) fn read_ldt(bytes: &[u8]) -> Result<Photometry, ParseError> {
                 Symmetry::Rotational
             } else {
                 let (a, b) = (horiz[0], horiz[mc - 1]);
-                if (b - a - 360.0).abs() < 1e-9 {
+                if expand::is_closing(&horiz) {
                     expand::check_duplicate_plane(&raw, ng, mc, ct.last(), &mut w);
                 } else if b - a <= 180.0 {
                     w.push(Warning {

@@ -44,6 +44,10 @@ pub use write::{write_ies, write_ldt, WriteMeta};
 /// Largest number of angles accepted on one axis (vertical or horizontal, or TILT angles).
 pub const MAX_ANGLES: usize = 100_000;
 
+/// Smallest step in degrees between consecutive angles of a file: closer angles are refused as
+/// duplicates (so that every conversion keeps them distinct).
+pub const MIN_ANGLE_STEP_DEG: f64 = 1e-9;
+
 /// Largest number of EULUMDAT lamp sets accepted.
 pub const MAX_LAMP_SETS: usize = 1_000;
 

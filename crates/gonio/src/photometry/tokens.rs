@@ -1,6 +1,6 @@
 //! Lines and tokens with their 1-based positions; strict number parsing.
 
-use super::{ParseError, MAX_ANGLES};
+use super::{ParseError, MAX_ANGLES, MIN_ANGLE_STEP_DEG};
 
 /// The bytes without a leading UTF-8 byte-order mark.
 pub(crate) fn strip_bom(bytes: &[u8]) -> &[u8] {
@@ -279,11 +279,12 @@ pub(crate) fn check_angles(
                 format!("{what} #{} = {a}° is outside [{lo}°, {hi}°]", k + 1),
             ));
         }
-        if k > 0 && a <= angles[k - 1] {
+        if k > 0 && a - angles[k - 1] < MIN_ANGLE_STEP_DEG {
             return Err(cur.err_at(
                 t,
                 format!(
-                    "{what}s must be strictly increasing, but #{} = {a}° follows {}°",
+                    "{what}s must be strictly increasing (by at least {MIN_ANGLE_STEP_DEG}°), \
+                     but #{} = {a}° follows {}°",
                     k + 1,
                     angles[k - 1]
                 ),
