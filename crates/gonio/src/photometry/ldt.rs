@@ -235,12 +235,6 @@ pub(crate) fn read_ldt(bytes: &[u8]) -> Result<Photometry, ParseError> {
                 let (a, b) = (horiz[0], horiz[mc - 1]);
                 if expand::is_closing(&horiz) {
                     expand::check_duplicate_plane(&raw, ng, mc, ct.last(), &mut w);
-                } else if b - a <= 180.0 {
-                    w.push(Warning {
-                        line: sl,
-                        column: sc,
-                        message: format!("Isym 0 but the C planes span only {a}°–{b}°; the gap is interpolated across"),
-                    });
                 }
                 Symmetry::None
             }

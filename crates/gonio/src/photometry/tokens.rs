@@ -95,7 +95,7 @@ pub(crate) fn tokenize<'a>(lines: &[&'a [u8]], first_line: usize, comma: bool) -
 /// may stand for the decimal point. No `inf`, `nan`, hex or digit separators; the result must be
 /// finite.
 pub(crate) fn parse_number(t: &[u8], decimal_comma: bool) -> Option<f64> {
-    if t.is_empty() || t.len() > 64 {
+    if t.is_empty() {
         return None;
     }
     let n = t.len();
