@@ -232,7 +232,6 @@ pub(crate) fn read_ldt(bytes: &[u8]) -> Result<Photometry, ParseError> {
             if mc == 1 {
                 Symmetry::Rotational
             } else {
-                let (a, b) = (horiz[0], horiz[mc - 1]);
                 if expand::is_closing(&horiz) {
                     expand::check_duplicate_plane(&raw, ng, mc, ct.last(), &mut w);
                 }
