@@ -117,7 +117,11 @@ fn every_file_meets_its_expectations() {
         assert_eq!(p.vertical_angles_deg.len(), nv, "{rel}");
         assert_eq!(p.horizontal_angles_deg.len(), nh, "{rel}");
         assert_eq!(p.symmetry, sym, "{rel}");
-        assert!((p.max_intensity_cd() / max_cd - 1.0).abs() < 1e-6, "{rel}: max {}", p.max_intensity_cd());
+        assert!(
+            (p.max_intensity_cd() / max_cd - 1.0).abs() < 1e-6,
+            "{rel}: max {}",
+            p.max_intensity_cd()
+        );
         let d = p.to_diagram().unwrap();
         assert_eq!(d.n_meridians(), meridians, "{rel}");
         // the diagram covers a hemisphere or the sphere
@@ -132,7 +136,10 @@ fn every_file_meets_its_expectations() {
         let f = p.flux_lm();
         assert!((f / flux - 1.0).abs() < 5e-4, "{rel}: flux {f} vs {flux}");
         let q = quadrature(&d);
-        assert!((f / q - 1.0).abs() < 0.01, "{rel}: closed form {f} vs quadrature {q}");
+        assert!(
+            (f / q - 1.0).abs() < 0.01,
+            "{rel}: closed form {f} vs quadrature {q}"
+        );
         // sampled: uniform random directions estimate the same flux (5 standard errors)
         let n = 100_000;
         let (mut s, mut s2) = (0.0, 0.0);
@@ -145,7 +152,10 @@ fn every_file_meets_its_expectations() {
         }
         let mean = s / n as f64;
         let se = ((s2 / n as f64 - mean * mean).max(0.0) / n as f64).sqrt();
-        assert!((mean - f).abs() <= 5.0 * se + 1e-9 * f, "{rel}: sampled {mean} ± {se} vs {f}");
+        assert!(
+            (mean - f).abs() <= 5.0 * se + 1e-9 * f,
+            "{rel}: sampled {mean} ± {se} vs {f}"
+        );
     }
 }
 
@@ -159,7 +169,10 @@ fn eulumdat_flux_is_lamp_flux_times_lorl() {
         let info = p.ldt.as_ref().unwrap();
         let want = p.lamp_sets[0].flux_lm * info.light_output_ratio_pct / 100.0;
         let got = p.flux_lm();
-        assert!((got / want - 1.0).abs() < 0.01, "{rel}: {got} lm vs {want} lm");
+        assert!(
+            (got / want - 1.0).abs() < 0.01,
+            "{rel}: {got} lm vs {want} lm"
+        );
     }
 }
 
@@ -170,10 +183,19 @@ fn corpus_warnings_and_quirks() {
     };
     let warns = |rel: &str| load(&dir, rel).warnings;
     let has = |rel: &str, needle: &str| warns(rel).iter().any(|w| w.message.contains(needle));
-    assert!(has("ies/lm63_1986_erco_one_value_per_line_ctrlz.ies", "trailing"));
-    assert!(has("ies/iesna95_ledalite_direct_indirect_two_lamps.ies", "IESNA95"));
+    assert!(has(
+        "ies/lm63_1986_erco_one_value_per_line_ctrlz.ies",
+        "trailing"
+    ));
+    assert!(has(
+        "ies/iesna95_ledalite_direct_indirect_two_lamps.ies",
+        "IESNA95"
+    ));
     assert!(has("ies/lm63_2002_lithonia_par_mixed_crlf_lf.ies", "POS."));
-    assert!(has("ldt/isym0_ledil_strada_72x181.ldt", "Ityp = 1 contradicts Isym = 0"));
+    assert!(has(
+        "ldt/isym0_ledil_strada_72x181.ldt",
+        "Ityp = 1 contradicts Isym = 0"
+    ));
     assert!(has("ldt/isym4_two_lamp_sets_144x73.ldt", "first set"));
     let p = load(&dir, "ies/lm63_1995_spec_example_tilt_include.ies");
     let t = p.tilt.table().unwrap();
@@ -229,7 +251,8 @@ fn type_c_nodes_are_kept_exactly() {
         let mut checked = 0;
         for (h, &c) in p.horizontal_angles_deg.iter().enumerate() {
             // a closing plane that differs from the first one is not kept (warned about)
-            let closing = h == nh - 1 && nh > 1 && (c - p.horizontal_angles_deg[0] - 360.0).abs() < 1e-9;
+            let closing =
+                h == nh - 1 && nh > 1 && (c - p.horizontal_angles_deg[0] - 360.0).abs() < 1e-9;
             if closing && p.raw_values[..nv] != p.raw_values[h * nv..(h + 1) * nv] {
                 continue;
             }
@@ -269,11 +292,17 @@ fn erco_trion_twins_agree() {
         let theta = (j as f64 * 0.5).to_radians();
         for i in 0..144 {
             let phi = (i as f64 * 2.5).to_radians();
-            let (x, y) = (da.interpolate(theta, phi) / fa, db.interpolate(theta, phi) / fb);
+            let (x, y) = (
+                da.interpolate(theta, phi) / fa,
+                db.interpolate(theta, phi) / fb,
+            );
             worst = worst.max((x - y).abs());
             peak = peak.max(x);
         }
     }
-    assert!(worst <= 1e-3 * peak, "normalised difference {worst} (peak {peak})");
+    assert!(
+        worst <= 1e-3 * peak,
+        "normalised difference {worst} (peak {peak})"
+    );
     assert!((fa / fb - 1.0).abs() < 1e-3);
 }

@@ -70,7 +70,10 @@ pub(crate) fn vertical_plan(vert: &[f64]) -> (Option<f64>, Option<f64>) {
     } else {
         (0.0, 180.0)
     };
-    ((a > lo + SNAP_DEG).then_some(lo), (b < hi - SNAP_DEG).then_some(hi))
+    (
+        (a > lo + SNAP_DEG).then_some(lo),
+        (b < hi - SNAP_DEG).then_some(hi),
+    )
 }
 
 /// Checks the type C vertical angles and reports the padding rule as a warning.
@@ -89,7 +92,11 @@ pub(crate) fn check_vertical_c(
     }
     let (lo, hi) = vertical_plan(vert);
     if lo.is_some() || hi.is_some() {
-        let pads: Vec<String> = lo.iter().chain(hi.iter()).map(|g| format!("γ = {g}°")).collect();
+        let pads: Vec<String> = lo
+            .iter()
+            .chain(hi.iter())
+            .map(|g| format!("γ = {g}°"))
+            .collect();
         let (line, column) = first.map_or((0, 0), |t| (t.line, t.column));
         warnings.push(Warning {
             line,
@@ -126,7 +133,9 @@ pub(crate) fn classify(
         if vert.len() < 2 || horiz.len() < 2 {
             return Err(at(
                 vt.0,
-                format!("type {ptype} photometry needs at least two vertical and two horizontal angles"),
+                format!(
+                    "type {ptype} photometry needs at least two vertical and two horizontal angles"
+                ),
             ));
         }
         return Ok(Symmetry::TypeAB {
@@ -233,11 +242,7 @@ pub(crate) fn meridians(sym: Symmetry, horiz: &[f64]) -> Vec<(f64, usize)> {
             all.push((norm360(img), u8::from(m > 0), k));
         }
     }
-    all.sort_by(|x, y| {
-        x.0.total_cmp(&y.0)
-            .then(x.1.cmp(&y.1))
-            .then(x.2.cmp(&y.2))
-    });
+    all.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)).then(x.2.cmp(&y.2)));
     let mut out: Vec<(f64, usize)> = Vec::with_capacity(all.len());
     for (a, _, k) in all {
         match out.last() {
@@ -288,7 +293,7 @@ fn type_c(p: &Photometry) -> Result<Diagram, crate::Error> {
     let mer = meridians(p.symmetry, &p.horizontal_angles_deg);
     let phi: Vec<f64> = mer.iter().map(|&(c, _)| c.to_radians()).collect();
     let n = theta.len();
-    let total = n.checked_mul(phi.len()).unwrap_or(usize::MAX);
+    let total = n.saturating_mul(phi.len());
     if total > crate::diagram::MAX_NODES {
         return Err(crate::DiagramError::TooLarge {
             parallels: n,

@@ -55,16 +55,25 @@ fn tilt_line(line: &[u8]) -> Option<(usize, String)> {
         return None;
     }
     let after = &rest[4..];
-    let sp = after.iter().take_while(|b| **b == b' ' || **b == b'\t').count();
+    let sp = after
+        .iter()
+        .take_while(|b| **b == b' ' || **b == b'\t')
+        .count();
     if after.get(sp) != Some(&b'=') {
         return None;
     }
     let val = &after[sp + 1..];
-    let vs = val.iter().take_while(|b| **b == b' ' || **b == b'\t').count();
+    let vs = val
+        .iter()
+        .take_while(|b| **b == b' ' || **b == b'\t')
+        .count();
     Some((lead + 4 + sp + 1 + vs + 1, text(val)))
 }
 
-pub(crate) fn read_ies(bytes: &[u8], resolver: &dyn TiltResolver) -> Result<Photometry, ParseError> {
+pub(crate) fn read_ies(
+    bytes: &[u8],
+    resolver: &dyn TiltResolver,
+) -> Result<Photometry, ParseError> {
     let lines = split_lines(strip_bom(bytes));
     if lines.is_empty() {
         return Err(ParseError::new(0, 0, "the file is empty"));
@@ -170,7 +179,10 @@ pub(crate) fn read_ies(bytes: &[u8], resolver: &dyn TiltResolver) -> Result<Phot
                 ParseError::new(
                     tilt_line_no,
                     tilt_col,
-                    format!("in TILT file `{name}` at {}:{}: {}", e.line, e.column, e.message),
+                    format!(
+                        "in TILT file `{name}` at {}:{}: {}",
+                        e.line, e.column, e.message
+                    ),
                 )
             })?;
             if let Some(t) = tc.peek() {
@@ -253,7 +265,11 @@ pub(crate) fn read_ies(bytes: &[u8], resolver: &dyn TiltResolver) -> Result<Phot
         PhotometricType::C => {
             check_angles(&cur, &vert, &vt, "vertical angle", 0.0, 180.0)?;
             // A closing plane at first + 360° is allowed even when the first angle is not 0.
-            let hi = if expand::is_closing(&horiz) { horiz[0] + 360.0 } else { 360.0 };
+            let hi = if expand::is_closing(&horiz) {
+                horiz[0] + 360.0
+            } else {
+                360.0
+            };
             check_angles(&cur, &horiz, &ht, "horizontal angle", 0.0, hi)?;
         }
         PhotometricType::B => {
@@ -312,7 +328,9 @@ pub(crate) fn read_ies(bytes: &[u8], resolver: &dyn TiltResolver) -> Result<Phot
             warnings.push(Warning {
                 line: st.line,
                 column: st.column,
-                message: format!("ballast-lamp photometric factor {second} is not positive; 1 used"),
+                message: format!(
+                    "ballast-lamp photometric factor {second} is not positive; 1 used"
+                ),
             });
         }
     }

@@ -42,7 +42,10 @@ impl<'a> Fields<'a> {
                 lead + 1,
                 format!(
                     "expected a number ({what}), found `{}`",
-                    String::from_utf8_lossy(body).chars().take(40).collect::<String>()
+                    String::from_utf8_lossy(body)
+                        .chars()
+                        .take(40)
+                        .collect::<String>()
                 ),
             )),
         }
@@ -65,7 +68,12 @@ impl<'a> Fields<'a> {
     }
 
     /// An integer in [min, max].
-    fn integer(&mut self, what: &str, min: i64, max: i64) -> Result<(i64, usize, usize), ParseError> {
+    fn integer(
+        &mut self,
+        what: &str,
+        min: i64,
+        max: i64,
+    ) -> Result<(i64, usize, usize), ParseError> {
         let (v, l, c) = self.number(what)?;
         if v.fract() != 0.0 || v < min as f64 || v > max as f64 {
             return Err(ParseError::new(
@@ -100,11 +108,17 @@ pub(crate) fn read_ldt(bytes: &[u8]) -> Result<Photometry, ParseError> {
     let file_name = f.text("file name")?;
     let date_user = f.text("date / user")?;
     let mut dims = [0.0; 3];
-    for (d, what) in dims.iter_mut().zip(["luminaire length", "luminaire width", "luminaire height"]) {
+    for (d, what) in
+        dims.iter_mut()
+            .zip(["luminaire length", "luminaire width", "luminaire height"])
+    {
         *d = f.lenient(what, &mut w)?;
     }
     let mut area = [0.0; 2];
-    for (d, what) in area.iter_mut().zip(["luminous area length", "luminous area width"]) {
+    for (d, what) in area
+        .iter_mut()
+        .zip(["luminous area length", "luminous area width"])
+    {
         *d = f.lenient(what, &mut w)?;
     }
     let mut heights = [0.0; 4];
@@ -126,12 +140,19 @@ pub(crate) fn read_ldt(bytes: &[u8]) -> Result<Photometry, ParseError> {
         return Err(ParseError::new(
             nl,
             nc,
-            format!("{n_sets} lamp sets declared (6 lines each), but only {} lines follow", f.lines.len() - f.next),
+            format!(
+                "{n_sets} lamp sets declared (6 lines each), but only {} lines follow",
+                f.lines.len() - f.next
+            ),
         ));
     }
     let mut lamp_sets = Vec::with_capacity(n_sets);
     for s in 1..=n_sets {
-        let (count, _, _) = f.integer(&format!("number of lamps of set {s}"), i64::MIN / 2, i64::MAX / 2)?;
+        let (count, _, _) = f.integer(
+            &format!("number of lamps of set {s}"),
+            i64::MIN / 2,
+            i64::MAX / 2,
+        )?;
         let description = f.text("lamp type")?;
         let (flux, _, _) = f.number(&format!("total luminous flux of lamp set {s}"))?;
         let color = f.text("colour appearance")?;
@@ -179,7 +200,13 @@ pub(crate) fn read_ldt(bytes: &[u8]) -> Result<Photometry, ParseError> {
     let values = planes
         .checked_mul(ng)
         .filter(|&c| c <= MAX_NODES)
-        .ok_or_else(|| ParseError::new(ngl, ngc, format!("{planes} × {ng} values exceed the limit of {MAX_NODES}")))?;
+        .ok_or_else(|| {
+            ParseError::new(
+                ngl,
+                ngc,
+                format!("{planes} × {ng} values exceed the limit of {MAX_NODES}"),
+            )
+        })?;
     let needed = mc + ng + values;
     if cur.remaining() < needed {
         return Err(ParseError::new(
@@ -215,7 +242,9 @@ pub(crate) fn read_ldt(bytes: &[u8]) -> Result<Photometry, ParseError> {
         w.push(Warning {
             line: il,
             column: ic,
-            message: format!("Ityp = {ityp} contradicts Isym = {isym}; the symmetry indicator Isym is trusted"),
+            message: format!(
+                "Ityp = {ityp} contradicts Isym = {isym}; the symmetry indicator Isym is trusted"
+            ),
         });
     } else if !(0..=3).contains(&ityp) {
         w.push(Warning {
@@ -270,7 +299,8 @@ pub(crate) fn read_ldt(bytes: &[u8]) -> Result<Photometry, ParseError> {
         _ => w.push(Warning {
             line: nl,
             column: nc,
-            message: "no positive lamp flux in the first lamp set: intensities are kept in cd/klm".into(),
+            message: "no positive lamp flux in the first lamp set: intensities are kept in cd/klm"
+                .into(),
         }),
     }
     if cfli > 0.0 {

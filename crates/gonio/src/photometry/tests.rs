@@ -37,7 +37,10 @@ fn ies_versions_are_recognised() {
         ("IESNA95\n", Version::Ies1995),
         ("IESNA:LM-63-2002\n", Version::Ies2002),
         ("IES:LM-63-2019\n", Version::Ies2019),
-        ("Some manufacturer, free text\nanother line\n", Version::Ies1986),
+        (
+            "Some manufacturer, free text\nanother line\n",
+            Version::Ies1986,
+        ),
     ];
     for (head, v) in cases {
         let p = ies(&format!("{head}{body}")).unwrap();
@@ -53,7 +56,8 @@ fn ies_versions_are_recognised() {
 #[test]
 fn ies_bom_latin1_line_endings_and_separators() {
     // BOM, a Latin-1 byte in a keyword, CR-only line endings, commas, tabs, exponents, wrapping.
-    let mut bytes = b"\xEF\xBB\xBFIESNA:LM-63-1995\r[LUMINAIRE] 10\xB0 spot\r[MORE] second line\r".to_vec();
+    let mut bytes =
+        b"\xEF\xBB\xBFIESNA:LM-63-1995\r[LUMINAIRE] 10\xB0 spot\r[MORE] second line\r".to_vec();
     bytes.extend_from_slice(
         b"TILT=NONE\r1,1000,1\t3 1\r1 2 0 0 0 1 1 10\r0,4.5e1\r\n9.0E+01\n0\r\n1e2,\t50\r\n  2.5E-1\n",
     );
@@ -165,7 +169,9 @@ fn tilt_file_goes_through_the_resolver() {
         format!("IESNA91\nTILT= {name}\n1 1000 1 2 1 1 2 0 0 0\n1 1 10\n0 90\n0\n10 4\n")
     };
     let p = read(t("lamp.tlt").as_bytes(), FileFormat::Ies, &OneTilt).unwrap();
-    assert!(matches!(&p.tilt, Tilt::File { name, table } if name == "lamp.tlt" && table.geometry == 2));
+    assert!(
+        matches!(&p.tilt, Tilt::File { name, table } if name == "lamp.tlt" && table.geometry == 2)
+    );
     assert!((p.candela[0] - 9.0).abs() < 1e-12 && (p.candela[1] - 3.6).abs() < 1e-12);
     let e = read(t("gone.tlt").as_bytes(), FileFormat::Ies, &OneTilt).unwrap_err();
     assert_eq!((e.line, e.column), (2, 7));
@@ -193,7 +199,10 @@ fn counts_are_capped_and_checked_against_the_data() {
     let e = ies(big).unwrap_err();
     assert!(e.message.contains("only 3 values follow"), "{e}");
     let over = "IESNA91\nTILT=NONE\n1 1000 1 100001 1 1 2 0 0 0\n";
-    assert!(ies(over).unwrap_err().message.contains("integer from 1 to 100000"));
+    assert!(ies(over)
+        .unwrap_err()
+        .message
+        .contains("integer from 1 to 100000"));
     let e = ies("IESNA91\nTILT=INCLUDE\n1 99999 0 1\n").unwrap_err();
     assert!(e.message.contains("TILT table declares"), "{e}");
     let e = ies("IESNA91\nTILT=NONE\n1 1000 1 1e300 1 1 2 0 0 0\n").unwrap_err();
@@ -204,7 +213,10 @@ fn counts_are_capped_and_checked_against_the_data() {
 // Type C expansion
 
 fn phis_deg(d: &crate::Diagram) -> Vec<f64> {
-    d.phi().iter().map(|p| (p.to_degrees() * 1e9).round() / 1e9).collect()
+    d.phi()
+        .iter()
+        .map(|p| (p.to_degrees() * 1e9).round() / 1e9)
+        .collect()
 }
 
 #[test]
@@ -233,7 +245,13 @@ fn horizontal_symmetries_expand_with_exact_nodes() {
         vec![0.0, 30.0, 90.0, 150.0, 180.0, 210.0, 270.0, 330.0]
     );
     let at = |c: f64| d.interpolate(FRAC_PI_2_PLUS, c.to_radians());
-    for (c, v) in [(30.0, 2.0), (150.0, 2.0), (210.0, 2.0), (330.0, 2.0), (270.0, 3.0)] {
+    for (c, v) in [
+        (30.0, 2.0),
+        (150.0, 2.0),
+        (210.0, 2.0),
+        (330.0, 2.0),
+        (270.0, 3.0),
+    ] {
         assert_eq!(at(c), v, "C = {c}");
     }
 
@@ -280,7 +298,11 @@ fn vertical_ranges() {
     let range = |vert: &str, values: &str| {
         let p = ies(&ies_c(vert, "0", values)).unwrap();
         let d = p.to_diagram().unwrap();
-        let th: Vec<f64> = d.theta().iter().map(|t| (t.to_degrees() * 1e9).round() / 1e9).collect();
+        let th: Vec<f64> = d
+            .theta()
+            .iter()
+            .map(|t| (t.to_degrees() * 1e9).round() / 1e9)
+            .collect();
         (p, d, th)
     };
     let (_, _, th) = range("0 45 90", "1 1 1");
@@ -326,7 +348,15 @@ fn flux_of_constant_lower_hemisphere() {
 // EULUMDAT
 
 /// A EULUMDAT file with the given Isym, Mc, Ng, C angles, γ angles and values (one per line).
-fn ldt_text(ityp: i64, isym: i64, mc: usize, c: &[f64], g: &[f64], v: &[f64], sets: &str) -> String {
+fn ldt_text(
+    ityp: i64,
+    isym: i64,
+    mc: usize,
+    c: &[f64],
+    g: &[f64],
+    v: &[f64],
+    sets: &str,
+) -> String {
     let nsets = sets.lines().count() / 6;
     let mut l: Vec<String> = vec![
         "Company".into(),
@@ -348,7 +378,7 @@ fn ldt_text(ityp: i64, isym: i64, mc: usize, c: &[f64], g: &[f64], v: &[f64], se
     l.extend(["100", "100", "1,0", "0"].map(String::from));
     l.push(nsets.to_string());
     l.extend(sets.lines().map(String::from));
-    l.extend(std::iter::repeat_n("0.5".to_string(), 10));
+    l.extend(std::iter::repeat("0.5".to_string()).take(10));
     l.extend(c.iter().map(|x| x.to_string()));
     l.extend(g.iter().map(|x| x.to_string()));
     l.extend(v.iter().map(|x| x.to_string().replace('.', ",")));
@@ -373,7 +403,7 @@ fn ldt_isym_expansions() {
     let d = ldt(&t).unwrap().to_diagram().unwrap();
     assert_eq!(phis_deg(&d), c4.to_vec());
     assert_eq!(d.value(3, 0), 4.0); // C270 = image of C90, × 2
-    // Isym 3: C270 → C0 → C90
+                                    // Isym 3: C270 → C0 → C90
     let t = ldt_text(3, 3, 4, &c4, &g, &[1.0, 1.0, 2.0, 2.0, 3.0, 3.0], ONE_SET);
     let p = ldt(&t).unwrap();
     assert_eq!(p.horizontal_angles_deg, vec![270.0, 0.0, 90.0]);
@@ -383,18 +413,34 @@ fn ldt_isym_expansions() {
     assert_eq!(d.value(2, 0), 4.0); // C180 = image of C0
     assert_eq!(d.value(3, 0), 2.0); // C270
     assert_eq!(d.value(1, 0), 6.0); // C90
-    // Isym 4: C0–C90 of Mc = 8
+                                    // Isym 4: C0–C90 of Mc = 8
     let c8: Vec<f64> = (0..8).map(|k| k as f64 * 45.0).collect();
     let t = ldt_text(3, 4, 8, &c8, &g, &[1.0, 1.0, 2.0, 2.0, 3.0, 3.0], ONE_SET);
     let d = ldt(&t).unwrap().to_diagram().unwrap();
     assert_eq!(phis_deg(&d), c8);
     assert_eq!(d.value(3, 1), 4.0); // C135 = image of C45
-    // Isym 0
-    let t = ldt_text(3, 0, 4, &c4, &g, &[1.0, 1.0, 2.0, 2.0, 3.0, 3.0, 4.0, 4.0], ONE_SET);
+                                    // Isym 0
+    let t = ldt_text(
+        3,
+        0,
+        4,
+        &c4,
+        &g,
+        &[1.0, 1.0, 2.0, 2.0, 3.0, 3.0, 4.0, 4.0],
+        ONE_SET,
+    );
     let d = ldt(&t).unwrap().to_diagram().unwrap();
     assert_eq!(d.value(3, 0), 8.0);
     // Mc not a multiple of 4 for Isym 4
-    let t = ldt_text(3, 4, 6, &[0.0, 60.0, 120.0, 180.0, 240.0, 300.0], &g, &[1.0; 4], ONE_SET);
+    let t = ldt_text(
+        3,
+        4,
+        6,
+        &[0.0, 60.0, 120.0, 180.0, 240.0, 300.0],
+        &g,
+        &[1.0; 4],
+        ONE_SET,
+    );
     let e = ldt(&t).unwrap_err();
     assert_eq!(e.line, 4);
 }
@@ -452,7 +498,10 @@ fn type_ab_directions() {
         for (h, v) in [(10.0, 20.0), (-35.0, 70.0), (80.0, -10.0)] {
             let d = direction_of_hv(t, h, v);
             let (h2, v2) = expand::hv_of(t, d);
-            assert!((h - h2).abs() < 1e-9 && (v - v2).abs() < 1e-9, "{t} {h} {v}");
+            assert!(
+                (h - h2).abs() < 1e-9 && (v - v2).abs() < 1e-9,
+                "{t} {h} {v}"
+            );
         }
     }
 }
@@ -466,7 +515,11 @@ fn type_b_beam(h_from_zero: bool) -> String {
     };
     let vs: Vec<f64> = (-36..=36).map(|k| k as f64 * 2.5).collect();
     let f = |h: f64, v: f64| {
-        let (hc, vc) = if h_from_zero { (0.0, -10.0) } else { (20.0, -10.0) };
+        let (hc, vc) = if h_from_zero {
+            (0.0, -10.0)
+        } else {
+            (20.0, -10.0)
+        };
         1000.0 * (-((h - hc).powi(2) + (v - vc).powi(2)) / (2.0 * 12.0f64.powi(2))).exp()
     };
     let mut s = format!(
@@ -474,7 +527,12 @@ fn type_b_beam(h_from_zero: bool) -> String {
         vs.len(),
         hs.len()
     );
-    let line = |a: &[f64]| a.iter().map(|x| x.to_string()).collect::<Vec<_>>().join(" ");
+    let line = |a: &[f64]| {
+        a.iter()
+            .map(|x| x.to_string())
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
     s += &format!("{}\n{}\n", line(&vs), line(&hs));
     for &h in &hs {
         let row: Vec<f64> = vs.iter().map(|&v| f(h, v)).collect();
@@ -506,7 +564,10 @@ fn type_b_resampling_keeps_flux_and_beam_direction() {
         let d = p.to_diagram().unwrap();
         assert!((d.theta()[0] - PI / 2.0).abs() < 1e-12); // lower hemisphere only
         let (f_b, f_d) = (type_b_flux(&p), d.integral());
-        assert!((f_d / f_b - 1.0).abs() < 0.01, "mirror {mirror}: {f_d} vs {f_b}");
+        assert!(
+            (f_d / f_b - 1.0).abs() < 0.01,
+            "mirror {mirror}: {f_d} vs {f_b}"
+        );
         // the beam: maximum of the diagram at the direction of (H, V) of the peak
         let (i, j) = (0..d.n_meridians())
             .flat_map(|i| (0..d.n_parallels()).map(move |j| (i, j)))
@@ -516,14 +577,21 @@ fn type_b_resampling_keeps_flux_and_beam_direction() {
         let got = [t.sin() * f.cos(), t.sin() * f.sin(), t.cos()];
         let want = direction_of_hv(PhotometricType::B, if mirror { 0.0 } else { 20.0 }, -10.0);
         let cosang: f64 = got.iter().zip(want).map(|(a, b)| a * b).sum();
-        assert!(cosang.acos().to_degrees() < 1.0, "beam off by {}°", cosang.acos().to_degrees());
+        assert!(
+            cosang.acos().to_degrees() < 1.0,
+            "beam off by {}°",
+            cosang.acos().to_degrees()
+        );
         // values at a few directions equal the (H, V) interpolant up to the resampling error
         for (h, v) in [(20.0, -10.0), (10.0, 0.0), (30.0, -25.0)] {
             let dir = direction_of_hv(PhotometricType::B, h, v);
             let (th, ph) = crate::sampler::spherical(dir);
             let a = d.interpolate(th, ph);
             let b = p.intensity_hv(h, v);
-            assert!((a - b).abs() < 0.02 * p.max_intensity_cd(), "({h},{v}): {a} vs {b}");
+            assert!(
+                (a - b).abs() < 0.02 * p.max_intensity_cd(),
+                "({h},{v}): {a} vs {b}"
+            );
         }
     }
 }
@@ -555,9 +623,7 @@ fn random_diagram(rng: &mut impl rand::Rng) -> crate::Diagram {
         _ => (0.0, 180.0),
     };
     let n = rng.gen_range(2..12);
-    let mut theta: Vec<f64> = (0..n)
-        .map(|_| rng.gen_range(range.0..range.1))
-        .collect();
+    let mut theta: Vec<f64> = (0..n).map(|_| rng.gen_range(range.0..range.1)).collect();
     theta[0] = range.0;
     theta[1] = range.1;
     theta.sort_by(f64::total_cmp);
@@ -590,10 +656,18 @@ fn random_diagram(rng: &mut impl rand::Rng) -> crate::Diagram {
 
 fn assert_same(a: &crate::Diagram, b: &crate::Diagram, what: &str) {
     assert_eq!(a.values(), b.values(), "{what}");
-    for (x, y) in a.theta().iter().zip(b.theta()).chain(a.phi().iter().zip(b.phi())) {
+    for (x, y) in a
+        .theta()
+        .iter()
+        .zip(b.theta())
+        .chain(a.phi().iter().zip(b.phi()))
+    {
         assert!((x - y).abs() < 1e-12, "{what}: angle {x} vs {y}");
     }
-    assert_eq!((a.n_parallels(), a.n_meridians()), (b.n_parallels(), b.n_meridians()));
+    assert_eq!(
+        (a.n_parallels(), a.n_meridians()),
+        (b.n_parallels(), b.n_meridians())
+    );
 }
 
 #[test]
@@ -620,8 +694,14 @@ fn writers_round_trip_random_diagrams() {
 #[test]
 fn format_from_extension() {
     use std::path::Path;
-    assert_eq!(FileFormat::from_path_extension(Path::new("a/b.IES")), Some(FileFormat::Ies));
-    assert_eq!(FileFormat::from_path_extension(Path::new("b.ldt")), Some(FileFormat::Eulumdat));
+    assert_eq!(
+        FileFormat::from_path_extension(Path::new("a/b.IES")),
+        Some(FileFormat::Ies)
+    );
+    assert_eq!(
+        FileFormat::from_path_extension(Path::new("b.ldt")),
+        Some(FileFormat::Eulumdat)
+    );
     assert_eq!(FileFormat::from_path_extension(Path::new("b.txt")), None);
     assert_eq!(FileFormat::from_path_extension(Path::new("ies")), None);
 }

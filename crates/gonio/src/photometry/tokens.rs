@@ -214,7 +214,10 @@ impl<'a> Cursor<'a> {
         if v.fract() != 0.0 || v < min as f64 || v > max as f64 {
             return Err(self.err_at(
                 &t,
-                format!("{what} must be an integer from {min} to {max}, found `{}`", t.show()),
+                format!(
+                    "{what} must be an integer from {min} to {max}, found `{}`",
+                    t.show()
+                ),
             ));
         }
         Ok((v as i64, t))
@@ -309,8 +312,8 @@ mod tests {
         ok("1.5E-2", 0.015);
         ok("-0", 0.0);
         for bad in [
-            "", "-", ".", "e5", "1e", "1e+", "inf", "NaN", "1,5", "0x10", "1_000", "1e999", "1.2.3",
-            "--1", "END", "\u{1a}",
+            "", "-", ".", "e5", "1e", "1e+", "inf", "NaN", "1,5", "0x10", "1_000", "1e999",
+            "1.2.3", "--1", "END", "\u{1a}",
         ] {
             assert_eq!(parse_number(bad.as_bytes(), false), None, "{bad:?}");
         }

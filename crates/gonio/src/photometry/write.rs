@@ -56,13 +56,11 @@ fn one_line(s: &str) -> String {
 
 /// Writes `values` as lines of at most `per_line` numbers separated by spaces.
 fn push_wrapped(out: &mut String, values: impl Iterator<Item = f64>, per_line: usize) {
-    let mut k = 0;
-    for v in values {
+    for (k, v) in values.enumerate() {
         if k > 0 {
             out.push(if k % per_line == 0 { '\n' } else { ' ' });
         }
         out.push_str(&num(v));
-        k += 1;
     }
     out.push('\n');
 }
@@ -147,7 +145,7 @@ pub fn write_ldt(d: &Diagram, meta: &WriteMeta) -> String {
     lines.extend(["0", "0", "0", "0", "0", "0", "0", "0", "0"].map(String::from));
     lines.extend(["0", "100", "1", "0", "1"].map(String::from)); // DFF, LORL, CFLI, tilt, sets
     lines.extend(["1", "unknown", "1000", "-", "-", "0"].map(String::from));
-    lines.extend(std::iter::repeat_n("0".to_string(), 10));
+    lines.extend(std::iter::repeat("0".to_string()).take(10));
     lines.extend(phi.iter().map(|&c| num(c)));
     lines.extend(gv.iter().map(|&x| num(x)));
     for i in 0..m {

@@ -13,9 +13,12 @@ pub fn corpus_dir() -> Option<PathBuf> {
         .chain(
             // <workspace>/../shared (main checkout) and <workspace>/../../shared (a worktree
             // under wt/).
-            ["../../../shared/data/photometry", "../../../../shared/data/photometry"]
-                .iter()
-                .map(|rel| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(rel)),
+            [
+                "../../../shared/data/photometry",
+                "../../../../shared/data/photometry",
+            ]
+            .iter()
+            .map(|rel| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(rel)),
         )
         .collect();
     for c in &candidates {
