@@ -255,6 +255,24 @@ pub(crate) fn meridians(sym: Symmetry, horiz: &[f64]) -> Vec<(f64, usize)> {
 
 /// The expanded diagram (see [`Photometry::to_diagram`]).
 pub(crate) fn to_diagram(p: &Photometry) -> Result<Diagram, crate::Error> {
+    // The fields are public: check the shape before indexing.
+    let (n_v, n_h) = (p.vertical_angles_deg.len(), p.horizontal_angles_deg.len());
+    if n_v == 0 || n_h == 0 {
+        return Err(crate::DiagramError::Empty {
+            parallels: n_v,
+            meridians: n_h,
+        }
+        .into());
+    }
+    let expected = n_v.saturating_mul(n_h);
+    if p.candela.len() != expected {
+        return Err(crate::DiagramError::Shape {
+            what: "candela (stored planes × vertical angles)".into(),
+            expected,
+            found: p.candela.len(),
+        }
+        .into());
+    }
     match p.photometric_type {
         PhotometricType::C => type_c(p),
         t => type_ab(p, t),

@@ -347,7 +347,14 @@ pub(crate) fn read_ies(
             });
         }
     }
-    let candela = raw.iter().map(|v| v * scale).collect();
+    let candela: Vec<f64> = raw.iter().map(|v| v * scale).collect();
+    if !candela.iter().all(|v| v.is_finite()) {
+        return Err(ParseError::new(
+            0,
+            0,
+            format!("the intensities times the scale factor {scale} overflow"),
+        ));
+    }
     let lamp_description = keywords
         .iter()
         .find(|k| k.key.eq_ignore_ascii_case("LAMP"))

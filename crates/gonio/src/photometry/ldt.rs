@@ -319,7 +319,14 @@ pub(crate) fn read_ldt(bytes: &[u8]) -> Result<Photometry, ParseError> {
             message: format!("{n_sets} lamp sets: the intensities are converted to candela with the first set's flux"),
         });
     }
-    let candela = raw.iter().map(|v| v * scale).collect();
+    let candela: Vec<f64> = raw.iter().map(|v| v * scale).collect();
+    if !candela.iter().all(|v| v.is_finite()) {
+        return Err(ParseError::new(
+            0,
+            0,
+            format!("the intensities times the scale factor {scale} overflow"),
+        ));
+    }
     Ok(Photometry {
         format: FileFormat::Eulumdat,
         version: Version::Eulumdat,

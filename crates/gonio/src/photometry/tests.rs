@@ -705,3 +705,66 @@ fn format_from_extension() {
     assert_eq!(FileFormat::from_path_extension(Path::new("b.txt")), None);
     assert_eq!(FileFormat::from_path_extension(Path::new("ies")), None);
 }
+
+// ---------------------------------------------------------------------------------------------
+// Hostile input: random mutations of valid files never panic
+
+#[test]
+fn mutated_files_never_panic() {
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(42);
+    let c4 = [0.0, 90.0, 180.0, 270.0];
+    let seeds: Vec<(FileFormat, String)> = vec![
+        (FileFormat::Ies, ies_c("0 45 90", "0 90", "1 2 3 4 5 6")),
+        (FileFormat::Ies, TILT_INCLUDE.to_string()),
+        (FileFormat::Ies, type_b_beam(true)),
+        (
+            FileFormat::Eulumdat,
+            ldt_text(
+                3,
+                3,
+                4,
+                &c4,
+                &[0.0, 90.0],
+                &[1.0, 1.0, 2.0, 2.0, 3.0, 3.0],
+                ONE_SET,
+            ),
+        ),
+    ];
+    let alphabet = b"0123456789.-+eE, \t\r\n[]=TILTNONEINCLUDE\x00\xff";
+    for (format, text) in &seeds {
+        for _ in 0..400 {
+            let mut b = text.as_bytes().to_vec();
+            for _ in 0..rng.gen_range(1..6) {
+                let i = rng.gen_range(0..b.len());
+                match rng.gen_range(0..3) {
+                    0 => b[i] = alphabet[rng.gen_range(0..alphabet.len())],
+                    1 => {
+                        b.remove(i);
+                    }
+                    _ => b.insert(i, alphabet[rng.gen_range(0..alphabet.len())]),
+                }
+                if b.is_empty() {
+                    b.push(b'1');
+                }
+            }
+            if let Ok(p) = read(&b, *format, &OneTilt) {
+                let _ = p.flux_lm();
+                let _ = p.max_intensity_cd();
+            }
+        }
+    }
+}
+
+#[test]
+fn inconsistent_public_fields_do_not_panic() {
+    let mut p = ies(&ies_c("0 45 90", "0", "1 2 3")).unwrap();
+    p.candela.pop();
+    assert!(p.to_diagram().is_err());
+    p.horizontal_angles_deg.clear();
+    assert!(p.to_diagram().is_err());
+    let big = ies(&ies_c("0 90", "0", "1e308 1")).unwrap();
+    assert!(big.to_diagram().is_ok());
+    let t = "IESNA91\nTILT=NONE\n1 1000 10 2 1 1 2 0 0 0\n1 1 10\n0 90\n0\n1e308 1\n";
+    assert_eq!(ies(t).unwrap_err().line, 0);
+}
