@@ -306,3 +306,73 @@ fn erco_trion_twins_agree() {
     );
     assert!((fa / fb - 1.0).abs() < 1e-3);
 }
+
+/// ∫ I(H, V) dω over the whole (H, V) domain by the midpoint rule, in the file's own coordinates:
+/// type B: H is a latitude (dω = cos H dH dV, H ∈ [−90°, 90°], V ∈ [−180°, 180°]); type A: V is a
+/// latitude (dω = cos V dH dV, V ∈ [−90°, 90°], H ∈ [−180°, 180°]).
+fn hv_flux(p: &Photometry) -> f64 {
+    let n = 720usize; // 0.25° in the latitude, 0.5° in the longitude
+    let (dl, dg) = (180.0 / n as f64, 360.0 / n as f64);
+    let mut total = 0.0;
+    for i in 0..n {
+        let lat = -90.0 + (i as f64 + 0.5) * dl;
+        let w = lat.to_radians().cos();
+        for k in 0..n {
+            let lon = -180.0 + (k as f64 + 0.5) * dg;
+            let v = match p.photometric_type {
+                PhotometricType::B => p.intensity_hv(lat, lon),
+                _ => p.intensity_hv(lon, lat),
+            };
+            total += v * w;
+        }
+    }
+    total * dl.to_radians() * dg.to_radians()
+}
+
+#[test]
+fn type_b_and_a_resampling_preserves_flux_and_beam() {
+    let Some(dir) = common::corpus_dir() else {
+        return;
+    };
+    let mut files = 0;
+    for &(rel, ..) in EXPECT {
+        let p = load(&dir, rel);
+        if p.photometric_type == PhotometricType::C {
+            continue;
+        }
+        files += 1;
+        let (got, want) = (p.flux_lm(), hv_flux(&p));
+        assert!(
+            (got / want - 1.0).abs() < 0.01,
+            "{rel}: resampled {got} lm vs (H, V) integral {want} lm"
+        );
+        // the brightest stored node away from the poles of the (H, V) system keeps its
+        // direction and (nearly) its value
+        let nv = p.vertical_angles_deg.len();
+        let hv = |k: usize| {
+            (
+                p.horizontal_angles_deg[k / nv],
+                p.vertical_angles_deg[k % nv],
+            )
+        };
+        let pole = |k: usize| match p.photometric_type {
+            PhotometricType::B => hv(k).0.abs() >= 90.0,
+            _ => hv(k).1.abs() >= 90.0,
+        };
+        let k = (0..p.candela.len())
+            .filter(|&k| !pole(k))
+            .max_by(|&a, &b| p.candela[a].total_cmp(&p.candela[b]))
+            .unwrap();
+        let (h, v) = hv(k);
+        let peak = p.candela[k];
+        let dir_ = gonio::photometry::direction_of_hv(p.photometric_type, h, v);
+        let (theta, phi) = gonio::sampler::spherical(dir_);
+        let d = p.to_diagram().unwrap();
+        let at = d.interpolate(theta, phi);
+        assert!(
+            (at / peak - 1.0).abs() < 0.02,
+            "{rel}: at the peak (H {h}°, V {v}°) the diagram has {at} cd, the file {peak} cd"
+        );
+    }
+    assert_eq!(files, 4);
+}

@@ -357,16 +357,27 @@ fn weights(axis: &[f64], x: f64) -> Option<(usize, usize, f64)> {
 
 /// (H, V) in degrees of a unit direction, for type B or A (see [`Photometry::to_diagram`]).
 pub(crate) fn hv_of(t: PhotometricType, d: [f64; 3]) -> (f64, f64) {
+    // At the poles of the (H, V) system (±y for type B, ±x for type A) the plane angle is
+    // undefined: 0° is used there.
+    const POLE: f64 = 1e-12;
     let [x, y, z] = d;
     match t {
-        PhotometricType::B => (
-            y.clamp(-1.0, 1.0).asin().to_degrees(),
-            x.atan2(-z).to_degrees(),
-        ),
-        _ => (
-            y.atan2(-z).to_degrees(),
-            x.clamp(-1.0, 1.0).asin().to_degrees(),
-        ),
+        PhotometricType::B => {
+            let v = if x.hypot(z) < POLE {
+                0.0
+            } else {
+                x.atan2(-z).to_degrees()
+            };
+            (y.clamp(-1.0, 1.0).asin().to_degrees(), v)
+        }
+        _ => {
+            let h = if y.hypot(z) < POLE {
+                0.0
+            } else {
+                y.atan2(-z).to_degrees()
+            };
+            (h, x.clamp(-1.0, 1.0).asin().to_degrees())
+        }
     }
 }
 
