@@ -560,6 +560,13 @@ impl Photometry {
         expand::to_diagram(self)
     }
 
+    /// Whether [`Photometry::to_diagram`] resamples the distribution (types A and B, onto the grid
+    /// of [`RESAMPLE_STEP_THETA_DEG`] × [`RESAMPLE_STEP_PHI_DEG`]) instead of copying the measured
+    /// nodes (type C and EULUMDAT).
+    pub fn is_resampled(&self) -> bool {
+        self.photometric_type != PhotometricType::C
+    }
+
     /// The largest stored intensity in candela (the file's maximum times
     /// [`Photometry::intensity_scale`]).
     pub fn max_intensity_cd(&self) -> f64 {

@@ -768,3 +768,18 @@ fn inconsistent_public_fields_do_not_panic() {
     let t = "IESNA91\nTILT=NONE\n1 1000 10 2 1 1 2 0 0 0\n1 1 10\n0 90\n0\n1e308 1\n";
     assert_eq!(ies(t).unwrap_err().line, 0);
 }
+
+#[test]
+fn dir_tilt_resolver_reads_next_to_the_file() {
+    let dir = std::env::temp_dir().join(format!("gonio-tilt-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("t.tlt"), "1\n2\n0 90\n0.5 0.5\n").unwrap();
+    let r = DirTiltResolver::new(&dir);
+    let t = "IESNA91\nTILT=t.tlt\n1 1000 1 2 1 1 2 0 0 0\n1 1 10\n0 90\n0\n10 4\n";
+    let p = read(t.as_bytes(), FileFormat::Ies, &r).unwrap();
+    assert_eq!(p.candela, vec![5.0, 2.0]);
+    let e = read(t.replace("t.tlt", "absent.tlt").as_bytes(), FileFormat::Ies, &r).unwrap_err();
+    assert_eq!((e.line, e.column), (2, 6));
+    assert!(e.message.contains("absent.tlt"), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
