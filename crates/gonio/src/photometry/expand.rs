@@ -1,0 +1,469 @@
+//! Symmetry classification and expansion to the whole sphere, in the crate's frame.
+
+use super::tokens::{Cursor, Token};
+use super::{
+    ParseError, PhotometricType, Photometry, Symmetry, Warning, RESAMPLE_STEP_PHI_DEG,
+    RESAMPLE_STEP_THETA_DEG,
+};
+use crate::diagram::{segment, Diagram};
+use std::f64::consts::PI;
+
+/// Mirror images closer than this (degrees) to another plane are the same plane (floating-point
+/// round-off of 180° − C and the like); stored planes are at least `MIN_ANGLE_STEP_DEG` apart.
+const SAME_ANGLE_DEG: f64 = 1e-12;
+
+/// A first or last vertical angle within this many degrees of 0°, 90° or 180° is taken to be there
+/// (its θ snapped; its values unchanged) instead of adding a zero row next to it.
+const SNAP_DEG: f64 = 1e-6;
+
+/// Negative values no larger in magnitude than this fraction of the table's largest value are
+/// round-off and clamped to 0 (with a warning); anything more negative is an error.
+pub(crate) const NEGATIVE_TOLERANCE: f64 = 1e-6;
+
+/// Clamps round-off negatives to 0 (one warning), refuses real negatives (error at the token).
+pub(crate) fn clamp_negative(
+    cur: &Cursor,
+    raw: &mut [f64],
+    toks: &[Token],
+    warnings: &mut Vec<Warning>,
+) -> Result<(), ParseError> {
+    let max = raw.iter().fold(0.0f64, |a, &b| a.max(b));
+    let tol = NEGATIVE_TOLERANCE * max;
+    let mut first = None;
+    let mut count = 0usize;
+    for (v, t) in raw.iter_mut().zip(toks) {
+        if *v < 0.0 {
+            if -*v <= tol {
+                first.get_or_insert(*t);
+                count += 1;
+                *v = 0.0;
+            } else {
+                return Err(cur.err_at(
+                    t,
+                    format!("negative intensity {v} (intensities must be ≥ 0)"),
+                ));
+            }
+        } else if *v == 0.0 {
+            *v = 0.0; // turns −0 into +0
+        }
+    }
+    if let Some(t) = first {
+        warnings.push(Warning {
+            line: t.line,
+            column: t.column,
+            message: format!(
+                "{count} tiny negative intensities (round-off, at most {NEGATIVE_TOLERANCE} × the maximum) clamped to 0"
+            ),
+        });
+    }
+    Ok(())
+}
+
+/// The γ range [lo, hi] the diagram will cover: 0–90, 90–180 or 0–180, and the padding rows
+/// needed (γ of a zero row at the start, at the end).
+pub(crate) fn vertical_plan(vert: &[f64]) -> (Option<f64>, Option<f64>) {
+    let (a, b) = (vert[0], vert[vert.len() - 1]);
+    let (lo, hi) = if b <= 90.0 {
+        (0.0, 90.0)
+    } else if a >= 90.0 {
+        (90.0, 180.0)
+    } else {
+        (0.0, 180.0)
+    };
+    (
+        (a > lo + SNAP_DEG).then_some(lo),
+        (b < hi - SNAP_DEG).then_some(hi),
+    )
+}
+
+/// Checks the type C vertical angles and reports the padding rule as a warning.
+pub(crate) fn check_vertical_c(
+    cur: &Cursor,
+    vert: &[f64],
+    first: Option<&Token>,
+    warnings: &mut Vec<Warning>,
+) -> Result<(), ParseError> {
+    if vert.len() < 2 {
+        let msg = "at least two vertical angles are needed for type C photometry";
+        return Err(match first {
+            Some(t) => cur.err_at(t, msg),
+            None => ParseError::new(0, 0, msg),
+        });
+    }
+    let (lo, hi) = vertical_plan(vert);
+    if lo.is_some() || hi.is_some() {
+        let pads: Vec<String> = lo
+            .iter()
+            .chain(hi.iter())
+            .map(|g| format!("γ = {g}°"))
+            .collect();
+        let (line, column) = first.map_or((0, 0), |t| (t.line, t.column));
+        warnings.push(Warning {
+            line,
+            column,
+            message: format!(
+                "vertical angles {}°–{}° do not span 0–90°, 90–180° or 0–180°; zero intensity is added at {}",
+                vert[0],
+                vert[vert.len() - 1],
+                pads.join(" and ")
+            ),
+        });
+    }
+    Ok(())
+}
+
+/// Classifies the stored planes of an IES file (any photometric type) and checks the vertical
+/// angles. Errors point at the angle tokens.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn classify(
+    ptype: PhotometricType,
+    vert: &[f64],
+    horiz: &[f64],
+    raw: &[f64],
+    vt: (Option<&Token>, Option<&Token>),
+    ht: (Option<&Token>, Option<&Token>),
+    cur: &Cursor,
+    warnings: &mut Vec<Warning>,
+) -> Result<Symmetry, ParseError> {
+    let at = |t: Option<&Token>, msg: String| match t {
+        Some(t) => cur.err_at(t, msg),
+        None => ParseError::new(0, 0, msg),
+    };
+    if ptype != PhotometricType::C {
+        if vert.len() < 2 || horiz.len() < 2 {
+            return Err(at(
+                vt.0,
+                format!(
+                    "type {ptype} photometry needs at least two vertical and two horizontal angles"
+                ),
+            ));
+        }
+        return Ok(Symmetry::TypeAB {
+            horizontal: horiz[0] == 0.0,
+            vertical: vert[0] == 0.0,
+        });
+    }
+    check_vertical_c(cur, vert, vt.0, warnings)?;
+    let n = horiz.len();
+    let (a, b) = (horiz[0], horiz[n - 1]);
+    let sym = if n == 1 {
+        Symmetry::Rotational
+    } else if a == 0.0 && b == 90.0 {
+        Symmetry::Quadrant
+    } else if a == 0.0 && b == 180.0 {
+        Symmetry::BilateralC0C180
+    } else if a == 90.0 && b == 270.0 {
+        Symmetry::BilateralC90C270
+    } else if b - a > 180.0 {
+        if a != 0.0 {
+            warnings.push(Warning {
+                line: ht.0.map_or(0, |t| t.line),
+                column: ht.0.map_or(0, |t| t.column),
+                message: format!("the first horizontal angle is {a}°, not 0°"),
+            });
+        }
+        if is_closing(horiz) {
+            check_duplicate_plane(raw, vert.len(), n, ht.1, warnings);
+        }
+        Symmetry::None
+    } else {
+        return Err(at(
+            ht.1,
+            format!(
+                "horizontal angles {a}°–{b}° match no supported symmetry \
+                 (one angle, 0–90°, 0–180°, 90–270°, or a full set spanning more than 180°)"
+            ),
+        ));
+    };
+    Ok(sym)
+}
+
+/// Warns when the closing plane (first + 360°) differs from the first plane; the first is kept.
+pub(crate) fn check_duplicate_plane(
+    raw: &[f64],
+    n_v: usize,
+    n_h: usize,
+    last: Option<&Token>,
+    warnings: &mut Vec<Warning>,
+) {
+    let first = &raw[..n_v];
+    let closing = &raw[(n_h - 1) * n_v..n_h * n_v];
+    if first != closing {
+        warnings.push(Warning {
+            line: last.map_or(0, |t| t.line),
+            column: last.map_or(0, |t| t.column),
+            message: "the closing plane (first angle + 360°) differs from the first plane; \
+                      the first plane is kept"
+                .into(),
+        });
+    }
+}
+
+/// Whether the last plane closes the set: it lies at the first angle + 360° (within 1e-9°).
+pub(crate) fn is_closing(horiz: &[f64]) -> bool {
+    let n = horiz.len();
+    n > 1 && (horiz[n - 1] - horiz[0] - 360.0).abs() < 1e-9
+}
+
+/// The images of stored plane angle `c` (degrees) under the symmetry, identity first.
+fn images(sym: Symmetry, c: f64) -> Vec<f64> {
+    match sym {
+        Symmetry::Quadrant => vec![c, 180.0 - c, 180.0 + c, 360.0 - c],
+        Symmetry::BilateralC0C180 => vec![c, 360.0 - c],
+        Symmetry::BilateralC90C270 => vec![c, 180.0 - c],
+        _ => vec![c],
+    }
+}
+
+/// An angle in degrees brought into [0, 360).
+fn norm360(x: f64) -> f64 {
+    let r = x.rem_euclid(360.0);
+    if r >= 360.0 - SAME_ANGLE_DEG {
+        0.0
+    } else {
+        r
+    }
+}
+
+/// The meridians of the expansion: (φ in degrees in [0, 360), stored plane index), strictly
+/// increasing. Stored planes win over images at the same angle; the lower index wins otherwise.
+pub(crate) fn meridians(sym: Symmetry, horiz: &[f64]) -> Vec<(f64, usize)> {
+    let mut all: Vec<(f64, u8, usize)> = Vec::new();
+    if sym == Symmetry::Rotational {
+        return vec![(norm360(horiz[0]), 0)];
+    }
+    let stored = if sym == Symmetry::None && is_closing(horiz) {
+        &horiz[..horiz.len() - 1]
+    } else {
+        horiz
+    };
+    for (k, &c) in stored.iter().enumerate() {
+        for (m, img) in images(sym, c).into_iter().enumerate() {
+            all.push((norm360(img), u8::from(m > 0), k));
+        }
+    }
+    all.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)).then(x.2.cmp(&y.2)));
+    let mut out: Vec<(f64, usize)> = Vec::with_capacity(all.len());
+    for (a, _, k) in all {
+        match out.last() {
+            Some(&(b, _)) if a - b < SAME_ANGLE_DEG => {}
+            _ => out.push((a, k)),
+        }
+    }
+    out
+}
+
+/// The expanded diagram (see [`Photometry::to_diagram`]).
+pub(crate) fn to_diagram(p: &Photometry) -> Result<Diagram, crate::Error> {
+    // The fields are public: check the shape before indexing.
+    let (n_v, n_h) = (p.vertical_angles_deg.len(), p.horizontal_angles_deg.len());
+    if n_v == 0 || n_h == 0 {
+        return Err(crate::DiagramError::Empty {
+            parallels: n_v,
+            meridians: n_h,
+        }
+        .into());
+    }
+    let expected = n_v.saturating_mul(n_h);
+    if p.candela.len() != expected {
+        return Err(crate::DiagramError::Shape {
+            what: "candela (stored planes × vertical angles)".into(),
+            expected,
+            found: p.candela.len(),
+        }
+        .into());
+    }
+    match p.photometric_type {
+        PhotometricType::C => type_c(p),
+        t => type_ab(p, t),
+    }
+}
+
+fn type_c(p: &Photometry) -> Result<Diagram, crate::Error> {
+    let vert = &p.vertical_angles_deg;
+    let n_v = vert.len();
+    // Rows in γ order: (γ, Some(stored index) or None for a zero row).
+    let (lo, hi) = vertical_plan(vert);
+    let mut rows: Vec<(f64, Option<usize>)> = Vec::with_capacity(n_v + 2);
+    if let Some(g) = lo {
+        rows.push((g, None));
+    }
+    rows.extend(vert.iter().enumerate().map(|(k, &g)| (g, Some(k))));
+    if let Some(g) = hi {
+        rows.push((g, None));
+    }
+    rows.reverse(); // θ = 180° − γ ascending
+    let snap = |g: f64| {
+        [0.0, 90.0, 180.0]
+            .into_iter()
+            .find(|b| (g - b).abs() <= SNAP_DEG)
+            .unwrap_or(g)
+    };
+    let last = rows.len() - 1;
+    let theta: Vec<f64> = rows
+        .iter()
+        .enumerate()
+        .map(|(k, &(g, _))| {
+            let g = if k == 0 || k == last { snap(g) } else { g };
+            (180.0 - g).to_radians().min(PI)
+        })
+        .collect();
+    let mer = meridians(p.symmetry, &p.horizontal_angles_deg);
+    let phi: Vec<f64> = mer.iter().map(|&(c, _)| c.to_radians()).collect();
+    let n = theta.len();
+    let total = n.saturating_mul(phi.len());
+    if total > crate::diagram::MAX_NODES {
+        return Err(crate::DiagramError::TooLarge {
+            parallels: n,
+            meridians: phi.len(),
+        }
+        .into());
+    }
+    let mut values = Vec::with_capacity(total);
+    for &(_, plane) in &mer {
+        for &(_, row) in &rows {
+            values.push(row.map_or(0.0, |v| p.candela[plane * n_v + v]));
+        }
+    }
+    Ok(Diagram::new(theta, phi, values)?)
+}
+
+/// One axis of a type A/B table, mirrored about 0 when asked: (angle, stored index), increasing.
+fn mirrored_axis(angles: &[f64], mirror: bool) -> Vec<(f64, usize)> {
+    let mut out = Vec::with_capacity(2 * angles.len());
+    if mirror {
+        for k in (1..angles.len()).rev() {
+            out.push((-angles[k], k));
+        }
+    }
+    out.extend(angles.iter().enumerate().map(|(k, &a)| (a, k)));
+    out
+}
+
+/// Bilinear interpolation weights on an increasing axis: (k0, k1, t), or None outside.
+fn weights(axis: &[f64], x: f64) -> Option<(usize, usize, f64)> {
+    const EPS: f64 = 1e-9;
+    let n = axis.len();
+    if !(x >= axis[0] - EPS && x <= axis[n - 1] + EPS) {
+        return None;
+    }
+    if n == 1 {
+        return Some((0, 0, 0.0));
+    }
+    let k = segment(axis, x);
+    let t = ((x - axis[k]) / (axis[k + 1] - axis[k])).clamp(0.0, 1.0);
+    Some((k, k + 1, t))
+}
+
+/// (H, V) in degrees of a unit direction, for type B or A (see [`Photometry::to_diagram`]).
+pub(crate) fn hv_of(t: PhotometricType, d: [f64; 3]) -> (f64, f64) {
+    // At the poles of the (H, V) system (±y for type B, ±x for type A) the plane angle is
+    // undefined: 0° is used there.
+    const POLE: f64 = 1e-12;
+    let [x, y, z] = d;
+    match t {
+        PhotometricType::B => {
+            let v = if x.hypot(z) < POLE {
+                0.0
+            } else {
+                x.atan2(-z).to_degrees()
+            };
+            (y.clamp(-1.0, 1.0).asin().to_degrees(), v)
+        }
+        _ => {
+            let h = if y.hypot(z) < POLE {
+                0.0
+            } else {
+                y.atan2(-z).to_degrees()
+            };
+            (h, x.clamp(-1.0, 1.0).asin().to_degrees())
+        }
+    }
+}
+
+/// The unit direction, in the crate's frame, of horizontal angle `h_deg` and vertical angle
+/// `v_deg` (degrees) of a type B or type A file (see [`Photometry::to_diagram`]):
+/// type B: sin H·ŷ + cos H (sin V·x̂ − cos V·ẑ); type A (and C, meaningless): sin V·x̂ + cos V (sin H·ŷ − cos H·ẑ).
+/// H = V = 0 is nadir (−z).
+pub fn direction_of_hv(t: PhotometricType, h_deg: f64, v_deg: f64) -> [f64; 3] {
+    let (sh, ch) = h_deg.to_radians().sin_cos();
+    let (sv, cv) = v_deg.to_radians().sin_cos();
+    match t {
+        PhotometricType::B => [ch * sv, sh, -ch * cv],
+        _ => [sv, cv * sh, -cv * ch],
+    }
+}
+
+/// The type A/B intensity (candela) at (H, V) in degrees, bilinear in (H, V) on the mirrored
+/// table; 0 outside the measured ranges.
+pub(crate) fn ab_intensity(p: &Photometry, h: f64, v: f64) -> f64 {
+    let (mh, mv) = match p.symmetry {
+        Symmetry::TypeAB {
+            horizontal,
+            vertical,
+        } => (horizontal, vertical),
+        _ => (false, false),
+    };
+    let ha = mirrored_axis(&p.horizontal_angles_deg, mh);
+    let va = mirrored_axis(&p.vertical_angles_deg, mv);
+    let hx: Vec<f64> = ha.iter().map(|x| x.0).collect();
+    let vx: Vec<f64> = va.iter().map(|x| x.0).collect();
+    ab_eval(p, &ha, &hx, &va, &vx, h, v)
+}
+
+fn ab_eval(
+    p: &Photometry,
+    ha: &[(f64, usize)],
+    hx: &[f64],
+    va: &[(f64, usize)],
+    vx: &[f64],
+    h: f64,
+    v: f64,
+) -> f64 {
+    let n_v = p.vertical_angles_deg.len();
+    let (Some((h0, h1, th)), Some((v0, v1, tv))) = (weights(hx, h), weights(vx, v)) else {
+        return 0.0;
+    };
+    let val = |hi: usize, vi: usize| p.candela[ha[hi].1 * n_v + va[vi].1];
+    let a = (1.0 - tv) * val(h0, v0) + tv * val(h0, v1);
+    let b = (1.0 - tv) * val(h1, v0) + tv * val(h1, v1);
+    (1.0 - th) * a + th * b
+}
+
+fn type_ab(p: &Photometry, t: PhotometricType) -> Result<Diagram, crate::Error> {
+    let (mh, mv) = match p.symmetry {
+        Symmetry::TypeAB {
+            horizontal,
+            vertical,
+        } => (horizontal, vertical),
+        _ => (false, false),
+    };
+    let ha = mirrored_axis(&p.horizontal_angles_deg, mh);
+    let va = mirrored_axis(&p.vertical_angles_deg, mv);
+    let hx: Vec<f64> = ha.iter().map(|x| x.0).collect();
+    let vx: Vec<f64> = va.iter().map(|x| x.0).collect();
+    // Lower hemisphere only when every measured direction has z ≤ 0.
+    let lower_only = match t {
+        PhotometricType::B => vx[0] >= -90.0 && vx[vx.len() - 1] <= 90.0,
+        _ => hx[0] >= -90.0 && hx[hx.len() - 1] <= 90.0,
+    };
+    let theta_lo = if lower_only { 90.0 } else { 0.0 };
+    let n_t = ((180.0 - theta_lo) / RESAMPLE_STEP_THETA_DEG).round() as usize + 1;
+    let n_p = (360.0 / RESAMPLE_STEP_PHI_DEG).round() as usize;
+    let theta_deg: Vec<f64> = (0..n_t)
+        .map(|k| theta_lo + k as f64 * RESAMPLE_STEP_THETA_DEG)
+        .collect();
+    let phi_deg: Vec<f64> = (0..n_p).map(|k| k as f64 * RESAMPLE_STEP_PHI_DEG).collect();
+    let mut values = Vec::with_capacity(n_t * n_p);
+    for &c in &phi_deg {
+        let (sp, cp) = c.to_radians().sin_cos();
+        for &th in &theta_deg {
+            let (st, ct) = th.to_radians().sin_cos();
+            let (h, v) = hv_of(t, [st * cp, st * sp, ct]);
+            values.push(ab_eval(p, &ha, &hx, &va, &vx, h, v));
+        }
+    }
+    let theta = theta_deg.iter().map(|t| t.to_radians().min(PI)).collect();
+    let phi = phi_deg.iter().map(|c| c.to_radians()).collect();
+    Ok(Diagram::new(theta, phi, values)?)
+}

@@ -1,0 +1,436 @@
+//! IES LM-63 reader (1986, 1991, 1995, 2002, 2019 and the variants met in practice).
+
+use super::tokens::{check_angles, end_position, split_lines, strip_bom, text, tokenize, Cursor};
+use super::{
+    expand, IesInfo, Keyword, LampSet, ParseError, PhotometricType, Photometry, Tilt, TiltResolver,
+    TiltTable, Version, Warning, MAX_ANGLES,
+};
+use crate::diagram::MAX_NODES;
+
+/// Recognises the version line; `None` for LM-63-1986 (no version line).
+fn version_of(first: &str) -> Option<(Version, Option<String>)> {
+    let compact: String = first
+        .chars()
+        .filter(|c| !c.is_whitespace())
+        .collect::<String>()
+        .to_ascii_uppercase();
+    let v = match compact.as_str() {
+        "IESNA91" => (Version::Ies1991, None),
+        "IESNA95" => (
+            Version::Ies1995,
+            Some("non-standard version line `IESNA95` read as LM-63-1995".to_string()),
+        ),
+        "IESNA:LM-63-1995" => (Version::Ies1995, None),
+        "IESNA:LM-63-2002" => (Version::Ies2002, None),
+        "IES:LM-63-2019" => (Version::Ies2019, None),
+        "IESNA:LM-63-2019" | "IES:LM-63-2002" | "IES:LM-63-1995" => {
+            let v = if compact.ends_with("2019") {
+                Version::Ies2019
+            } else if compact.ends_with("2002") {
+                Version::Ies2002
+            } else {
+                Version::Ies1995
+            };
+            (
+                v,
+                Some(format!("non-standard version line `{first}` read as {v}")),
+            )
+        }
+        c if c.starts_with("IESNA") || c.starts_with("IES:") => (
+            Version::Ies2002,
+            Some(format!(
+                "unknown version line `{first}`; read with the LM-63-2002 rules"
+            )),
+        ),
+        _ => return None,
+    };
+    Some(v)
+}
+
+/// If `line` is a TILT line, the byte column (1-based) where its value starts and the value.
+fn tilt_line(line: &[u8]) -> Option<(usize, String)> {
+    let lead = line.iter().take_while(|b| b.is_ascii_whitespace()).count();
+    let rest = &line[lead..];
+    if rest.len() < 4 || !rest[..4].eq_ignore_ascii_case(b"TILT") {
+        return None;
+    }
+    let after = &rest[4..];
+    let sp = after
+        .iter()
+        .take_while(|b| **b == b' ' || **b == b'\t')
+        .count();
+    if after.get(sp) != Some(&b'=') {
+        return None;
+    }
+    let val = &after[sp + 1..];
+    let vs = val
+        .iter()
+        .take_while(|b| **b == b' ' || **b == b'\t')
+        .count();
+    Some((lead + 4 + sp + 1 + vs + 1, text(val)))
+}
+
+pub(crate) fn read_ies(
+    bytes: &[u8],
+    resolver: &dyn TiltResolver,
+) -> Result<Photometry, ParseError> {
+    let lines = split_lines(strip_bom(bytes));
+    if lines.is_empty() {
+        return Err(ParseError::new(0, 0, "the file is empty"));
+    }
+    let mut warnings = Vec::new();
+    let first = text(lines[0]);
+    let (version, version_line, header_start) = match version_of(&first) {
+        Some((v, w)) => {
+            if let Some(w) = w {
+                warnings.push(Warning {
+                    line: 1,
+                    column: 1,
+                    message: w,
+                });
+            }
+            (v, first.clone(), 1)
+        }
+        None => (Version::Ies1986, String::new(), 0),
+    };
+
+    // Header: keywords / free text up to the TILT line.
+    let mut header = Vec::new();
+    let mut keywords: Vec<Keyword> = Vec::new();
+    let mut tilt_at = None;
+    for (k, &raw) in lines.iter().enumerate().skip(header_start) {
+        let lno = k + 1;
+        if let Some((col, value)) = tilt_line(raw) {
+            tilt_at = Some((k, col, value));
+            break;
+        }
+        let t = text(raw);
+        if t.is_empty() {
+            continue;
+        }
+        if version != Version::Ies1986 && t.starts_with('[') {
+            if let Some(close) = t.find(']') {
+                let key = t[1..close].trim().to_string();
+                let value = t[close + 1..].trim().to_string();
+                if key.eq_ignore_ascii_case("MORE") {
+                    match keywords.last_mut() {
+                        Some(last) => {
+                            last.value.push('\n');
+                            last.value.push_str(&value);
+                        }
+                        None => warnings.push(Warning {
+                            line: lno,
+                            column: 1,
+                            message: "[MORE] without a preceding keyword (ignored)".into(),
+                        }),
+                    }
+                } else {
+                    keywords.push(Keyword {
+                        key,
+                        value,
+                        line: lno,
+                    });
+                }
+                continue;
+            }
+        }
+        if version != Version::Ies1986 {
+            warnings.push(Warning {
+                line: lno,
+                column: 1,
+                message: format!("header line is not a keyword; kept as free text: `{t}`"),
+            });
+        }
+        header.push(t);
+    }
+    let Some((tilt_idx, tilt_col, tilt_value)) = tilt_at else {
+        return Err(ParseError::new(
+            0,
+            0,
+            "no `TILT=` line found: this is not an IES LM-63 file",
+        ));
+    };
+    let tilt_line_no = tilt_idx + 1;
+
+    let data_lines = &lines[tilt_idx + 1..];
+    let toks = tokenize(data_lines, tilt_line_no + 1, true);
+    let end = end_position(data_lines, tilt_line_no + 1);
+    let mut cur = Cursor::new(toks, end, false);
+
+    let tilt = match tilt_value.to_ascii_uppercase().as_str() {
+        "NONE" => Tilt::None,
+        "INCLUDE" => Tilt::Include(read_tilt_table(&mut cur)?),
+        "" => {
+            return Err(ParseError::new(
+                tilt_line_no,
+                tilt_col,
+                "TILT= has no value (expected NONE, INCLUDE or a file name)",
+            ))
+        }
+        _ => {
+            let name = tilt_value.clone();
+            let bytes = resolver.resolve(&name).map_err(|m| {
+                ParseError::new(tilt_line_no, tilt_col, format!("TILT file `{name}`: {m}"))
+            })?;
+            let tl = split_lines(strip_bom(&bytes));
+            let end = end_position(&tl, 1);
+            let mut tc = Cursor::new(tokenize(&tl, 1, true), end, false);
+            let table = read_tilt_table(&mut tc).map_err(|e| {
+                ParseError::new(
+                    tilt_line_no,
+                    tilt_col,
+                    format!(
+                        "in TILT file `{name}` at {}:{}: {}",
+                        e.line, e.column, e.message
+                    ),
+                )
+            })?;
+            if let Some(t) = tc.peek() {
+                warnings.push(Warning {
+                    line: tilt_line_no,
+                    column: tilt_col,
+                    message: format!(
+                        "TILT file `{name}`: {} trailing tokens after the table ignored (first `{}` at {}:{})",
+                        tc.remaining(),
+                        t.show(),
+                        t.line,
+                        t.column
+                    ),
+                });
+            }
+            Tilt::File { name, table }
+        }
+    };
+
+    let (lamps, _) = cur.integer("number of lamps", i64::MIN / 2, i64::MAX / 2)?;
+    let (lumens_per_lamp, _) = cur.number("lumens per lamp")?;
+    let (multiplier, mt) = cur.number("candela multiplier")?;
+    if multiplier <= 0.0 {
+        return Err(cur.err_at(
+            &mt,
+            format!("the candela multiplier must be positive, found {multiplier}"),
+        ));
+    }
+    let (n_v, nvt) = cur.count("number of vertical angles")?;
+    let (n_h, _) = cur.count("number of horizontal angles")?;
+    let (ptype, _) = cur.integer("photometric type", 1, 3)?;
+    let (units_type, ut) = cur.number("units type")?;
+    if units_type != 1.0 && units_type != 2.0 {
+        warnings.push(Warning {
+            line: ut.line,
+            column: ut.column,
+            message: format!("units type {units_type} is neither 1 (feet) nor 2 (metres)"),
+        });
+    }
+    let (width, _) = cur.number("luminous opening width")?;
+    let (length, _) = cur.number("luminous opening length")?;
+    let (height, _) = cur.number("luminous opening height")?;
+    let (ballast_factor, bt) = cur.number("ballast factor")?;
+    let (second, st) = cur.number(match version {
+        Version::Ies2019 => "file generation type",
+        Version::Ies2002 => "future use field",
+        _ => "ballast-lamp photometric factor",
+    })?;
+    let (input_watts, _) = cur.number("input watts")?;
+
+    // Counts against caps and against what is present, before allocating for them.
+    let values = n_v
+        .checked_mul(n_h)
+        .filter(|&c| c <= MAX_NODES)
+        .ok_or_else(|| {
+            cur.err_at(
+                &nvt,
+                format!("{n_v} × {n_h} candela values exceed the limit of {MAX_NODES}"),
+            )
+        })?;
+    let needed = values + n_v + n_h;
+    if cur.remaining() < needed {
+        return Err(cur.err_at(
+            &nvt,
+            format!(
+                "the file declares {n_v} vertical × {n_h} horizontal angles ({needed} numbers), \
+                 but only {} values follow",
+                cur.remaining()
+            ),
+        ));
+    }
+    let photometric_type = match ptype {
+        1 => PhotometricType::C,
+        2 => PhotometricType::B,
+        _ => PhotometricType::A,
+    };
+    let (vert, vt) = cur.numbers(n_v, "vertical angle")?;
+    let (horiz, ht) = cur.numbers(n_h, "horizontal angle")?;
+    match photometric_type {
+        PhotometricType::C => {
+            check_angles(&cur, &vert, &vt, "vertical angle", 0.0, 180.0)?;
+            // A closing plane at first + 360° is allowed even when the first angle is not 0.
+            let hi = if expand::is_closing(&horiz) {
+                horiz[0] + 360.0
+            } else {
+                360.0
+            };
+            check_angles(&cur, &horiz, &ht, "horizontal angle", 0.0, hi)?;
+        }
+        PhotometricType::B => {
+            check_angles(&cur, &vert, &vt, "vertical angle", -180.0, 180.0)?;
+            check_angles(&cur, &horiz, &ht, "horizontal angle", -90.0, 90.0)?;
+        }
+        PhotometricType::A => {
+            check_angles(&cur, &vert, &vt, "vertical angle", -90.0, 90.0)?;
+            check_angles(&cur, &horiz, &ht, "horizontal angle", -180.0, 180.0)?;
+        }
+    }
+    let (mut raw, rt) = cur.numbers(values, "candela value")?;
+    expand::clamp_negative(&cur, &mut raw, &rt, &mut warnings)?;
+
+    if let Some(t) = cur.peek() {
+        warnings.push(Warning {
+            line: t.line,
+            column: t.column,
+            message: format!(
+                "{} trailing tokens after the candela table ignored (first: `{}`)",
+                cur.remaining(),
+                t.show()
+            ),
+        });
+    }
+
+    let symmetry = expand::classify(
+        photometric_type,
+        &vert,
+        &horiz,
+        &raw,
+        (vt.first(), vt.last()),
+        (ht.first(), ht.last()),
+        &cur,
+        &mut warnings,
+    )?;
+
+    // The intensity scale.
+    let mut scale = multiplier;
+    if ballast_factor > 0.0 {
+        scale *= ballast_factor;
+    } else {
+        warnings.push(Warning {
+            line: bt.line,
+            column: bt.column,
+            message: format!("ballast factor {ballast_factor} is not positive; 1 used"),
+        });
+    }
+    if matches!(
+        version,
+        Version::Ies1986 | Version::Ies1991 | Version::Ies1995
+    ) {
+        if second > 0.0 {
+            scale *= second;
+        } else {
+            warnings.push(Warning {
+                line: st.line,
+                column: st.column,
+                message: format!(
+                    "ballast-lamp photometric factor {second} is not positive; 1 used"
+                ),
+            });
+        }
+    }
+    let tilt_angle_deg = 0.0;
+    if let Some(t) = tilt.table() {
+        let f = t.factor_at(tilt_angle_deg);
+        if f > 0.0 {
+            scale *= f;
+        } else {
+            warnings.push(Warning {
+                line: tilt_line_no,
+                column: tilt_col,
+                message: format!("TILT factor at 0° is {f}, not positive; 1 used"),
+            });
+        }
+    }
+    let candela: Vec<f64> = raw.iter().map(|v| v * scale).collect();
+    if !candela.iter().all(|v| v.is_finite()) {
+        return Err(ParseError::new(
+            0,
+            0,
+            format!("the intensities times the scale factor {scale} overflow"),
+        ));
+    }
+    let lamp_description = keywords
+        .iter()
+        .find(|k| k.key.eq_ignore_ascii_case("LAMP"))
+        .map(|k| k.value.clone())
+        .unwrap_or_default();
+    let flux = if lumens_per_lamp > 0.0 {
+        lamps as f64 * lumens_per_lamp
+    } else {
+        -1.0
+    };
+    Ok(Photometry {
+        format: super::FileFormat::Ies,
+        version,
+        photometric_type,
+        header,
+        keywords,
+        lamp_sets: vec![LampSet {
+            count: lamps,
+            description: lamp_description,
+            flux_lm: flux,
+            color: String::new(),
+            color_rendering: String::new(),
+            watts: input_watts,
+        }],
+        tilt,
+        tilt_angle_deg,
+        vertical_angles_deg: vert,
+        horizontal_angles_deg: horiz,
+        raw_values: raw,
+        intensity_scale: scale,
+        candela,
+        symmetry,
+        ies: Some(IesInfo {
+            version_line,
+            lamps,
+            lumens_per_lamp,
+            multiplier,
+            units_type: units_type as i64,
+            width,
+            length,
+            height,
+            ballast_factor,
+            second_ballast_field: second,
+            input_watts,
+        }),
+        ldt: None,
+        warnings,
+    })
+}
+
+/// Reads a TILT table: geometry, number of pairs, angles, factors.
+fn read_tilt_table(cur: &mut Cursor) -> Result<TiltTable, ParseError> {
+    let (geometry, _) = cur.integer("TILT lamp-to-luminaire geometry", 1, 3)?;
+    let (n, nt) = cur.integer("number of TILT angles", 0, MAX_ANGLES as i64)?;
+    let n = n as usize;
+    if cur.remaining() < 2 * n {
+        return Err(cur.err_at(
+            &nt,
+            format!(
+                "the TILT table declares {n} angles ({} numbers), but only {} values follow",
+                2 * n,
+                cur.remaining()
+            ),
+        ));
+    }
+    let (angles, at) = cur.numbers(n, "TILT angle")?;
+    check_angles(cur, &angles, &at, "TILT angle", -180.0, 180.0)?;
+    let (factors, ft) = cur.numbers(n, "TILT factor")?;
+    for (f, t) in factors.iter().zip(&ft) {
+        if *f < 0.0 {
+            return Err(cur.err_at(t, format!("TILT factor {f} is negative")));
+        }
+    }
+    Ok(TiltTable {
+        geometry: geometry as u8,
+        angles_deg: angles,
+        factors,
+    })
+}
