@@ -10,8 +10,21 @@ use super::concentric::{disk_to_square, square_to_disk};
 use super::lift::{disk_to_sphere, parallel_radius, sphere_to_disk_radius};
 use super::radial::{partial_mass, segment_mass, solve_radius};
 use crate::diagram::{segment, Diagram};
-use crate::sampler::{spherical, Vec3};
+use crate::sampler::Vec3;
 use std::f64::consts::{PI, TAU};
+
+/// Azimuth φ ∈ [0, 2π) of a direction, as [`crate::sampler::spherical`] computes it, without the polar angle.
+#[inline]
+fn azimuth(d: Vec3) -> f64 {
+    let mut phi = d[1].atan2(d[0]);
+    if phi < 0.0 {
+        phi += TAU;
+    }
+    if phi >= TAU {
+        phi = 0.0;
+    }
+    phi
+}
 
 /// Tables of one HDS map (ALGORITHM §4) plus the completed diagram it was built from.
 #[derive(Debug, Clone)]
@@ -36,6 +49,12 @@ pub(crate) struct HdsCore {
     cum: Vec<f64>,
     /// Γ_M / Σγ^i (1 up to round-off): keeps Γ exactly cumulative.
     kappa: f64,
+    /// Guide table of the wedge search: entry k is the wedge that holds φ_B = 2πk/K (K = the
+    /// table's length, 2M), so the search starts at most a step or two below its answer (O(1)
+    /// for all but pathological Γ).
+    wedge_guide: Vec<u32>,
+    /// K / 2π for [`HdsCore::wedge_guide`].
+    guide_scale: f64,
     /// T = ∫_disk D dA (§4.3), in diagram units × disk area.
     total: f64,
     /// The completed diagram; the target density is its (θ, φ)-bilinear interpolant.
@@ -86,6 +105,13 @@ impl HdsCore {
             *c *= kappa;
         }
         cum[m] = TAU;
+        let guide_len = 2 * m;
+        let wedge_guide: Vec<u32> = (0..guide_len)
+            .map(|k| {
+                let p = k as f64 * TAU / guide_len as f64;
+                (cum.partition_point(|&g| g <= p).clamp(1, m) - 1) as u32
+            })
+            .collect();
         let target_total = diagram.integral();
         let db_range = density_ratio_range(&diagram, &x);
         HdsCore {
@@ -100,6 +126,8 @@ impl HdsCore {
             r2,
             cum,
             kappa,
+            wedge_guide,
+            guide_scale: guide_len as f64 / TAU,
             total,
             diagram,
             target_total,
@@ -139,6 +167,7 @@ impl HdsCore {
             + self.u.len()
             + self.r2.len()
             + self.cum.len())
+            + 4 * self.wedge_guide.len()
             + std::mem::size_of::<Self>()
     }
 
@@ -160,6 +189,22 @@ impl HdsCore {
         (i, eps)
     }
 
+    /// The wedge of B-disk azimuth `phib`: the largest i ≤ M − 1 with Γ_i ≤ φ_B (empty wedges are
+    /// skipped by taking the last such i), found from the guide table.
+    #[inline]
+    fn wedge(&self, phib: f64) -> usize {
+        let k = ((phib * self.guide_scale) as usize).min(self.wedge_guide.len() - 1);
+        let mut i = self.wedge_guide[k] as usize;
+        // The guide's cell start may round to either side of φ_B: step back, then forward.
+        while i > 0 && self.cum[i] > phib {
+            i -= 1;
+        }
+        while i + 1 < self.m && self.cum[i + 1] <= phib {
+            i += 1;
+        }
+        i
+    }
+
     #[inline]
     fn next(&self, i: usize) -> usize {
         if i + 1 == self.m {
@@ -172,7 +217,7 @@ impl HdsCore {
     /// The intermediate points of the forward map (for pictures and tests).
     pub(crate) fn stages(&self, uv: [f64; 2]) -> super::Stages {
         let (rb, phib) = square_to_disk(uv);
-        let i = self.cum.partition_point(|&g| g <= phib).clamp(1, self.m) - 1;
+        let i = self.wedge(phib);
         let eps = solve_wedge(
             self.beta[i],
             self.r2[i],
@@ -198,7 +243,7 @@ impl HdsCore {
         // M_B
         let (rb, phib) = square_to_disk(uv);
         // M_C: wedge i with Γ_i ≤ φ_B < Γ_{i+1}; empty wedges are skipped by taking the last such i.
-        let i = self.cum.partition_point(|&g| g <= phib).clamp(1, self.m) - 1;
+        let i = self.wedge(phib);
         let i1 = self.next(i);
         let eps = solve_wedge(
             self.beta[i],
@@ -237,7 +282,7 @@ impl HdsCore {
     pub(crate) fn density(&self, dir: Vec3) -> f64 {
         let n = self.n;
         let xr = sphere_to_disk_radius(dir);
-        let (_, p) = spherical(dir);
+        let p = azimuth(dir);
         let (i, eps) = self.sector(p);
         let i1 = self.next(i);
         let j = segment(&self.x, xr);
@@ -254,7 +299,7 @@ impl HdsCore {
     pub(crate) fn invert(&self, dir: Vec3) -> [f64; 2] {
         let n = self.n;
         let xr = sphere_to_disk_radius(dir);
-        let (_, p) = spherical(dir);
+        let p = azimuth(dir);
         let (i, eps) = self.sector(p);
         let i1 = self.next(i);
         let (ua, ub) = (&self.u[i * n..i * n + n], &self.u[i1 * n..i1 * n + n]);
