@@ -1,0 +1,476 @@
+//! `gonio bench FILE [--json]`: build time, table memory and per-sample cost of every sampling
+//! method on one diagram, measured on this machine.
+//!
+//! Every method maps the **same** points (the Halton sequence in bases 2 and 3 from index 1,
+//! generated once, outside the timed loops) and, for `pdf` and `invert`, the directions it produced
+//! itself. One-thread costs are the median over several repeats of the thread's **CPU time** per
+//! sample (`clock_gettime(CLOCK_THREAD_CPUTIME_ID)` on Linux, wall time elsewhere), so time spent
+//! descheduled on a busy machine does not count; batch costs are wall time (that is what threads
+//! buy) over at least 2¹⁸ points (the same points repeated), so their scaling factor is only
+//! meaningful on an otherwise idle machine.
+
+use anyhow::{Context, Result};
+use gonio::baselines::{Method, Rejection};
+use gonio::sampler::sample_batch_par;
+use gonio::sequence::Halton;
+use gonio::{Diagram, Domain, HemisphereMap, Point2, Sample, Sampler, SphereMap, Vec3};
+use serde::Serialize;
+use std::fmt;
+use std::hint::black_box;
+use std::time::Instant;
+
+/// Repeats of every one-thread measurement; the median is reported.
+const REPEATS: usize = 7;
+/// Repeats of the batch measurements.
+const BATCH_REPEATS: usize = 5;
+/// Fewest points of a batch measurement (64 chunks of 4096).
+const MIN_BATCH: usize = 1 << 18;
+
+/// The machine the numbers were taken on.
+#[derive(Debug, Clone, Serialize)]
+pub struct Machine {
+    /// CPU model from `/proc/cpuinfo`, if readable.
+    pub cpu_model: Option<String>,
+    /// Logical cores available to this process.
+    pub logical_cores: usize,
+    /// Threads used for the batch measurement.
+    pub batch_threads: usize,
+    /// `"thread-cpu"` or `"wall"`: the clock of the one-thread measurements.
+    pub single_thread_clock: String,
+    /// The 1-minute load average at the start (`/proc/loadavg`), if readable: above the core count
+    /// the batch scaling is not meaningful.
+    pub load_average: Option<f64>,
+}
+
+/// The measurements of one method.
+#[derive(Debug, Clone, Serialize)]
+pub struct MethodBench {
+    /// The method's name (`hds`, `piecewise-constant`, …).
+    pub method: String,
+    /// Why the method could not be built (then every number below is absent).
+    pub error: Option<String>,
+    /// Construction time, milliseconds (wall).
+    pub build_ms: Option<f64>,
+    /// [`Sampler::memory_bytes`] of the built sampler.
+    pub memory_bytes: Option<usize>,
+    /// `sample`, one thread, ns per sample (median).
+    pub forward_ns: Option<f64>,
+    /// `invert` of the method's own samples, one thread, ns per direction (median); absent for
+    /// methods without an inverse.
+    pub inverse_ns: Option<f64>,
+    /// `pdf` of the method's own samples, one thread, ns per direction (median).
+    pub pdf_ns: Option<f64>,
+    /// `sample_batch_par` in a one-thread pool, wall ns per sample (median).
+    pub batch_one_thread_ns: Option<f64>,
+    /// `sample_batch_par` on all batch threads, wall ns per sample (median).
+    pub batch_all_threads_ns: Option<f64>,
+    /// `batch_one_thread_ns / batch_all_threads_ns`.
+    pub batch_scaling: Option<f64>,
+    /// Rejection sampling only: the probability that one proposal is accepted.
+    pub acceptance: Option<f64>,
+}
+
+/// The result of [`run_bench`]: serialisable (for `--json`) and displayable (an aligned table).
+#[derive(Debug, Clone, Serialize)]
+pub struct BenchReport {
+    /// What was measured (normally the file name).
+    pub label: String,
+    /// Parallels N of the diagram.
+    pub n_parallels: usize,
+    /// Meridians M of the diagram.
+    pub n_meridians: usize,
+    /// `"hemisphere"` or `"sphere"`: the domain the samplers were built for.
+    pub domain: String,
+    /// Points per measurement.
+    pub samples: usize,
+    /// The paper's table size for this grid, M·N + 2M + 2 floats (for comparison with the memory).
+    pub paper_table_floats: usize,
+    /// The machine.
+    pub machine: Machine,
+    /// One entry per requested method, in the order given.
+    pub methods: Vec<MethodBench>,
+}
+
+/// Measures every method of `methods` on `diagram` with `samples` points per measurement, the
+/// batch on `threads` threads (all logical cores when `None`).
+///
+/// The HDS sampler is a [`HemisphereMap`] when the diagram lies within θ ≤ 90°, else a
+/// [`SphereMap`]; the baselines are built for the same domain. A method that cannot be built (for
+/// example rejection sampling of a very peaked diagram) is reported with its error; only a failure
+/// to set up the measurement itself is an `Err`.
+pub fn run_bench(
+    diagram: &Diagram,
+    label: &str,
+    methods: &[Method],
+    samples: usize,
+    threads: Option<usize>,
+) -> Result<BenchReport> {
+    let samples = samples.max(1);
+    let logical_cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let batch_threads = threads.unwrap_or(logical_cores).max(1);
+    let load_average = std::fs::read_to_string("/proc/loadavg")
+        .ok()
+        .and_then(|s| s.split_whitespace().next()?.parse().ok());
+    let one = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .context("building a one-thread pool")?;
+    let all = rayon::ThreadPoolBuilder::new()
+        .num_threads(batch_threads)
+        .build()
+        .context("building the batch thread pool")?;
+
+    let hemisphere =
+        *diagram.theta().last().expect("a diagram has parallels") <= std::f64::consts::FRAC_PI_2;
+    let domain = if hemisphere {
+        Domain::Hemisphere
+    } else {
+        Domain::Sphere
+    };
+    let mut points = vec![[0.0; 2]; samples];
+    Halton::with_skip(1).fill(0, &mut points);
+
+    let mut out = Vec::with_capacity(methods.len());
+    for &method in methods {
+        let t0 = Instant::now();
+        let built: Result<Box<dyn Sampler>, String> = match method {
+            Method::Hds if hemisphere => HemisphereMap::new(diagram)
+                .map(|s| Box::new(s) as Box<dyn Sampler>)
+                .map_err(|e| e.to_string()),
+            Method::Hds => SphereMap::new(diagram)
+                .map(|s| Box::new(s) as Box<dyn Sampler>)
+                .map_err(|e| e.to_string()),
+            m => m
+                .build_baseline(diagram, domain)
+                .map_err(|e| e.to_string()),
+        };
+        let build_ms = t0.elapsed().as_secs_f64() * 1e3;
+        let sampler = match built {
+            Ok(s) => s,
+            Err(e) => {
+                out.push(MethodBench::failed(method, e));
+                continue;
+            }
+        };
+        let acceptance = (method == Method::Rejection)
+            .then(|| Rejection::new(diagram, domain).ok().map(|r| r.acceptance_rate()))
+            .flatten();
+        out.push(measure(
+            method,
+            sampler.as_ref(),
+            &points,
+            build_ms,
+            acceptance,
+            &one,
+            &all,
+        ));
+    }
+
+    let d = diagram;
+    Ok(BenchReport {
+        label: label.to_owned(),
+        n_parallels: d.n_parallels(),
+        n_meridians: d.n_meridians(),
+        domain: if hemisphere { "hemisphere" } else { "sphere" }.to_owned(),
+        samples,
+        paper_table_floats: d.n_meridians() * d.n_parallels() + 2 * d.n_meridians() + 2,
+        machine: Machine {
+            cpu_model: cpu_model(),
+            logical_cores,
+            batch_threads,
+            single_thread_clock: if thread_cpu_ns().is_some() {
+                "thread-cpu"
+            } else {
+                "wall"
+            }
+            .to_owned(),
+            load_average,
+        },
+        methods: out,
+    })
+}
+
+impl MethodBench {
+    fn failed(method: Method, error: String) -> Self {
+        MethodBench {
+            method: method.to_string(),
+            error: Some(error),
+            build_ms: None,
+            memory_bytes: None,
+            forward_ns: None,
+            inverse_ns: None,
+            pdf_ns: None,
+            batch_one_thread_ns: None,
+            batch_all_threads_ns: None,
+            batch_scaling: None,
+            acceptance: None,
+        }
+    }
+}
+
+fn measure(
+    method: Method,
+    s: &dyn Sampler,
+    points: &[Point2],
+    build_ms: f64,
+    acceptance: Option<f64>,
+    one: &rayon::ThreadPool,
+    all: &rayon::ThreadPool,
+) -> MethodBench {
+    let n = points.len();
+    let mut samples = vec![Sample::default(); n];
+    let forward = per_item_cpu(REPEATS, n, || {
+        s.sample_batch(black_box(points), &mut samples);
+        black_box(&samples);
+    });
+    let dirs: Vec<Vec3> = samples.iter().map(|x| x.direction).collect();
+    let pdf = per_item_cpu(REPEATS, n, || {
+        let mut acc = 0.0;
+        for &d in &dirs {
+            acc += s.pdf(black_box(d));
+        }
+        black_box(acc);
+    });
+    let has_inverse = s.invert(dirs[0]) != Err(gonio::InvertError::Unsupported);
+    let inverse = has_inverse.then(|| {
+        per_item_cpu(REPEATS, n, || {
+            let mut acc = 0.0;
+            for &d in &dirs {
+                if let Ok(u) = s.invert(black_box(d)) {
+                    acc += u[0];
+                }
+            }
+            black_box(acc);
+        })
+    });
+    // The batch functions split the work into chunks of 4096 points: give them at least
+    // MIN_BATCH points (the same points, repeated) so that every thread has several chunks.
+    let big: Vec<Point2> = points.iter().copied().cycle().take(n.max(MIN_BATCH)).collect();
+    let mut big_out = vec![Sample::default(); big.len()];
+    let mut batch = |pool: &rayon::ThreadPool| {
+        pool.install(|| {
+            per_item_wall(BATCH_REPEATS, big.len(), || {
+                sample_batch_par(s, black_box(&big), &mut big_out);
+                black_box(&big_out);
+            })
+        })
+    };
+    let b1 = batch(one);
+    let bn = batch(all);
+    MethodBench {
+        method: method.to_string(),
+        error: None,
+        build_ms: Some(build_ms),
+        memory_bytes: Some(s.memory_bytes()),
+        forward_ns: Some(forward),
+        inverse_ns: inverse,
+        pdf_ns: Some(pdf),
+        batch_one_thread_ns: Some(b1),
+        batch_all_threads_ns: Some(bn),
+        batch_scaling: Some(b1 / bn),
+        acceptance,
+    }
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    let k = v.len();
+    if k % 2 == 1 {
+        v[k / 2]
+    } else {
+        0.5 * (v[k / 2 - 1] + v[k / 2])
+    }
+}
+
+/// Median thread-CPU (else wall) nanoseconds per item of `f`, after one warm-up run.
+fn per_item_cpu(repeats: usize, items: usize, mut f: impl FnMut()) -> f64 {
+    f();
+    median(
+        (0..repeats)
+            .map(|_| {
+                let (c0, t0) = (thread_cpu_ns(), Instant::now());
+                f();
+                let wall = t0.elapsed().as_nanos() as f64;
+                match (c0, thread_cpu_ns()) {
+                    (Some(a), Some(b)) => b.saturating_sub(a) as f64 / items as f64,
+                    _ => wall / items as f64,
+                }
+            })
+            .collect(),
+    )
+}
+
+/// Median wall nanoseconds per item of `f`, after one warm-up run.
+fn per_item_wall(repeats: usize, items: usize, mut f: impl FnMut()) -> f64 {
+    f();
+    median(
+        (0..repeats)
+            .map(|_| {
+                let t0 = Instant::now();
+                f();
+                t0.elapsed().as_nanos() as f64 / items as f64
+            })
+            .collect(),
+    )
+}
+
+/// CPU time of the calling thread in nanoseconds (`clock_gettime(CLOCK_THREAD_CPUTIME_ID)`).
+#[cfg(target_os = "linux")]
+fn thread_cpu_ns() -> Option<u64> {
+    #[repr(C)]
+    struct Timespec {
+        sec: i64,
+        nsec: i64,
+    }
+    extern "C" {
+        fn clock_gettime(clock: i32, ts: *mut Timespec) -> i32;
+    }
+    const CLOCK_THREAD_CPUTIME_ID: i32 = 3;
+    let mut ts = Timespec { sec: 0, nsec: 0 };
+    // SAFETY: `ts` is a valid, writable `struct timespec` (two 64-bit fields on 64-bit Linux).
+    let rc = unsafe { clock_gettime(CLOCK_THREAD_CPUTIME_ID, &mut ts) };
+    (rc == 0 && cfg!(target_pointer_width = "64"))
+        .then(|| ts.sec as u64 * 1_000_000_000 + ts.nsec as u64)
+}
+
+#[cfg(not(target_os = "linux"))]
+fn thread_cpu_ns() -> Option<u64> {
+    None
+}
+
+fn cpu_model() -> Option<String> {
+    let text = std::fs::read_to_string("/proc/cpuinfo").ok()?;
+    text.lines()
+        .find(|l| l.starts_with("model name"))
+        .and_then(|l| l.split(':').nth(1))
+        .map(|s| s.trim().to_owned())
+}
+
+fn cell(x: Option<f64>, digits: usize) -> String {
+    x.map_or_else(|| "—".to_owned(), |v| format!("{v:.digits$}"))
+}
+
+impl fmt::Display for BenchReport {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let m = &self.machine;
+        writeln!(
+            f,
+            "{}: {} parallels × {} meridians ({}), {} points per measurement",
+            self.label, self.n_parallels, self.n_meridians, self.domain, self.samples
+        )?;
+        writeln!(
+            f,
+            "machine: {}, {} logical cores, batch on {} threads, one-thread clock: {}{}",
+            m.cpu_model.as_deref().unwrap_or("unknown CPU"),
+            m.logical_cores,
+            m.batch_threads,
+            m.single_thread_clock,
+            m.load_average
+                .map_or(String::new(), |l| format!(", load average {l:.2}"))
+        )?;
+        writeln!(
+            f,
+            "paper's table size for this grid: M·N + 2M + 2 = {} floats ({:.1} KiB as f64)",
+            self.paper_table_floats,
+            self.paper_table_floats as f64 * 8.0 / 1024.0
+        )?;
+        let header = [
+            "method",
+            "build ms",
+            "memory KiB",
+            "forward ns",
+            "inverse ns",
+            "pdf ns",
+            "batch 1 thr ns",
+            "batch all ns",
+            "scaling",
+            "acceptance",
+        ];
+        // Ok(cells) for a measured method, Err((name, error)) for one that could not be built.
+        let rows: Vec<Result<Vec<String>, (String, String)>> = self
+            .methods
+            .iter()
+            .map(|r| match &r.error {
+                Some(e) => Err((r.method.clone(), e.clone())),
+                None => Ok(vec![
+                    r.method.clone(),
+                    cell(r.build_ms, 2),
+                    cell(r.memory_bytes.map(|b| b as f64 / 1024.0), 1),
+                    cell(r.forward_ns, 1),
+                    cell(r.inverse_ns, 1),
+                    cell(r.pdf_ns, 1),
+                    cell(r.batch_one_thread_ns, 1),
+                    cell(r.batch_all_threads_ns, 1),
+                    cell(r.batch_scaling, 2),
+                    cell(r.acceptance, 4),
+                ]),
+            })
+            .collect();
+        let widths: Vec<usize> = (0..header.len())
+            .map(|c| {
+                rows.iter()
+                    .filter_map(|r| r.as_ref().ok())
+                    .map(|r| r[c].chars().count())
+                    .chain([header[c].chars().count()])
+                    .max()
+                    .unwrap_or(0)
+            })
+            .collect();
+        let line = |cells: &[String]| -> String {
+            cells
+                .iter()
+                .zip(&widths)
+                .enumerate()
+                .map(|(c, (s, &w))| {
+                    if c == 0 {
+                        format!("{s:<w$}")
+                    } else {
+                        format!("{s:>w$}")
+                    }
+                })
+                .collect::<Vec<_>>()
+                .join("  ")
+        };
+        let head: Vec<String> = header.iter().map(|s| s.to_string()).collect();
+        writeln!(f, "{}", line(&head))?;
+        for r in &rows {
+            match r {
+                Ok(cells) => writeln!(f, "{}", line(cells))?,
+                Err((name, e)) => writeln!(f, "{name:<w$}  not built: {e}", w = widths[0])?,
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn report_has_every_method_and_serialises() {
+        let d = gonio::synthetic::random_hemisphere(gonio::synthetic::Family::Lobes, 7, 8, false, 1);
+        let r = run_bench(&d, "toy", &Method::ALL, 512, Some(2)).unwrap();
+        assert_eq!(r.methods.len(), Method::ALL.len());
+        for m in &r.methods {
+            assert!(m.error.is_some() || m.forward_ns.unwrap() > 0.0, "{m:?}");
+        }
+        let hds = &r.methods[0];
+        assert!(hds.inverse_ns.is_some() && hds.memory_bytes.unwrap() > 0);
+        let rej = r.methods.iter().find(|m| m.method == "rejection").unwrap();
+        assert!(rej.error.is_some() || rej.acceptance.is_some() && rej.inverse_ns.is_none());
+        let json = serde_json::to_string(&r).unwrap();
+        assert!(json.contains("\"forward_ns\""));
+        let text = r.to_string();
+        println!("{text}");
+        assert!(text.contains("hds") && text.contains("forward ns"));
+    }
+
+    #[test]
+    fn sphere_diagram_uses_the_sphere_domain() {
+        let d = gonio::synthetic::example_luminaire();
+        let r = run_bench(&d, "example", &[Method::Hds, Method::Uniform], 256, Some(1)).unwrap();
+        assert_eq!(r.domain, "sphere");
+        assert!(r.methods.iter().all(|m| m.error.is_none()));
+    }
+}
