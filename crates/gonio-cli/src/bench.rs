@@ -64,8 +64,13 @@ pub struct MethodBench {
     pub batch_one_thread_ns: Option<f64>,
     /// `sample_batch_par` on all batch threads, wall ns per sample (median).
     pub batch_all_threads_ns: Option<f64>,
-    /// `batch_one_thread_ns / batch_all_threads_ns`.
+    /// `batch_one_thread_ns / batch_all_threads_ns`: the measured speed-up of the batch.
     pub batch_scaling: Option<f64>,
+    /// Process CPU time per sample of the one-thread batch over that of the all-thread batch (1.0
+    /// = the threads add no work). On a machine busy with other jobs the wall-clock scaling
+    /// understates what the threads would give; this ratio times the thread count is the speed-up
+    /// an idle machine with that many free cores would allow, at most.
+    pub batch_cpu_ratio: Option<f64>,
     /// Rejection sampling only: the probability that one proposal is accepted.
     pub acceptance: Option<f64>,
 }
@@ -203,6 +208,7 @@ impl MethodBench {
             batch_one_thread_ns: None,
             batch_all_threads_ns: None,
             batch_scaling: None,
+            batch_cpu_ratio: None,
             acceptance: None,
         }
     }
@@ -255,8 +261,8 @@ fn measure(
             })
         })
     };
-    let b1 = batch(one);
-    let bn = batch(all);
+    let (b1, c1) = batch(one);
+    let (bn, cn) = batch(all);
     MethodBench {
         method: method.to_string(),
         error: None,
@@ -268,6 +274,7 @@ fn measure(
         batch_one_thread_ns: Some(b1),
         batch_all_threads_ns: Some(bn),
         batch_scaling: Some(b1 / bn),
+        batch_cpu_ratio: (c1 / cn).is_finite().then_some(c1 / cn),
         acceptance,
     }
 }
@@ -300,23 +307,36 @@ fn per_item_cpu(repeats: usize, items: usize, mut f: impl FnMut()) -> f64 {
     )
 }
 
-/// Median wall nanoseconds per item of `f`, after one warm-up run.
-fn per_item_wall(repeats: usize, items: usize, mut f: impl FnMut()) -> f64 {
+/// Median wall nanoseconds per item of `f` and median process-CPU nanoseconds per item (all
+/// threads together; `NaN` where unavailable), after one warm-up run.
+fn per_item_wall(repeats: usize, items: usize, mut f: impl FnMut()) -> (f64, f64) {
     f();
-    median(
-        (0..repeats)
-            .map(|_| {
-                let t0 = Instant::now();
-                f();
-                t0.elapsed().as_nanos() as f64 / items as f64
-            })
-            .collect(),
-    )
+    let (wall, cpu): (Vec<f64>, Vec<f64>) = (0..repeats)
+        .map(|_| {
+            let (c0, t0) = (cpu_ns(CLOCK_PROCESS_CPUTIME_ID), Instant::now());
+            f();
+            let wall = t0.elapsed().as_nanos() as f64 / items as f64;
+            let cpu = match (c0, cpu_ns(CLOCK_PROCESS_CPUTIME_ID)) {
+                (Some(a), Some(b)) => b.saturating_sub(a) as f64 / items as f64,
+                _ => f64::NAN,
+            };
+            (wall, cpu)
+        })
+        .unzip();
+    (median(wall), median(cpu))
 }
 
-/// CPU time of the calling thread in nanoseconds (`clock_gettime(CLOCK_THREAD_CPUTIME_ID)`).
-#[cfg(target_os = "linux")]
+const CLOCK_PROCESS_CPUTIME_ID: i32 = 2;
+const CLOCK_THREAD_CPUTIME_ID: i32 = 3;
+
+/// CPU time of the calling thread in nanoseconds.
 fn thread_cpu_ns() -> Option<u64> {
+    cpu_ns(CLOCK_THREAD_CPUTIME_ID)
+}
+
+/// `clock_gettime(clock)` in nanoseconds, for the CPU-time clocks.
+#[cfg(target_os = "linux")]
+fn cpu_ns(clock: i32) -> Option<u64> {
     #[repr(C)]
     struct Timespec {
         sec: i64,
@@ -325,16 +345,15 @@ fn thread_cpu_ns() -> Option<u64> {
     extern "C" {
         fn clock_gettime(clock: i32, ts: *mut Timespec) -> i32;
     }
-    const CLOCK_THREAD_CPUTIME_ID: i32 = 3;
     let mut ts = Timespec { sec: 0, nsec: 0 };
     // SAFETY: `ts` is a valid, writable `struct timespec` (two 64-bit fields on 64-bit Linux).
-    let rc = unsafe { clock_gettime(CLOCK_THREAD_CPUTIME_ID, &mut ts) };
+    let rc = unsafe { clock_gettime(clock, &mut ts) };
     (rc == 0 && cfg!(target_pointer_width = "64"))
         .then(|| ts.sec as u64 * 1_000_000_000 + ts.nsec as u64)
 }
 
 #[cfg(not(target_os = "linux"))]
-fn thread_cpu_ns() -> Option<u64> {
+fn cpu_ns(_clock: i32) -> Option<u64> {
     None
 }
 
@@ -384,6 +403,7 @@ impl fmt::Display for BenchReport {
             "batch 1 thr ns",
             "batch all ns",
             "scaling",
+            "cpu ratio",
             "acceptance",
         ];
         // Ok(cells) for a measured method, Err((name, error)) for one that could not be built.
@@ -402,6 +422,7 @@ impl fmt::Display for BenchReport {
                     cell(r.batch_one_thread_ns, 1),
                     cell(r.batch_all_threads_ns, 1),
                     cell(r.batch_scaling, 2),
+                    cell(r.batch_cpu_ratio, 2),
                     cell(r.acceptance, 4),
                 ]),
             })
