@@ -1,1 +1,101 @@
-fn main() {}
+//! Criterion benchmarks of every sampling method: build, forward `sample`, `pdf`, `invert`, on
+//! synthetic "lobes" hemisphere diagrams of 19×36, 181×361 and 1024×1024 (parallels × meridians),
+//! plus batch sampling on one thread vs all threads.
+//!
+//! Every method maps the same 4096 Halton points (and pdf/invert take the directions the method
+//! produced itself); throughput is reported per sample. Run with
+//! `cargo bench -p gonio --bench mapping` (add a filter such as `-- 181x361` to run a subset).
+
+use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use gonio::baselines::Method;
+use gonio::sampler::sample_batch_par;
+use gonio::sequence::Halton;
+use gonio::synthetic::{random_hemisphere, Family};
+use gonio::{Diagram, Domain, HemisphereMap, Point2, Sample, Sampler, Vec3};
+use std::time::Duration;
+
+const BATCH: usize = 4096;
+const GRIDS: [(usize, usize); 3] = [(19, 36), (181, 361), (1024, 1024)];
+
+fn build(method: Method, d: &Diagram) -> Option<Box<dyn Sampler>> {
+    match method {
+        Method::Hds => Some(Box::new(HemisphereMap::new(d).ok()?)),
+        m => m.build_baseline(d, Domain::Hemisphere).ok(),
+    }
+}
+
+fn points(n: usize) -> Vec<Point2> {
+    let mut p = vec![[0.0; 2]; n];
+    Halton::with_skip(1).fill(0, &mut p);
+    p
+}
+
+fn per_method(c: &mut Criterion) {
+    let pts = points(BATCH);
+    for (n, m) in GRIDS {
+        let d = random_hemisphere(Family::Lobes, n, m, false, 7);
+        let grid = format!("{n}x{m}");
+        let mut g = c.benchmark_group(format!("build/{grid}"));
+        g.sample_size(10)
+            .warm_up_time(Duration::from_millis(200))
+            .measurement_time(Duration::from_secs(if n > 500 { 4 } else { 1 }));
+        for method in Method::ALL {
+            g.bench_function(method.as_str(), |b| b.iter(|| build(method, black_box(&d))));
+        }
+        g.finish();
+
+        let mut g = c.benchmark_group(format!("per-sample/{grid}"));
+        g.sample_size(20)
+            .warm_up_time(Duration::from_millis(200))
+            .measurement_time(Duration::from_secs(1))
+            .throughput(Throughput::Elements(BATCH as u64));
+        for method in Method::ALL {
+            let Some(s) = build(method, &d) else { continue };
+            let mut out = vec![Sample::default(); BATCH];
+            g.bench_function(BenchmarkId::new("sample", method.as_str()), |b| {
+                b.iter(|| s.sample_batch(black_box(&pts), &mut out))
+            });
+            let dirs: Vec<Vec3> = out.iter().map(|o| o.direction).collect();
+            g.bench_function(BenchmarkId::new("pdf", method.as_str()), |b| {
+                b.iter(|| dirs.iter().map(|&w| s.pdf(black_box(w))).sum::<f64>())
+            });
+            if method != Method::Rejection {
+                g.bench_function(BenchmarkId::new("invert", method.as_str()), |b| {
+                    b.iter(|| {
+                        dirs.iter()
+                            .filter_map(|&w| s.invert(black_box(w)).ok())
+                            .map(|u| u[0])
+                            .sum::<f64>()
+                    })
+                });
+            }
+        }
+        g.finish();
+    }
+}
+
+fn batch(c: &mut Criterion) {
+    let count = 1 << 18;
+    let pts = points(count);
+    let d = random_hemisphere(Family::Lobes, 181, 361, false, 7);
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let mut g = c.benchmark_group("batch/181x361");
+    g.sample_size(10)
+        .warm_up_time(Duration::from_millis(200))
+        .measurement_time(Duration::from_secs(2))
+        .throughput(Throughput::Elements(count as u64));
+    for method in [Method::Hds, Method::PiecewiseConstant, Method::Bilinear] {
+        let Some(s) = build(method, &d) else { continue };
+        let mut out = vec![Sample::default(); count];
+        for t in [1, threads] {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(t).build().unwrap();
+            g.bench_function(BenchmarkId::new(method.as_str(), format!("{t}-threads")), |b| {
+                b.iter(|| pool.install(|| sample_batch_par(s.as_ref(), black_box(&pts), &mut out)))
+            });
+        }
+    }
+    g.finish();
+}
+
+criterion_group!(benches, per_method, batch);
+criterion_main!(benches);
