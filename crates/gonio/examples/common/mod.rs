@@ -283,3 +283,43 @@ pub fn machine() -> String {
         .unwrap_or_else(|| "unknown CPU".into());
     format!("{model}, {cores} logical cores available")
 }
+
+/// Parallel counts of the random diagram set (cycled).
+pub const SET_N: [usize; 11] = [2, 3, 4, 5, 7, 10, 13, 19, 25, 31, 40];
+
+/// One diagram of the random set.
+pub struct SetDiagram {
+    pub family: gonio::synthetic::Family,
+    pub n: usize,
+    pub m: usize,
+    pub irregular: bool,
+    pub diagram: gonio::Diagram,
+}
+
+/// The deterministic set of `count` random hemisphere diagrams of the experiments: the families
+/// cycle through `Family::ALL`, N through [`SET_N`], regular and irregular grids alternate, and M
+/// is drawn from 1–72 (1 for the rotational family).
+pub fn diagram_set(count: usize) -> Vec<SetDiagram> {
+    use gonio::synthetic::{random_hemisphere, Family};
+    (0..count)
+        .map(|k| {
+            let family = Family::ALL[k % Family::ALL.len()];
+            let n = SET_N[(k / Family::ALL.len()) % SET_N.len()];
+            let irregular = (k / (Family::ALL.len() * SET_N.len())) % 2 == 1;
+            // M from a cheap hash of k, 1..=72
+            let h = (k as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15) >> 40;
+            let m = if family == Family::Rotational {
+                1
+            } else {
+                1 + (h % 72) as usize
+            };
+            SetDiagram {
+                family,
+                n,
+                m,
+                irregular,
+                diagram: random_hemisphere(family, n, m, irregular, 1000 + k as u64),
+            }
+        })
+        .collect()
+}
