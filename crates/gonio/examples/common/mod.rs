@@ -19,14 +19,18 @@ pub fn quick() -> bool {
 }
 
 /// The photometric corpus directory: `$GONIO_CORPUS`, else `shared/data/photometry` beside the
-/// workspace (`../shared/data/photometry`), if it exists.
+/// workspace (`../shared/data/photometry`; also `shared/` inside it or two levels up, for git
+/// worktrees), if one exists.
 pub fn corpus_dir() -> Option<PathBuf> {
     if let Ok(p) = std::env::var("GONIO_CORPUS") {
         let p = PathBuf::from(p);
         return p.is_dir().then_some(p);
     }
-    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/photometry");
-    p.is_dir().then_some(p)
+    let ws = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..");
+    ["shared", "../shared", "../../shared"]
+        .iter()
+        .map(|s| ws.join(s).join("data/photometry"))
+        .find(|p| p.is_dir())
 }
 
 /// A simple table: a header and rows of already formatted cells.
