@@ -145,9 +145,7 @@ pub fn run_bench(
             Method::Hds => SphereMap::new(diagram)
                 .map(|s| Box::new(s) as Box<dyn Sampler>)
                 .map_err(|e| e.to_string()),
-            m => m
-                .build_baseline(diagram, domain)
-                .map_err(|e| e.to_string()),
+            m => m.build_baseline(diagram, domain).map_err(|e| e.to_string()),
         };
         let build_ms = t0.elapsed().as_secs_f64() * 1e3;
         let sampler = match built {
@@ -158,7 +156,11 @@ pub fn run_bench(
             }
         };
         let acceptance = (method == Method::Rejection)
-            .then(|| Rejection::new(diagram, domain).ok().map(|r| r.acceptance_rate()))
+            .then(|| {
+                Rejection::new(diagram, domain)
+                    .ok()
+                    .map(|r| r.acceptance_rate())
+            })
             .flatten();
         out.push(measure(
             method,
@@ -251,7 +253,12 @@ fn measure(
     });
     // The batch functions split the work into chunks of 4096 points: give them at least
     // MIN_BATCH points (the same points, repeated) so that every thread has several chunks.
-    let big: Vec<Point2> = points.iter().copied().cycle().take(n.max(MIN_BATCH)).collect();
+    let big: Vec<Point2> = points
+        .iter()
+        .copied()
+        .cycle()
+        .take(n.max(MIN_BATCH))
+        .collect();
     let mut big_out = vec![Sample::default(); big.len()];
     let mut batch = |pool: &rayon::ThreadPool| {
         pool.install(|| {
@@ -470,7 +477,8 @@ mod tests {
 
     #[test]
     fn report_has_every_method_and_serialises() {
-        let d = gonio::synthetic::random_hemisphere(gonio::synthetic::Family::Lobes, 7, 8, false, 1);
+        let d =
+            gonio::synthetic::random_hemisphere(gonio::synthetic::Family::Lobes, 7, 8, false, 1);
         let r = run_bench(&d, "toy", &Method::ALL, 512, Some(2)).unwrap();
         assert_eq!(r.methods.len(), Method::ALL.len());
         for m in &r.methods {

@@ -88,10 +88,18 @@ fn batch(c: &mut Criterion) {
         let Some(s) = build(method, &d) else { continue };
         let mut out = vec![Sample::default(); count];
         for t in [1, threads] {
-            let pool = rayon::ThreadPoolBuilder::new().num_threads(t).build().unwrap();
-            g.bench_function(BenchmarkId::new(method.as_str(), format!("{t}-threads")), |b| {
-                b.iter(|| pool.install(|| sample_batch_par(s.as_ref(), black_box(&pts), &mut out)))
-            });
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(t)
+                .build()
+                .unwrap();
+            g.bench_function(
+                BenchmarkId::new(method.as_str(), format!("{t}-threads")),
+                |b| {
+                    b.iter(|| {
+                        pool.install(|| sample_batch_par(s.as_ref(), black_box(&pts), &mut out))
+                    })
+                },
+            );
         }
     }
     g.finish();

@@ -77,7 +77,10 @@ fn main() {
         let bmax = sel.iter().map(|r| r.bound.1).fold(0.0, f64::max);
         let bmed_lo = median(&sel.iter().map(|r| r.bound.0).collect::<Vec<_>>());
         let bmed_hi = median(&sel.iter().map(|r| r.bound.1).collect::<Vec<_>>());
-        let smin = sel.iter().map(|r| r.sampled.0).fold(f64::INFINITY, f64::min);
+        let smin = sel
+            .iter()
+            .map(|r| r.sampled.0)
+            .fold(f64::INFINITY, f64::min);
         let smax = sel.iter().map(|r| r.sampled.1).fold(0.0, f64::max);
         let md: Vec<f64> = sel.iter().map(|r| r.median_dev).collect();
         let worst: Vec<f64> = sel
@@ -96,10 +99,7 @@ fn main() {
             format!("{smin:.3} – {smax:.3}"),
             format!("{:.1} %", 100.0 * median(&worst)),
             format!("{:.2} %", 100.0 * median(&md)),
-            format!(
-                "{:.2} %",
-                100.0 * md.iter().cloned().fold(0.0, f64::max)
-            ),
+            format!("{:.2} %", 100.0 * md.iter().cloned().fold(0.0, f64::max)),
         ]
     };
     let header = [

@@ -85,7 +85,10 @@ fn main() {
     }
     t.save(
         "rejection_family",
-        &format!("Rejection sampling vs HDS over {count} random hemisphere diagrams ({})", common::machine()),
+        &format!(
+            "Rejection sampling vs HDS over {count} random hemisphere diagrams ({})",
+            common::machine()
+        ),
     );
 
     let Some(dir) = common::corpus_dir() else {
@@ -109,10 +112,17 @@ fn main() {
     ]);
     for path in files {
         let name = path.file_name().unwrap().to_string_lossy().to_string();
-        let Some(format) = FileFormat::from_path_extension(&path) else { continue };
-        let Ok(bytes) = std::fs::read(&path) else { continue };
+        let Some(format) = FileFormat::from_path_extension(&path) else {
+            continue;
+        };
+        let Ok(bytes) = std::fs::read(&path) else {
+            continue;
+        };
         let tilt = DirTiltResolver::new(path.parent().unwrap());
-        let Ok(d) = read(&bytes, format, &tilt).map_err(|_| ()).and_then(|p| p.to_diagram().map_err(|_| ())) else {
+        let Ok(d) = read(&bytes, format, &tilt)
+            .map_err(|_| ())
+            .and_then(|p| p.to_diagram().map_err(|_| ()))
+        else {
             continue;
         };
         let grid = format!("{}×{}", d.n_parallels(), d.n_meridians());
@@ -135,5 +145,8 @@ fn main() {
             ]),
         }
     }
-    t.save("rejection_corpus", "Rejection sampling vs HDS on the photometric corpus (sphere domain unless θ ≤ 90°)");
+    t.save(
+        "rejection_corpus",
+        "Rejection sampling vs HDS on the photometric corpus (sphere domain unless θ ≤ 90°)",
+    );
 }

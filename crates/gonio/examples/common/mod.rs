@@ -165,7 +165,12 @@ pub fn loglog_svg(name: &str, title: &str, xlabel: &str, ylabel: &str, series: &
     if x0 > x1 {
         (x0, x1, y0, y1) = (0.0, 1.0, 0.0, 1.0);
     }
-    let (x0, x1, y0, y1) = (x0.floor(), x1.ceil().max(x0.floor() + 1.0), y0.floor(), y1.ceil().max(y0.floor() + 1.0));
+    let (x0, x1, y0, y1) = (
+        x0.floor(),
+        x1.ceil().max(x0.floor() + 1.0),
+        y0.floor(),
+        y1.ceil().max(y0.floor() + 1.0),
+    );
     let px = |x: f64| ml + (x.log10() - x0) / (x1 - x0) * (w - ml - mr);
     let py = |y: f64| mt + (y1 - y.log10()) / (y1 - y0) * (h - mt - mb);
     let mut s = String::new();
@@ -254,7 +259,9 @@ pub fn loglog_svg(name: &str, title: &str, xlabel: &str, ylabel: &str, series: &
 }
 
 fn esc(t: &str) -> String {
-    t.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
+    t.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
 }
 
 /// Least-squares slope of log y against log x.

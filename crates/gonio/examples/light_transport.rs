@@ -1,0 +1,292 @@
+//! Light transport with every sampler: the irradiance a luminaire casts on a floor below it and on
+//! a wall beside it, estimated by light tracing, against a converged deterministic reference.
+//!
+//! The luminaire sits at the origin; its intensity I(ω) (candela) is the diagram interpolated
+//! bilinearly in (θ, φ) — the same function every sampler's target is proportional to. The floor
+//! is the plane z = −3 m, cut into 1 m² patches over x ∈ [−4, 8), y ∈ [−4, 3); the wall is the
+//! plane y = 3 m, cut into 1 m² patches over x ∈ [−4, 8), z ∈ [−3, 1). A sample direction ω with
+//! density pdf(ω) carries the flux I(ω)/pdf(ω) to the first plane it hits; the mean over N samples
+//! of the flux landing in a patch, divided by its area, is an unbiased estimate of the patch's mean
+//! irradiance (wherever pdf > 0 where I > 0). The reference is the midpoint rule with 256 × 256
+//! points per patch of E(p) = I(ω_p) cos θ_p / d².
+//!
+//! For N = 2⁴ … 2²⁰ (the first N points of one stream, iid or Halton), the error is the RMSE over
+//! all patches divided by the mean patch irradiance. Time is the thread CPU time of the pass
+//! (sampling, weighting and splatting) scaled to N.
+//!
+//! `cargo run --release --example light_transport [-- --quick]` writes
+//! `docs/experiments/light_transport_<luminaire>.{csv,md}` and the plots
+//! `light_transport_<luminaire>_{error,time}.svg`.
+
+mod common;
+
+use common::{loglog_slope, loglog_svg, Series, Table};
+use gonio::baselines::Method;
+use gonio::photometry::{read, DirTiltResolver, FileFormat};
+use gonio::sampler::spherical;
+use gonio::sequence::{Halton, Random};
+use gonio::{Diagram, Domain, Point2, Sampler, SphereMap, Vec3};
+use rayon::prelude::*;
+
+const FLOOR_Z: f64 = -3.0;
+const WALL_Y: f64 = 3.0;
+const X_RANGE: (f64, f64) = (-4.0, 8.0);
+const FLOOR_Y: (f64, f64) = (-4.0, 3.0);
+const WALL_Z: (f64, f64) = (-3.0, 1.0);
+const NX: usize = 12;
+const NFY: usize = 7;
+const NWZ: usize = 4;
+const PATCHES: usize = NX * NFY + NX * NWZ;
+
+/// The patch a direction from the origin lands in (first plane hit), if any.
+#[inline]
+fn patch(d: Vec3) -> Option<usize> {
+    let t_floor = if d[2] < 0.0 {
+        FLOOR_Z / d[2]
+    } else {
+        f64::INFINITY
+    };
+    let t_wall = if d[1] > 0.0 {
+        WALL_Y / d[1]
+    } else {
+        f64::INFINITY
+    };
+    if t_floor < t_wall {
+        let (x, y) = (t_floor * d[0], t_floor * d[1]);
+        let ix = (x - X_RANGE.0).floor();
+        let iy = (y - FLOOR_Y.0).floor();
+        (ix >= 0.0 && ix < NX as f64 && iy >= 0.0 && iy < NFY as f64)
+            .then(|| iy as usize * NX + ix as usize)
+    } else if t_wall.is_finite() {
+        let (x, z) = (t_wall * d[0], t_wall * d[2]);
+        let ix = (x - X_RANGE.0).floor();
+        let iz = (z - WALL_Z.0).floor();
+        (ix >= 0.0 && ix < NX as f64 && iz >= 0.0 && iz < NWZ as f64)
+            .then(|| NX * NFY + iz as usize * NX + ix as usize)
+    } else {
+        None
+    }
+}
+
+fn intensity(d: &Diagram, w: Vec3) -> f64 {
+    let (t, p) = spherical(w);
+    d.interpolate(t, p)
+}
+
+/// Mean irradiance of every patch by the midpoint rule with k × k points.
+fn reference(d: &Diagram, k: usize) -> Vec<f64> {
+    (0..PATCHES)
+        .into_par_iter()
+        .map(|pi| {
+            let mut sum = 0.0;
+            for a in 0..k {
+                for b in 0..k {
+                    let (fa, fb) = ((a as f64 + 0.5) / k as f64, (b as f64 + 0.5) / k as f64);
+                    let (p, normal_comp) = if pi < NX * NFY {
+                        let (ix, iy) = (pi % NX, pi / NX);
+                        let p = [
+                            X_RANGE.0 + ix as f64 + fa,
+                            FLOOR_Y.0 + iy as f64 + fb,
+                            FLOOR_Z,
+                        ];
+                        (p, -FLOOR_Z)
+                    } else {
+                        let q = pi - NX * NFY;
+                        let (ix, iz) = (q % NX, q / NX);
+                        let p = [
+                            X_RANGE.0 + ix as f64 + fa,
+                            WALL_Y,
+                            WALL_Z.0 + iz as f64 + fb,
+                        ];
+                        (p, WALL_Y)
+                    };
+                    let d2 = p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
+                    let dist = d2.sqrt();
+                    let w = [p[0] / dist, p[1] / dist, p[2] / dist];
+                    // cos at the receiver = (distance along the normal) / d
+                    sum += intensity(d, w) * (normal_comp / dist) / d2;
+                }
+            }
+            sum / (k * k) as f64
+        })
+        .collect()
+}
+
+struct Run {
+    method: Method,
+    seq: &'static str,
+    /// (N, relative RMSE)
+    errors: Vec<(f64, f64)>,
+    ns_per_sample: f64,
+}
+
+fn run(
+    s: &dyn Sampler,
+    d: &Diagram,
+    pts: &[Point2],
+    reference: &[f64],
+    method: Method,
+    seq: &'static str,
+) -> Run {
+    let mean_ref = reference.iter().sum::<f64>() / reference.len() as f64;
+    let mut sums = vec![0.0; PATCHES];
+    let mut errors = Vec::new();
+    let c0 = common::thread_cpu_ns();
+    let t0 = std::time::Instant::now();
+    let mut next = 16usize;
+    let mut splat_ns = 0.0;
+    for (k, &u) in pts.iter().enumerate() {
+        let smp = s.sample(u);
+        if smp.pdf > 0.0 {
+            if let Some(p) = patch(smp.direction) {
+                sums[p] += intensity(d, smp.direction) / smp.pdf;
+            }
+        }
+        if k + 1 == next {
+            let t = std::time::Instant::now();
+            let n = next as f64;
+            let mse = sums
+                .iter()
+                .zip(reference)
+                .map(|(s, r)| (s / n - r).powi(2))
+                .sum::<f64>()
+                / PATCHES as f64;
+            errors.push((n, mse.sqrt() / mean_ref));
+            next *= 2;
+            splat_ns += t.elapsed().as_nanos() as f64;
+        }
+    }
+    let total = match (c0, common::thread_cpu_ns()) {
+        (Some(a), Some(b)) => (b - a) as f64,
+        _ => t0.elapsed().as_nanos() as f64,
+    };
+    Run {
+        method,
+        seq,
+        errors,
+        ns_per_sample: (total - splat_ns).max(0.0) / pts.len() as f64,
+    }
+}
+
+fn study(name: &str, title: &str, d: &Diagram, log2_max: u32) {
+    let n = 1usize << log2_max;
+    let reference = reference(d, 256);
+    let mut halton = vec![[0.0; 2]; n];
+    Halton::with_skip(1).fill(0, &mut halton);
+    let mut iid = vec![[0.0; 2]; n];
+    Random::new(42).fill(0, &mut iid);
+    let samplers: Vec<(Method, Box<dyn Sampler>)> = Method::ALL
+        .iter()
+        .filter_map(|&m| {
+            let s: Option<Box<dyn Sampler>> = match m {
+                Method::Hds => SphereMap::new(d)
+                    .ok()
+                    .map(|s| Box::new(s) as Box<dyn Sampler>),
+                m => m.build_baseline(d, Domain::Sphere).ok(),
+            };
+            if s.is_none() {
+                println!("{name}: {m} could not be built, skipped");
+            }
+            s.map(|s| (m, s))
+        })
+        .collect();
+    let jobs: Vec<(usize, &'static str)> = (0..samplers.len())
+        .flat_map(|i| [(i, "iid"), (i, "halton")])
+        .collect();
+    let runs: Vec<Run> = jobs
+        .par_iter()
+        .map(|&(i, seq)| {
+            let pts = if seq == "iid" { &iid } else { &halton };
+            run(
+                samplers[i].1.as_ref(),
+                d,
+                pts,
+                &reference,
+                samplers[i].0,
+                seq,
+            )
+        })
+        .collect();
+
+    let mut header = vec!["method".to_string(), "points".into(), "ns/sample".into()];
+    header.extend(
+        runs[0]
+            .errors
+            .iter()
+            .map(|e| format!("N=2^{}", e.0.log2() as u32)),
+    );
+    header.push("rate (N ≥ 2^8)".into());
+    let mut t = Table::new(&header.iter().map(|s| s.as_str()).collect::<Vec<_>>());
+    for r in &runs {
+        let mut row = vec![
+            r.method.to_string(),
+            r.seq.into(),
+            format!("{:.0}", r.ns_per_sample),
+        ];
+        row.extend(r.errors.iter().map(|e| format!("{:.2e}", e.1)));
+        let tail: Vec<(f64, f64)> = r.errors.iter().filter(|e| e.0 >= 256.0).copied().collect();
+        row.push(format!("N^{:.2}", loglog_slope(&tail)));
+        t.push(row);
+    }
+    t.save(
+        &format!("light_transport_{name}"),
+        &format!("{title}: relative RMSE of patch irradiance ({PATCHES} patches) vs N"),
+    );
+    let series = |time: bool| -> Vec<Series> {
+        runs.iter()
+            .map(|r| Series {
+                label: format!("{} {}", r.method, r.seq),
+                points: r
+                    .errors
+                    .iter()
+                    .map(|&(n, e)| (if time { n * r.ns_per_sample * 1e-9 } else { n }, e))
+                    .collect(),
+                dashed: r.seq == "iid",
+            })
+            .collect()
+    };
+    loglog_svg(
+        &format!("light_transport_{name}_error"),
+        &format!("{title}: relative RMSE vs samples"),
+        "samples N",
+        "relative RMSE",
+        &series(false),
+    );
+    loglog_svg(
+        &format!("light_transport_{name}_time"),
+        &format!("{title}: relative RMSE vs CPU time"),
+        "seconds (one thread)",
+        "relative RMSE",
+        &series(true),
+    );
+}
+
+fn main() {
+    let log2_max = if common::quick() { 16 } else { 20 };
+    study(
+        "example",
+        "built-in example luminaire",
+        &gonio::synthetic::example_luminaire(),
+        log2_max,
+    );
+    let file = "ldt/isym0_ledil_strada_72x181.ldt";
+    match common::corpus_dir().map(|c| c.join(file)) {
+        Some(path) if path.is_file() => {
+            let bytes = std::fs::read(&path).expect("read the corpus file");
+            let ph = read(
+                &bytes,
+                FileFormat::Eulumdat,
+                &DirTiltResolver::new(path.parent().unwrap()),
+            )
+            .expect("the corpus file parses");
+            let d = ph.to_diagram().expect("the corpus file has power");
+            study(
+                "strada",
+                "corpus street light (isym0_ledil_strada_72x181.ldt)",
+                &d,
+                log2_max,
+            );
+        }
+        _ => println!("corpus file {file} not found (set GONIO_CORPUS): skipped"),
+    }
+}
