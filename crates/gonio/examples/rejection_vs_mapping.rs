@@ -17,8 +17,11 @@ use gonio::synthetic::Family;
 use gonio::{Diagram, Domain, HemisphereMap, Sample, Sampler, SphereMap};
 use std::hint::black_box;
 
-/// (acceptance, rejection ns per accepted sample, hds ns per sample), or None if rejection refuses.
-fn compare(d: &Diagram, pts: &[[f64; 2]]) -> Option<(f64, f64, f64)> {
+/// (acceptance, rejection ns per accepted sample, hds ns per sample).
+type Comparison = (f64, f64, f64);
+
+/// The [`Comparison`] on one diagram, or None if rejection sampling refuses it.
+fn compare(d: &Diagram, pts: &[[f64; 2]]) -> Option<Comparison> {
     let hemi = *d.theta().last()? <= std::f64::consts::FRAC_PI_2;
     let domain = if hemi {
         Domain::Hemisphere
@@ -50,7 +53,7 @@ fn main() {
     Halton::with_skip(1).fill(0, &mut pts);
     // every fourth diagram of the 1024-diagram set
     let set = diagram_set(4 * count);
-    let results: Vec<(Family, Option<(f64, f64, f64)>)> = set
+    let results: Vec<(Family, Option<Comparison>)> = set
         .iter()
         .step_by(4)
         .map(|sd| (sd.family, compare(&sd.diagram, &pts)))
@@ -68,7 +71,7 @@ fn main() {
     ]);
     for f in Family::ALL {
         let sel: Vec<_> = results.iter().filter(|r| r.0 == f).collect();
-        let ok: Vec<(f64, f64, f64)> = sel.iter().filter_map(|r| r.1).collect();
+        let ok: Vec<Comparison> = sel.iter().filter_map(|r| r.1).collect();
         let acc: Vec<f64> = ok.iter().map(|r| r.0).collect();
         let ratio: Vec<f64> = ok.iter().map(|r| r.1 / r.2).collect();
         t.push(vec![
