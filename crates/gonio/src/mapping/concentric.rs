@@ -11,6 +11,9 @@
 
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI, TAU};
 
+/// 4/π.
+const FRAC_4_PI: f64 = 4.0 / PI;
+
 /// Area factor of [`square_to_disk`]: dA_disk = π du dv.
 pub const SQUARE_TO_DISK_AREA: f64 = PI;
 
@@ -53,14 +56,16 @@ pub fn disk_to_square(r: f64, phi: f64) -> [f64; 2] {
     } else {
         phi
     };
+    // r / (π/4), multiplied instead of divided in every branch.
+    let s = r * FRAC_4_PI;
     let (a, b) = if p < FRAC_PI_4 {
-        (r, r * p / FRAC_PI_4)
+        (r, s * p)
     } else if p < 3.0 * FRAC_PI_4 {
-        (-(p - FRAC_PI_2) * r / FRAC_PI_4, r)
+        (-(p - FRAC_PI_2) * s, r)
     } else if p < 5.0 * FRAC_PI_4 {
-        (-r, -r * (p - PI) / FRAC_PI_4)
+        (-r, -s * (p - PI))
     } else {
-        ((p - 1.5 * PI) * r / FRAC_PI_4, -r)
+        ((p - 1.5 * PI) * s, -r)
     };
     [
         (0.5 * (a + 1.0)).clamp(0.0, 1.0),

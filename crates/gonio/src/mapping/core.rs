@@ -55,6 +55,13 @@ pub(crate) struct HdsCore {
     wedge_guide: Vec<u32>,
     /// K / 2π for [`HdsCore::wedge_guide`].
     guide_scale: f64,
+    /// Guide table of the parallel search: entry k is the segment of x that holds radius
+    /// k·x_{N−1}/K (K = the table's length, 2N), for `pdf` and `invert`.
+    radius_guide: Vec<u32>,
+    /// K / x_{N−1} for [`HdsCore::radius_guide`].
+    radius_scale: f64,
+    /// 1 / (x_{j+1} − x_j), N − 1 entries (0 for an empty segment).
+    inv_dx: Vec<f64>,
     /// T = ∫_disk D dA (§4.3), in diagram units × disk area.
     total: f64,
     /// The completed diagram; the target density is its (θ, φ)-bilinear interpolant.
@@ -112,6 +119,15 @@ impl HdsCore {
                 (cum.partition_point(|&g| g <= p).clamp(1, m) - 1) as u32
             })
             .collect();
+        let radius_len = 2 * n;
+        let x_max = x[n - 1];
+        let radius_guide: Vec<u32> = (0..radius_len)
+            .map(|k| segment(&x, k as f64 * x_max / radius_len as f64) as u32)
+            .collect();
+        let inv_dx: Vec<f64> = x
+            .windows(2)
+            .map(|w| if w[1] > w[0] { 1.0 / (w[1] - w[0]) } else { 0.0 })
+            .collect();
         let target_total = diagram.integral();
         let db_range = density_ratio_range(&diagram, &x);
         HdsCore {
@@ -128,6 +144,9 @@ impl HdsCore {
             kappa,
             wedge_guide,
             guide_scale: guide_len as f64 / TAU,
+            radius_guide,
+            radius_scale: radius_len as f64 / x_max,
+            inv_dx,
             total,
             diagram,
             target_total,
@@ -167,7 +186,8 @@ impl HdsCore {
             + self.u.len()
             + self.r2.len()
             + self.cum.len())
-            + 4 * self.wedge_guide.len()
+            + 8 * self.inv_dx.len()
+            + 4 * (self.wedge_guide.len() + self.radius_guide.len())
             + std::mem::size_of::<Self>()
     }
 
@@ -203,6 +223,21 @@ impl HdsCore {
             i += 1;
         }
         i
+    }
+
+    /// The segment of the parallel radii that holds disk radius `xr` (as `diagram::segment`: the
+    /// largest j ≤ N − 2 with x_j ≤ xr), found from the guide table.
+    #[inline]
+    fn radial_segment(&self, xr: f64) -> usize {
+        let k = ((xr * self.radius_scale) as usize).min(self.radius_guide.len() - 1);
+        let mut j = self.radius_guide[k] as usize;
+        while j > 0 && self.x[j] > xr {
+            j -= 1;
+        }
+        while j + 2 < self.n && self.x[j + 1] <= xr {
+            j += 1;
+        }
+        j
     }
 
     #[inline]
@@ -272,7 +307,7 @@ impl HdsCore {
         let d1 = (1.0 - eps) * da[j + 1] + eps * db[j + 1];
         let (x0, x1) = (self.x[j], self.x[j + 1]);
         let xr = solve_radius(x0, x1, d0, d1, w - ut(j)).min(x1);
-        let dens = d0 + (d1 - d0) * ((xr - x0) / (x1 - x0));
+        let dens = d0 + (d1 - d0) * ((xr - x0) * self.inv_dx[j]);
         // M_E
         (disk_to_sphere(xr, phi), dens.max(0.0))
     }
@@ -285,8 +320,8 @@ impl HdsCore {
         let p = azimuth(dir);
         let (i, eps) = self.sector(p);
         let i1 = self.next(i);
-        let j = segment(&self.x, xr);
-        let t = ((xr - self.x[j]) / (self.x[j + 1] - self.x[j])).clamp(0.0, 1.0);
+        let j = self.radial_segment(xr);
+        let t = ((xr - self.x[j]) * self.inv_dx[j]).clamp(0.0, 1.0);
         let row = |r: usize| {
             let a = &self.d[r * n..r * n + n];
             a[j] + t * (a[j + 1] - a[j])
@@ -304,11 +339,11 @@ impl HdsCore {
         let i1 = self.next(i);
         let (ua, ub) = (&self.u[i * n..i * n + n], &self.u[i1 * n..i1 * n + n]);
         let (da, db) = (&self.d[i * n..i * n + n], &self.d[i1 * n..i1 * n + n]);
-        let j = segment(&self.x, xr);
+        let j = self.radial_segment(xr);
         let (x0, x1) = (self.x[j], self.x[j + 1]);
         let d0 = (1.0 - eps) * da[j] + eps * db[j];
         let d1 = (1.0 - eps) * da[j + 1] + eps * db[j + 1];
-        let k = (d1 - d0) / (x1 - x0);
+        let k = (d1 - d0) * self.inv_dx[j];
         let tau = (xr - x0).clamp(0.0, x1 - x0);
         let w = (1.0 - eps) * ua[j] + eps * ub[j] + partial_mass(x0, d0, k, tau);
         let wn = (1.0 - eps) * ua[n - 1] + eps * ub[n - 1];
