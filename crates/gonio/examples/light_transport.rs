@@ -10,13 +10,18 @@
 //! irradiance (wherever pdf > 0 where I > 0). The reference is the midpoint rule with 256 × 256
 //! points per patch of E(p) = I(ω_p) cos θ_p / d².
 //!
+//! A second set of receivers is smooth: 15 points on the floor, each measuring the irradiance
+//! weighted by the C¹ kernel (1 − r²/R²)², R = 1 m (normalised), so that the integrand is
+//! continuous in the direction and any discontinuity left is the sampler's own. Its reference is
+//! the midpoint rule with 512 × 512 points over each kernel's support.
+//!
 //! For N = 2⁴ … 2²⁰ (the first N points of one stream, iid or Halton), the error is the RMSE over
-//! all patches divided by the mean patch irradiance. Time is the thread CPU time of the pass
+//! all patches (receivers) divided by their mean. Time is the thread CPU time of the pass
 //! (sampling, weighting and splatting) scaled to N.
 //!
 //! `cargo run --release --example light_transport [-- --quick]` writes
-//! `docs/experiments/light_transport_<luminaire>.{csv,md}` and the plots
-//! `light_transport_<luminaire>_{error,time}.svg`.
+//! `docs/experiments/light_transport_<luminaire>_<patches|smooth>.{csv,md}` and the plots
+//! `light_transport_<luminaire>_<patches|smooth>_{error,time}.svg`.
 
 mod common;
 
@@ -37,6 +42,67 @@ const NX: usize = 12;
 const NFY: usize = 7;
 const NWZ: usize = 4;
 const PATCHES: usize = NX * NFY + NX * NWZ;
+/// Radius of the smooth receivers' kernel, metres.
+const KERNEL_R: f64 = 1.0;
+/// Centres (x, y) of the smooth receivers on the floor.
+const RECEIVERS: [(f64, f64); 15] = [
+    (-2.0, -2.0),
+    (0.0, -2.0),
+    (2.0, -2.0),
+    (4.0, -2.0),
+    (6.0, -2.0),
+    (-2.0, 0.0),
+    (0.0, 0.0),
+    (2.0, 0.0),
+    (4.0, 0.0),
+    (6.0, 0.0),
+    (-2.0, 1.5),
+    (0.0, 1.5),
+    (2.0, 1.5),
+    (4.0, 1.5),
+    (6.0, 1.5),
+];
+
+/// The C¹ kernel (1 − r²/R²)² normalised to integrate to 1 over the plane.
+#[inline]
+fn kernel(dx: f64, dy: f64) -> f64 {
+    let s = (dx * dx + dy * dy) / (KERNEL_R * KERNEL_R);
+    if s < 1.0 {
+        (1.0 - s) * (1.0 - s) * 3.0 / (std::f64::consts::PI * KERNEL_R * KERNEL_R)
+    } else {
+        0.0
+    }
+}
+
+/// Kernel-weighted irradiance at every smooth receiver by the midpoint rule, k × k points over the
+/// kernel's bounding square (the kernel is C¹, so the rule converges as k⁻²).
+fn reference_smooth(d: &Diagram, k: usize) -> Vec<f64> {
+    RECEIVERS
+        .par_iter()
+        .map(|&(cx, cy)| {
+            let h = 2.0 * KERNEL_R / k as f64;
+            let mut sum = 0.0;
+            for a in 0..k {
+                for b in 0..k {
+                    let (dx, dy) = (
+                        -KERNEL_R + (a as f64 + 0.5) * h,
+                        -KERNEL_R + (b as f64 + 0.5) * h,
+                    );
+                    let w = kernel(dx, dy);
+                    if w == 0.0 {
+                        continue;
+                    }
+                    let p = [cx + dx, cy + dy, FLOOR_Z];
+                    let d2 = p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
+                    let dist = d2.sqrt();
+                    let dir = [p[0] / dist, p[1] / dist, p[2] / dist];
+                    sum += w * intensity(d, dir) * (-FLOOR_Z / dist) / d2;
+                }
+            }
+            sum * h * h
+        })
+        .collect()
+}
 
 /// The patch a direction from the origin lands in (first plane hit), if any.
 #[inline]
@@ -115,8 +181,10 @@ fn reference(d: &Diagram, k: usize) -> Vec<f64> {
 struct Run {
     method: Method,
     seq: &'static str,
-    /// (N, relative RMSE)
+    /// (N, relative RMSE) of the patches
     errors: Vec<(f64, f64)>,
+    /// (N, relative RMSE) of the smooth receivers
+    smooth: Vec<(f64, f64)>,
     ns_per_sample: f64,
 }
 
@@ -125,12 +193,24 @@ fn run(
     d: &Diagram,
     pts: &[Point2],
     reference: &[f64],
+    reference_smooth: &[f64],
     method: Method,
     seq: &'static str,
 ) -> Run {
-    let mean_ref = reference.iter().sum::<f64>() / reference.len() as f64;
+    let rel_rmse = |sums: &[f64], r: &[f64], n: f64| {
+        let mean = r.iter().sum::<f64>() / r.len() as f64;
+        let mse = sums
+            .iter()
+            .zip(r)
+            .map(|(s, r)| (s / n - r).powi(2))
+            .sum::<f64>()
+            / r.len() as f64;
+        mse.sqrt() / mean
+    };
     let mut sums = vec![0.0; PATCHES];
+    let mut sums_smooth = vec![0.0; RECEIVERS.len()];
     let mut errors = Vec::new();
+    let mut smooth = Vec::new();
     let c0 = common::thread_cpu_ns();
     let t0 = std::time::Instant::now();
     let mut next = 16usize;
@@ -138,20 +218,24 @@ fn run(
     for (k, &u) in pts.iter().enumerate() {
         let smp = s.sample(u);
         if smp.pdf > 0.0 {
-            if let Some(p) = patch(smp.direction) {
-                sums[p] += intensity(d, smp.direction) / smp.pdf;
+            let w = smp.direction;
+            let flux = intensity(d, w) / smp.pdf;
+            if let Some(p) = patch(w) {
+                sums[p] += flux;
+            }
+            if w[2] < 0.0 {
+                let t = FLOOR_Z / w[2];
+                let (x, y) = (t * w[0], t * w[1]);
+                for (s, &(cx, cy)) in sums_smooth.iter_mut().zip(&RECEIVERS) {
+                    *s += flux * kernel(x - cx, y - cy);
+                }
             }
         }
         if k + 1 == next {
             let t = std::time::Instant::now();
             let n = next as f64;
-            let mse = sums
-                .iter()
-                .zip(reference)
-                .map(|(s, r)| (s / n - r).powi(2))
-                .sum::<f64>()
-                / PATCHES as f64;
-            errors.push((n, mse.sqrt() / mean_ref));
+            errors.push((n, rel_rmse(&sums, reference, n)));
+            smooth.push((n, rel_rmse(&sums_smooth, reference_smooth, n)));
             next *= 2;
             splat_ns += t.elapsed().as_nanos() as f64;
         }
@@ -164,6 +248,7 @@ fn run(
         method,
         seq,
         errors,
+        smooth,
         ns_per_sample: (total - splat_ns).max(0.0) / pts.len() as f64,
     }
 }
@@ -171,6 +256,7 @@ fn run(
 fn study(name: &str, title: &str, d: &Diagram, log2_max: u32) {
     let n = 1usize << log2_max;
     let reference = reference(d, 256);
+    let reference_smooth = reference_smooth(d, 512);
     let mut halton = vec![[0.0; 2]; n];
     Halton::with_skip(1).fill(0, &mut halton);
     let mut iid = vec![[0.0; 2]; n];
@@ -202,63 +288,82 @@ fn study(name: &str, title: &str, d: &Diagram, log2_max: u32) {
                 d,
                 pts,
                 &reference,
+                &reference_smooth,
                 samplers[i].0,
                 seq,
             )
         })
         .collect();
 
-    let mut header = vec!["method".to_string(), "points".into(), "ns/sample".into()];
-    header.extend(
-        runs[0]
-            .errors
-            .iter()
-            .map(|e| format!("N=2^{}", e.0.log2() as u32)),
-    );
-    header.push("rate (N ≥ 2^8)".into());
-    let mut t = Table::new(&header.iter().map(|s| s.as_str()).collect::<Vec<_>>());
-    for r in &runs {
-        let mut row = vec![
-            r.method.to_string(),
-            r.seq.into(),
-            format!("{:.0}", r.ns_per_sample),
-        ];
-        row.extend(r.errors.iter().map(|e| format!("{:.2e}", e.1)));
-        let tail: Vec<(f64, f64)> = r.errors.iter().filter(|e| e.0 >= 256.0).copied().collect();
-        row.push(format!("N^{:.2}", loglog_slope(&tail)));
-        t.push(row);
+    for (metric, what) in [
+        (
+            "patches",
+            "patch irradiance, 132 patches of 1 m² (discontinuous integrand)",
+        ),
+        (
+            "smooth",
+            "kernel-weighted floor irradiance, 15 receivers (C¹ integrand)",
+        ),
+    ] {
+        let errs = |r: &Run| -> Vec<(f64, f64)> {
+            if metric == "patches" {
+                r.errors.clone()
+            } else {
+                r.smooth.clone()
+            }
+        };
+        let mut header = vec!["method".to_string(), "points".into(), "ns/sample".into()];
+        header.extend(
+            errs(&runs[0])
+                .iter()
+                .step_by(2)
+                .map(|e| format!("N=2^{}", e.0.log2() as u32)),
+        );
+        header.push("rate (N ≥ 2^8)".into());
+        let mut t = Table::new(&header.iter().map(|s| s.as_str()).collect::<Vec<_>>());
+        for r in &runs {
+            let e = errs(r);
+            let mut row = vec![
+                r.method.to_string(),
+                r.seq.into(),
+                format!("{:.0}", r.ns_per_sample),
+            ];
+            row.extend(e.iter().step_by(2).map(|e| format!("{:.2e}", e.1)));
+            let tail: Vec<(f64, f64)> = e.iter().filter(|e| e.0 >= 256.0).copied().collect();
+            row.push(format!("N^{:.2}", loglog_slope(&tail)));
+            t.push(row);
+        }
+        t.save(
+            &format!("light_transport_{name}_{metric}"),
+            &format!("{title}: relative RMSE of the {what} vs N"),
+        );
+        let series = |time: bool| -> Vec<Series> {
+            runs.iter()
+                .map(|r| Series {
+                    label: format!("{} {}", r.method, r.seq),
+                    points: errs(r)
+                        .iter()
+                        .map(|&(n, e)| (if time { n * r.ns_per_sample * 1e-9 } else { n }, e))
+                        .collect(),
+                    dashed: r.seq == "iid",
+                })
+                .collect()
+        };
+        loglog_svg(
+            &format!("light_transport_{name}_{metric}_error"),
+            &format!("{title}, {metric}: relative RMSE vs samples"),
+            "samples N",
+            "relative RMSE",
+            &series(false),
+        );
+        loglog_svg(
+            &format!("light_transport_{name}_{metric}_time"),
+            &format!("{title}, {metric}: relative RMSE vs CPU time"),
+            "seconds (one thread)",
+            "relative RMSE",
+            &series(true),
+        );
     }
-    t.save(
-        &format!("light_transport_{name}"),
-        &format!("{title}: relative RMSE of patch irradiance ({PATCHES} patches) vs N"),
-    );
-    let series = |time: bool| -> Vec<Series> {
-        runs.iter()
-            .map(|r| Series {
-                label: format!("{} {}", r.method, r.seq),
-                points: r
-                    .errors
-                    .iter()
-                    .map(|&(n, e)| (if time { n * r.ns_per_sample * 1e-9 } else { n }, e))
-                    .collect(),
-                dashed: r.seq == "iid",
-            })
-            .collect()
-    };
-    loglog_svg(
-        &format!("light_transport_{name}_error"),
-        &format!("{title}: relative RMSE vs samples"),
-        "samples N",
-        "relative RMSE",
-        &series(false),
-    );
-    loglog_svg(
-        &format!("light_transport_{name}_time"),
-        &format!("{title}: relative RMSE vs CPU time"),
-        "seconds (one thread)",
-        "relative RMSE",
-        &series(true),
-    );
 }
 
 fn main() {
