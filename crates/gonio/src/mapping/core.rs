@@ -126,7 +126,13 @@ impl HdsCore {
             .collect();
         let inv_dx: Vec<f64> = x
             .windows(2)
-            .map(|w| if w[1] > w[0] { 1.0 / (w[1] - w[0]) } else { 0.0 })
+            .map(|w| {
+                if w[1] > w[0] {
+                    1.0 / (w[1] - w[0])
+                } else {
+                    0.0
+                }
+            })
             .collect();
         let target_total = diagram.integral();
         let db_range = density_ratio_range(&diagram, &x);
