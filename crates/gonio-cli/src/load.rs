@@ -226,6 +226,8 @@ pub fn domain(loaded: &Loaded) -> Domain {
 
 /// The HDS map, with its concrete type (for `info` and `check`, which need more than the
 /// [`Sampler`] trait offers).
+// One map per run: the size difference of the variants does not matter.
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone)]
 pub enum Hds {
     /// The hemisphere map (JSON diagrams within θ ≤ 90°).

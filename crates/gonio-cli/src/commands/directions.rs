@@ -9,12 +9,15 @@ use gonio::{InvertError, Vec3};
 use rayon::prelude::*;
 use std::io::Write;
 
+/// (1-based line, 1-based data row) of an input row.
+type LineRow = (usize, usize);
+
 /// Rows per batch.
 const BATCH: usize = 1 << 16;
 
 /// Reads and normalises the directions; refuses zero or non-finite ones, naming the row. Also
 /// returns the (line, row) of each direction for later messages.
-fn read_directions(path: &str) -> anyhow::Result<(Vec<Vec3>, Vec<(usize, usize)>)> {
+fn read_directions(path: &str) -> anyhow::Result<(Vec<Vec3>, Vec<LineRow>)> {
     let rows = read_columns(path, ["x", "y", "z"])?;
     let locs = rows.iter().map(|r| (r.line, r.row)).collect();
     let dirs = rows

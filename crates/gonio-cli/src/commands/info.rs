@@ -141,7 +141,7 @@ impl PhotometryInfo {
             .collect();
         let (lamp_lumens, multiplier) = match (&p.ies, &p.ldt) {
             (Some(i), _) => (
-                (i.lumens_per_lamp > 0.0).then(|| i.lumens_per_lamp * i.lamps as f64),
+                (i.lumens_per_lamp > 0.0).then_some(i.lumens_per_lamp * i.lamps as f64),
                 i.multiplier,
             ),
             (None, Some(l)) => (
