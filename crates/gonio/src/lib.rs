@@ -42,5 +42,9 @@ pub mod synthetic;
 
 pub use diagram::{Diagram, DiagramError};
 pub use error::Error;
-pub use mapping::{HemisphereMap, SphereMap};
+pub use baselines::Method;
+pub use check::{run_battery, BatteryOptions, Report};
+pub use mapping::{HemisphereMap, SphereLayout, SphereMap};
+pub use photometry::{FileFormat, Photometry};
+pub use sequence::{Sequence, SequenceKind};
 pub use sampler::{Domain, InvertError, Point2, Sample, Sampler, Vec3};
