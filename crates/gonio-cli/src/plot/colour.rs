@@ -5,6 +5,7 @@ use super::{desc_font, label_font};
 use anyhow::Result;
 use plotters::coord::Shift;
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 /// Cells where the quantity is undefined (e.g. the target is 0).
 pub const UNDEFINED: RGBColor = RGBColor(190, 190, 190);
@@ -102,74 +103,65 @@ where
     } else {
         (bar.lo - 0.5, bar.lo + 0.5)
     };
+    // Plotting region: the bar (22 px) and, when there are marks, room for their text on its left.
     let (w, _) = area.dim_in_pixel();
-    let bar_w = 22.min(w.saturating_sub(10) as i32).max(4);
-    let right = (w as i32 - bar_w - 8).max(10);
+    let plot_w: i32 = if bar.marks.is_empty() { 22 } else { 58 };
+    let x_lo = if bar.marks.is_empty() {
+        0.0
+    } else {
+        -(plot_w as f64 / 22.0 - 1.0)
+    };
+    let right = (w as i32 - plot_w - 4 - frame.margin as i32).max(10);
     let mut b = ChartBuilder::on(area);
     b.margin(frame.margin)
         .margin_left(4)
         .x_label_area_size(frame.x_label)
         .right_y_label_area_size(right);
-    let ticks = bar.ticks.clone();
-    let label = bar.label;
     let steps = 256;
     let cells = (0..steps).map(|k| {
         let a = lo + (hi - lo) * k as f64 / steps as f64;
         let b = lo + (hi - lo) * (k + 1) as f64 / steps as f64;
-        ((a, b), (bar.colour)(0.5 * (a + b)))
+        Rectangle::new([(0.0, a), (1.0, b)], (bar.colour)(0.5 * (a + b)).filled())
     });
-    match ticks {
-        Some(t) => {
-            let mut chart = b.build_cartesian_2d(0.0f64..1.0, Ticked::new(lo..hi, t))?;
-            chart
-                .configure_mesh()
-                .disable_mesh()
-                .disable_x_axis()
-                .y_label_style(label_font())
-                .y_label_formatter(&|v| label(*v))
-                .y_desc(bar.desc.as_str())
-                .axis_desc_style(desc_font())
-                .draw()?;
-            chart.draw_series(
-                cells.map(|((a, b), c)| Rectangle::new([(0.0, a), (1.0, b)], c.filled())),
-            )?;
-            for (y, text) in &bar.marks {
-                let y = y.clamp(lo, hi);
-                chart.draw_series(std::iter::once(PathElement::new(
-                    vec![(-0.15, y), (1.15, y)],
-                    BLACK.stroke_width(2),
-                )))?;
-                chart.draw_series(std::iter::once(Text::new(
-                    text.clone(),
-                    (0.05, y),
-                    ("sans-serif", 11).into_font().color(&BLACK),
-                )))?;
-            }
-            chart.draw_series(std::iter::once(Rectangle::new(
-                [(0.0, lo), (1.0, hi)],
-                BLACK.stroke_width(1),
-            )))?;
-        }
-        None => {
-            let mut chart = b.build_cartesian_2d(0.0f64..1.0, lo..hi)?;
-            chart
-                .configure_mesh()
-                .disable_mesh()
-                .disable_x_axis()
-                .y_labels(8)
-                .y_label_style(label_font())
-                .y_label_formatter(&|v| label(*v))
-                .y_desc(bar.desc.as_str())
-                .axis_desc_style(desc_font())
-                .draw()?;
-            chart.draw_series(
-                cells.map(|((a, b), c)| Rectangle::new([(0.0, a), (1.0, b)], c.filled())),
-            )?;
-            chart.draw_series(std::iter::once(Rectangle::new(
-                [(0.0, lo), (1.0, hi)],
-                BLACK.stroke_width(1),
-            )))?;
-        }
+    let ticks = bar.ticks.clone().unwrap_or_else(|| auto_ticks(lo, hi));
+    let mut chart = b.build_cartesian_2d(x_lo..1.0f64, Ticked::new(lo..hi, ticks))?;
+    chart.draw_series(cells)?;
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .disable_x_axis()
+        .y_label_style(label_font())
+        .y_label_formatter(&|v| (bar.label)(*v))
+        .y_desc(bar.desc.as_str())
+        .axis_desc_style(desc_font())
+        .draw()?;
+    chart.draw_series(std::iter::once(Rectangle::new(
+        [(0.0, lo), (1.0, hi)],
+        BLACK.stroke_width(1),
+    )))?;
+    let mark_font = ("sans-serif", 12)
+        .into_font()
+        .color(&BLACK)
+        .pos(Pos::new(HPos::Right, VPos::Center));
+    for (y, text) in &bar.marks {
+        let y = y.clamp(lo, hi);
+        chart.draw_series(std::iter::once(PathElement::new(
+            vec![(-0.25, y), (1.0, y)],
+            BLACK.stroke_width(2),
+        )))?;
+        chart.draw_series(std::iter::once(Text::new(
+            text.clone(),
+            (-0.35, y),
+            mark_font.clone(),
+        )))?;
     }
     Ok(())
+}
+
+/// About 6 evenly spaced "nice" ticks covering [lo, hi].
+pub fn auto_ticks(lo: f64, hi: f64) -> Vec<f64> {
+    let step = super::nice_step((hi - lo) / 5.0);
+    let first = (lo / step).ceil() as i64;
+    let last = (hi / step + 1e-9).floor() as i64;
+    (first..=last).map(|k| k as f64 * step).collect()
 }

@@ -14,9 +14,12 @@ use plotters::prelude::*;
 use rayon::prelude::*;
 
 /// Width of a colour bar's area in pixels.
-const BAR_AREA: u32 = 130;
+const BAR_AREA: u32 = 110;
 /// The standardised difference saturates at ± this.
 const Z_CLIP: f64 = 4.0;
+/// Cells expecting fewer samples than this are not compared (grey): (o − e)/√e is far from
+/// normal there.
+const MIN_EXPECTED: f64 = 5.0;
 /// Sub-points per cell side for the cell average of the pdf.
 const SUB: usize = 4;
 
@@ -136,14 +139,12 @@ where
         .map(|k| {
             let e = h.expected(k);
             let o = h.counts[k] as f64;
-            if e > 0.0 {
+            if e >= MIN_EXPECTED {
                 let z = (o - e) / e.sqrt();
-                if e >= 5.0 {
-                    chi2 += z * z;
-                    dof += 1;
-                }
+                chi2 += z * z;
+                dof += 1;
                 z
-            } else if o > 0.0 {
+            } else if e <= 0.0 && o > 0.0 {
                 f64::INFINITY
             } else {
                 f64::NAN
@@ -151,6 +152,7 @@ where
         })
         .collect();
     let impossible = z.iter().filter(|v| v.is_infinite()).count();
+    let skipped = z.iter().filter(|v| v.is_nan()).count();
 
     let title = format!(
         "{} — density of `{}`: {} iid samples (seed {}), {} × {} equal-area cells",
@@ -173,7 +175,7 @@ where
     // pdf
     let panel = rows[0].titled("pdf of the sampler (cell average)", caption_font())?;
     let (l, r) = panel.split_horizontally(w - BAR_AREA);
-    let mut chart = rect_chart(&l, domain, input)?;
+    let mut chart = rect_chart(&l, domain, input, false)?;
     draw_cells(&mut chart, &grid, &h.pdf, &seq)?;
     draw_border(&mut chart, &grid)?;
     let bar = Bar {
@@ -194,16 +196,19 @@ where
     }
     let panel = rows[1].titled(&cap, caption_font())?;
     let (l, r) = panel.split_horizontally(w - BAR_AREA);
-    let mut chart = rect_chart(&l, domain, input)?;
+    let mut chart = rect_chart(&l, domain, input, false)?;
     draw_cells(&mut chart, &grid, &hist, &seq)?;
     draw_border(&mut chart, &grid)?;
     draw_bar(&r, FRAME, &bar)?;
 
     // difference
     let mut cap = format!(
-        "(observed − expected) / √expected, clipped at ±{Z_CLIP}; χ² / cells = {} over {dof} cells with ≥ 5 expected (≈ 1 if the pdf is right)",
-        if dof > 0 { fmt_num(chi2 / dof as f64) } else { "–".into() }
+        "(observed − expected) / √expected; χ² / cells = {} over {dof} cells (≈ 1 if the pdf is right)",
+        if dof > 0 { format!("{:.3}", chi2 / dof as f64) } else { "–".into() }
     );
+    if skipped > 0 {
+        cap.push_str(&format!("; grey: < {MIN_EXPECTED} expected"));
+    }
     if impossible > 0 {
         cap.push_str(&format!(
             "; black: samples where pdf = 0 ({impossible} cells)"
@@ -211,7 +216,7 @@ where
     }
     let panel = rows[2].titled(&cap, caption_font())?;
     let (l, r) = panel.split_horizontally(w - BAR_AREA);
-    let mut chart = rect_chart(&l, domain, input)?;
+    let mut chart = rect_chart(&l, domain, input, false)?;
     let div = |v: f64| {
         if v.is_infinite() {
             IMPOSSIBLE

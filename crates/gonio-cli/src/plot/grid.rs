@@ -137,13 +137,15 @@ pub const FRAME: Frame = Frame {
 };
 
 /// Width of the y label area of a rectangle chart.
-pub const Y_LABEL: u32 = 92;
+pub const Y_LABEL: u32 = 66;
 
 /// Builds the chart of the rectangle for `domain` with axes labelled for `input` (θ or γ, φ or C).
+/// `compact`: fewer ticks and short axis descriptions, for small panels.
 pub fn rect_chart<'a, DB: DrawingBackend>(
     area: &'a DrawingArea<DB, Shift>,
     domain: Domain,
     input: &PlotInput,
+    compact: bool,
 ) -> Result<RectChart<'a, DB>>
 where
     DB::ErrorType: 'static,
@@ -156,12 +158,23 @@ where
         .filter(|&z| z >= z0 - 1e-9 && z <= z1 + 1e-9)
         .map(|z| z.clamp(z0, z1))
         .collect();
-    zs.sort_by(f64::total_cmp);
-    let xs: Vec<f64> = (0..=8).map(|k| 45.0 * k as f64).collect();
+    zs.sort_by(|a, b| b.total_cmp(a));
+    // Drop ticks that crowd the previous one (near the poles cos θ changes slowly).
+    let min_gap = 0.05 * (z1 - z0);
+    let mut kept: Vec<f64> = Vec::with_capacity(zs.len());
+    for z in zs {
+        match kept.last() {
+            Some(&k) if k - z < min_gap => {}
+            _ => kept.push(z),
+        }
+    }
+    let zs = kept;
+    let x_step = if compact { 90 } else { 45 };
+    let xs: Vec<f64> = (0..=360).step_by(x_step).map(f64::from).collect();
     let mut chart = ChartBuilder::on(area)
         .margin(FRAME.margin)
-        .x_label_area_size(FRAME.x_label)
-        .y_label_area_size(Y_LABEL)
+        .x_label_area_size(if compact { 40 } else { FRAME.x_label })
+        .y_label_area_size(if compact { 52 } else { Y_LABEL })
         .build_cartesian_2d(Ticked::new(0.0..360.0, xs), Ticked::new(z0..z1, zs))?;
     let photometric = input.photometric;
     let y_fmt = move |z: &f64| {
@@ -169,7 +182,13 @@ where
         let a = if photometric { 180.0 - theta } else { theta };
         format!("{:.0}°", a)
     };
-    let (x_desc, y_desc) = if photometric {
+    let (x_desc, y_desc) = if compact {
+        if photometric {
+            ("C-plane φ", "γ (0° = nadir)")
+        } else {
+            ("azimuth φ", "θ from +z")
+        }
+    } else if photometric {
         (
             "C-plane = azimuth φ (°), equal-area in (φ, cos γ)",
             "γ (0° = nadir), spaced by cos γ",

@@ -68,7 +68,7 @@ impl PlotKind {
     pub fn default_size(self) -> (u32, u32) {
         match self {
             PlotKind::Polar => (1000, 900),
-            PlotKind::Warp => (1600, 520),
+            PlotKind::Warp => (1800, 470),
             PlotKind::Density => (1200, 1000),
             PlotKind::Ratio => (1200, 620),
         }

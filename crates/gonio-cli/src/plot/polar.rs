@@ -10,6 +10,7 @@
 use super::{caption_font, fmt_num, label_font, nice_step, title_font, value_unit, PlotInput};
 use anyhow::Result;
 use plotters::coord::Shift;
+use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 use std::f64::consts::{FRAC_PI_2, PI};
@@ -34,8 +35,8 @@ where
     let th = d.theta();
     let (t0, t1) = (th[0], th[th.len() - 1]);
     // Polar angles: a fine even grid plus the nodes, so every measured value is on the curve.
-    let mut thetas: Vec<f64> = (0..=720)
-        .map(|k| k as f64 * PI / 720.0)
+    let mut thetas: Vec<f64> = (0..=360)
+        .map(|k| k as f64 * PI / 360.0)
         .filter(|&t| t >= t0 && t <= t1)
         .chain(th.iter().copied())
         .collect();
@@ -133,25 +134,49 @@ where
         }
         deg += 15;
     }
-    // Ring values along the right half of the horizontal axis (or the lowest spoke of a half).
+    // Ring values along the spoke (an odd multiple of 15°, where no angle label sits) with the
+    // least light near it, so that the curves hide no number.
+    let near = |theta: f64, side: f64| -> f64 {
+        planes
+            .iter()
+            .flat_map(|(r, l)| {
+                let vals = if side > 0.0 { r } else { l };
+                thetas
+                    .iter()
+                    .zip(vals)
+                    .filter(move |(&t, _)| (t - theta).abs() <= 12f64.to_radians())
+                    .map(|(_, &v)| v)
+            })
+            .fold(0.0f64, f64::max)
+    };
+    let (ring_theta, ring_side) = [15, 45, 75, 105, 135, 165]
+        .into_iter()
+        .map(|d: i32| (d as f64).to_radians())
+        .filter(|&t| t > a_lo && t < a_hi)
+        .flat_map(|t| [(t, 1.0), (t, -1.0)])
+        .min_by(|a, b| near(a.0, a.1).total_cmp(&near(b.0, b.1)))
+        .unwrap_or((FRAC_PI_2, 1.0));
     let ring_font = ("sans-serif", 12)
         .into_font()
-        .color(&GRID_DARK)
-        .pos(Pos::new(HPos::Left, VPos::Top));
-    let ring_angle = if upper && !lower {
-        FRAC_PI_2 - 0.03
-    } else {
-        FRAC_PI_2 + 0.03
-    };
+        .color(&RGBColor(90, 90, 90))
+        .pos(Pos::new(HPos::Center, VPos::Center));
     for k in 1..=rings {
         let v = k as f64 * step;
-        let (x, y) = px(ring_angle, v, 1.0);
-        let text = if k == rings {
+        let (x, y) = px(ring_theta, v, ring_side);
+        let text = if k == rings && input.photometric {
             format!("{} {unit}", fmt_num(v))
         } else {
             fmt_num(v)
         };
-        area.draw(&Text::new(text, (x + 3, y + 2), ring_font.clone()))?;
+        let est = ring_font.font.box_size(&text).unwrap_or((30, 12));
+        area.draw(&Rectangle::new(
+            [
+                (x - est.0 as i32 / 2 - 2, y - est.1 as i32 / 2 - 1),
+                (x + est.0 as i32 / 2 + 2, y + est.1 as i32 / 2 + 1),
+            ],
+            WHITE.filled(),
+        ))?;
+        area.draw(&Text::new(text, (x, y), ring_font.clone()))?;
     }
 
     // The curves: left side from the far end to the near pole, then the right side back.
@@ -163,7 +188,16 @@ where
             .map(|(&t, &v)| px(t, v, -1.0))
             .collect();
         path.extend(thetas.iter().zip(right).map(|(&t, &v)| px(t, v, 1.0)));
-        area.draw(&PathElement::new(path, PLANE_COLOURS[k].stroke_width(3)))?;
+        if k == 0 {
+            area.draw(&PathElement::new(path, PLANE_COLOURS[k].stroke_width(3)))?;
+        } else {
+            area.draw(&DashedPathElement::new(
+                path,
+                12,
+                6,
+                PLANE_COLOURS[k].stroke_width(3),
+            ))?;
+        }
     }
 
     // Legend, top left.
@@ -184,10 +218,17 @@ where
     ))?;
     for (k, name) in names.iter().enumerate() {
         let y = ly + 10 + 24 * k as i32;
-        area.draw(&PathElement::new(
-            vec![(lx, y), (lx + 36, y)],
-            PLANE_COLOURS[k].stroke_width(3),
-        ))?;
+        let sample = vec![(lx, y), (lx + 36, y)];
+        if k == 0 {
+            area.draw(&PathElement::new(sample, PLANE_COLOURS[k].stroke_width(3)))?;
+        } else {
+            area.draw(&DashedPathElement::new(
+                sample,
+                12,
+                6,
+                PLANE_COLOURS[k].stroke_width(3),
+            ))?;
+        }
         area.draw(&Text::new(
             name.to_string(),
             (lx + 46, y),

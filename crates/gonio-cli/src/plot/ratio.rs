@@ -74,11 +74,11 @@ where
     let extent = extent.min(100f64.ln()) * 1.05;
 
     let bound = match input.ratio_bound {
-        Some((a, b)) => format!("guaranteed [{}, {}]", fmt_num(a), fmt_num(b)),
+        Some((a, b)) => format!("guaranteed [{a:.4}, {b:.4}]"),
         None => "no guaranteed bound".to_string(),
     };
     let observed = if omin.is_finite() {
-        format!("on this grid [{}, {}]", fmt_num(omin), fmt_num(omax))
+        format!("on this grid [{omin:.4}, {omax:.4}]")
     } else {
         "target 0 everywhere".to_string()
     };
@@ -105,7 +105,7 @@ where
     let area = area.titled(&notes.join("; "), caption_font())?;
     let (left, right) = area.split_horizontally(w - BAR_AREA);
 
-    let mut chart = rect_chart(&left, domain, input)?;
+    let mut chart = rect_chart(&left, domain, input, false)?;
     let colour = move |r: f64| {
         if r.is_infinite() {
             IMPOSSIBLE

@@ -135,14 +135,40 @@ fn panels(input: &PlotInput, u: &[Point2]) -> Vec<Panel> {
     }
 }
 
-/// Columns of the panel grid that make the panels largest.
-fn best_columns(n: usize, w: u32, h: u32) -> usize {
-    (1..=n)
-        .max_by_key(|&c| {
-            let rows = n.div_ceil(c) as u32;
-            (w / c as u32).min(h / rows)
-        })
-        .unwrap_or(1)
+/// One cell per panel: a single row when the picture is wide (the rectangle panel wider than the
+/// square ones), else the square panels in one row above the rectangle.
+fn layout<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    ps: &[Panel],
+) -> Vec<DrawingArea<DB, Shift>> {
+    let (w, h) = area.dim_in_pixel();
+    let weight = |p: &Panel| {
+        if matches!(p, Panel::Rect { .. }) {
+            1.8
+        } else {
+            1.0
+        }
+    };
+    let total: f64 = ps.iter().map(weight).sum();
+    if w as f64 / h as f64 >= 0.6 * total {
+        let mut x = 0.0;
+        let mut breaks = Vec::new();
+        for p in &ps[..ps.len() - 1] {
+            x += weight(p) / total * w as f64;
+            breaks.push(x.round() as i32);
+        }
+        area.split_by_breakpoints(breaks, Vec::<i32>::new())
+    } else {
+        let squares = ps
+            .iter()
+            .filter(|p| !matches!(p, Panel::Rect { .. }))
+            .count();
+        let (top, bottom) = area.split_vertically((h as f64 * 0.55) as i32);
+        let mut cells = top.split_evenly((1, squares.max(1)));
+        cells.truncate(squares);
+        cells.push(bottom);
+        cells
+    }
 }
 
 /// The largest centred square inside `area`.
@@ -173,33 +199,24 @@ where
             stratum(s(p[0]), s(p[1]), STRATA)
         })
         .collect();
-    let radius = if n <= 1500 {
-        3
-    } else if n <= 6000 {
-        2
-    } else {
-        1
-    };
+    let radius = if n <= 4000 { 2 } else { 1 };
     let stages = if input.hemisphere_map.is_some() {
-        "stages of the HDS hemisphere map"
+        "through the stages of the HDS map"
     } else {
-        "square → directions"
+        "mapped to directions"
     };
     let title = format!(
-        "{} — warp of `{}`, {}: {} Halton points coloured by {}×{} stratum of the square (hue ← u, lightness ← v)",
+        "{} — warp of `{}`: {} Halton points {}, coloured by their {}×{} stratum of the square",
         input.title,
         input.sampler.name(),
-        stages,
         n,
+        stages,
         STRATA,
         STRATA
     );
     let area = root.titled(&title, title_font())?;
     let ps = panels(input, &u);
-    let (w, h) = area.dim_in_pixel();
-    let cols = best_columns(ps.len(), w, h);
-    let rows = ps.len().div_ceil(cols);
-    let cells = area.split_evenly((rows, cols));
+    let cells = layout(&area, &ps);
     let dot = |(x, y): (f64, f64), c: &RGBColor| Circle::new((x, y), radius, c.filled());
 
     for (panel, cell) in ps.iter().zip(&cells) {
@@ -281,7 +298,8 @@ where
                 } else {
                     a
                 };
-                let mut chart = rect_chart(&a, *domain, input)?;
+                let compact = a.dim_in_pixel().0 < 560;
+                let mut chart = rect_chart(&a, *domain, input, compact)?;
                 let (z0, z1) = z_range(*domain);
                 chart.draw_series(std::iter::once(Rectangle::new(
                     [(0.0, z0), (360.0, z1)],
