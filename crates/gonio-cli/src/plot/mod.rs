@@ -68,7 +68,7 @@ impl PlotKind {
     pub fn default_size(self) -> (u32, u32) {
         match self {
             PlotKind::Polar => (1000, 900),
-            PlotKind::Warp => (1800, 470),
+            PlotKind::Warp => (1600, 430),
             PlotKind::Density => (1200, 1000),
             PlotKind::Ratio => (1200, 620),
         }
@@ -206,9 +206,14 @@ pub fn render(
     };
     match format {
         Format::Png => {
-            let root = BitMapBackend::new(out, (width, height)).into_drawing_area();
-            draw(&root, ctx, input)?;
-            root.present()
+            let mut rgb = vec![0u8; width as usize * height as usize * 3];
+            {
+                let root =
+                    BitMapBackend::with_buffer(&mut rgb, (width, height)).into_drawing_area();
+                draw(&root, ctx, input)?;
+                root.present()?;
+            }
+            write_png(out, &rgb, width, height)
                 .with_context(|| format!("cannot write `{}`", out.display()))?;
         }
         Format::Svg => {
@@ -217,6 +222,44 @@ pub fn render(
             root.present()
                 .with_context(|| format!("cannot write `{}`", out.display()))?;
         }
+    }
+    Ok(())
+}
+
+/// Encodes an RGB buffer as PNG: indexed colour when the picture has at most 256 colours (most of
+/// ours: flat fills and lines), else RGB; best compression either way (plotters' own encoder writes
+/// files several times larger).
+fn write_png(path: &Path, rgb: &[u8], width: u32, height: u32) -> Result<()> {
+    let file = std::io::BufWriter::new(std::fs::File::create(path)?);
+    let mut enc = png::Encoder::new(file, width, height);
+    enc.set_compression(png::Compression::Best);
+    enc.set_adaptive_filter(png::AdaptiveFilterType::Adaptive);
+    let mut palette: Vec<[u8; 3]> = Vec::new();
+    let mut index = std::collections::HashMap::new();
+    let mut indexed = Vec::with_capacity(rgb.len() / 3);
+    for px in rgb.chunks_exact(3) {
+        let c = [px[0], px[1], px[2]];
+        let k = *index.entry(c).or_insert_with(|| {
+            palette.push(c);
+            palette.len() - 1
+        });
+        if palette.len() > 256 {
+            break;
+        }
+        indexed.push(k as u8);
+    }
+    if palette.len() <= 256 {
+        enc.set_color(png::ColorType::Indexed);
+        enc.set_depth(png::BitDepth::Eight);
+        enc.set_palette(palette.concat());
+        // Filters rarely help indexed images.
+        enc.set_adaptive_filter(png::AdaptiveFilterType::NonAdaptive);
+        enc.set_filter(png::FilterType::NoFilter);
+        enc.write_header()?.write_image_data(&indexed)?;
+    } else {
+        enc.set_color(png::ColorType::Rgb);
+        enc.set_depth(png::BitDepth::Eight);
+        enc.write_header()?.write_image_data(rgb)?;
     }
     Ok(())
 }
@@ -286,7 +329,7 @@ fn fmt_num(x: f64) -> String {
 
 /// A "nice" step (1, 2, 2.5 or 5 × 10^k) close to `raw`.
 fn nice_step(raw: f64) -> f64 {
-    if !(raw > 0.0) || !raw.is_finite() {
+    if !raw.is_finite() || raw <= 0.0 {
         return 1.0;
     }
     let p = 10f64.powf(raw.log10().floor());

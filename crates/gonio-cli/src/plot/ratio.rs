@@ -62,11 +62,10 @@ where
     let impossible = ratio.iter().filter(|r| r.is_infinite()).count();
     let undefined = ratio.iter().filter(|r| r.is_nan()).count();
 
+    // The colour scale covers what the picture shows (the bound may be reached only in directions
+    // between the cell centres; a mark beyond the scale is drawn at its end).
     let mut extent = 1.02f64.ln();
-    for r in [omin, omax]
-        .into_iter()
-        .chain(input.ratio_bound.into_iter().flat_map(|(a, b)| [a, b]))
-    {
+    for r in [omin, omax] {
         if r > 0.0 && r.is_finite() {
             extent = extent.max(r.ln().abs());
         }
@@ -125,14 +124,18 @@ where
         .map(|t| t.ln())
         .filter(|y| y.abs() <= extent)
         .collect();
-    let ticks = thin_ticks(ticks, 9);
+    let ticks = thin_ticks(&ticks, 0.18 * extent);
     let mut marks = Vec::new();
     if let Some((a, b)) = input.ratio_bound {
         if a > 0.0 {
-            marks.push((a.ln(), "min".to_string()));
+            let y = a.ln();
+            let text = if y < -extent { "min ↓" } else { "min" };
+            marks.push((y.max(-extent), text.to_string()));
         }
         if b > 0.0 {
-            marks.push((b.ln(), "max".to_string()));
+            let y = b.ln();
+            let text = if y > extent { "max ↑" } else { "max" };
+            marks.push((y.min(extent), text.to_string()));
         }
     }
     draw_bar(
@@ -155,20 +158,23 @@ where
     Ok(())
 }
 
-/// Keeps at most `max` ticks, always 1 (coordinate 0) and as evenly spread as the list allows.
-fn thin_ticks(ticks: Vec<f64>, max: usize) -> Vec<f64> {
-    if ticks.len() <= max {
-        return ticks;
+/// Keeps the tick at 1 (coordinate 0) and, going outwards from it, every tick at least `gap` away
+/// from the last one kept.
+fn thin_ticks(ticks: &[f64], gap: f64) -> Vec<f64> {
+    let mut up = vec![0.0];
+    for &y in ticks.iter().filter(|&&y| y > 0.0) {
+        if y - up[up.len() - 1] >= gap {
+            up.push(y);
+        }
     }
-    let step = ticks.len().div_ceil(max);
-    let centre = ticks
-        .iter()
-        .position(|y| y.abs() < 1e-12)
-        .unwrap_or(ticks.len() / 2);
-    ticks
-        .iter()
-        .enumerate()
-        .filter(|(k, _)| k.abs_diff(centre) % step == 0)
-        .map(|(_, &y)| y)
-        .collect()
+    let mut down = vec![0.0];
+    for &y in ticks.iter().rev().filter(|&&y| y < 0.0) {
+        if down[down.len() - 1] - y >= gap {
+            down.push(y);
+        }
+    }
+    down.reverse();
+    down.pop();
+    down.extend(up);
+    down
 }

@@ -222,9 +222,19 @@ fn write_gallery() {
             },
         ),
     ];
+    // SVG versions go to the temp dir only (for a look; the README shows the PNGs).
+    let svg_dir = std::env::temp_dir().join("gonio-gallery-svg");
+    std::fs::create_dir_all(&svg_dir).unwrap();
     for (tag, inp) in &cases {
         for kind in PlotKind::ALL {
             let (w, h) = kind.default_size();
+            let svg = svg_dir.join(format!("{tag}-{kind}.svg"));
+            render(kind, inp, &svg, w, h).unwrap();
+            eprintln!(
+                "{} {} bytes",
+                svg.display(),
+                std::fs::metadata(&svg).unwrap().len()
+            );
             let path = out.join(format!("{tag}-{kind}.png"));
             let t = std::time::Instant::now();
             render(kind, inp, &path, w, h).unwrap();

@@ -64,17 +64,17 @@ fn panels(input: &PlotInput, u: &[Point2]) -> Vec<Panel> {
             vec![
                 square,
                 Panel::Disk {
-                    caption: "after M_B: concentric map to the disk".into(),
+                    caption: "after M_B (concentric): disk".into(),
                     points: st.iter().map(|s| cart(s.disk_b)).collect(),
                     extent: 1.0,
                 },
                 Panel::Disk {
-                    caption: "after M_C: star domain (angular CDF)".into(),
+                    caption: "after M_C (angular): star domain".into(),
                     points: star,
                     extent: star_extent,
                 },
                 Panel::Disk {
-                    caption: "after M_D: disk (radial CDF) = Lambert view".into(),
+                    caption: "after M_D (radial): Lambert disk".into(),
                     points: st.iter().map(|s| cart(s.disk_d)).collect(),
                     extent: 1.0,
                 },
