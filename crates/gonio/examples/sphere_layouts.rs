@@ -22,8 +22,16 @@ fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
 /// Anisotropy σ₁/σ₂ of the Jacobian dω/du (1 = conformal; large = stretched cells).
 fn anisotropy(s: &dyn Sampler, u: [f64; 2]) -> f64 {
     let h = 1e-6;
-    let a = sub(s.sample([u[0] + h, u[1]]).direction, s.sample([u[0] - h, u[1]]).direction, 2.0 * h);
-    let b = sub(s.sample([u[0], u[1] + h]).direction, s.sample([u[0], u[1] - h]).direction, 2.0 * h);
+    let a = sub(
+        s.sample([u[0] + h, u[1]]).direction,
+        s.sample([u[0] - h, u[1]]).direction,
+        2.0 * h,
+    );
+    let b = sub(
+        s.sample([u[0], u[1] + h]).direction,
+        s.sample([u[0], u[1] - h]).direction,
+        2.0 * h,
+    );
     // singular values of [a b] from the 2×2 Gram matrix
     let (p, q, r) = (dot(a, a), dot(a, b), dot(b, b));
     let tr = p + r;

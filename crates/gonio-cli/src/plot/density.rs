@@ -4,7 +4,7 @@
 
 use super::colour::{diverging, draw_bar, viridis, Bar, IMPOSSIBLE};
 use super::grid::{draw_border, draw_cells, rect_chart, Grid, FRAME};
-use super::{caption_font, fmt_num, title_font, Ctx, PlotInput};
+use super::{fmt_num, titled, Ctx, PlotInput};
 use anyhow::{bail, Result};
 use gonio::sampler::{sample_batch_par, Sample};
 use gonio::sequence::{Sequence, SequenceKind};
@@ -163,7 +163,7 @@ where
         nx,
         ny
     );
-    let area = root.titled(&title, title_font())?;
+    let area = titled(root, &title, 22.0)?;
     let rows = area.split_evenly((3, 1));
     let (w, _) = root.dim_in_pixel();
 
@@ -173,7 +173,7 @@ where
     let per_sr = "density (1/sr), shared scale";
 
     // pdf
-    let panel = rows[0].titled("pdf of the sampler (cell average)", caption_font())?;
+    let panel = titled(&rows[0], "pdf of the sampler (cell average)", 16.0)?;
     let (l, r) = panel.split_horizontally(w - BAR_AREA);
     let mut chart = rect_chart(&l, domain, input, false)?;
     draw_cells(&mut chart, &grid, &h.pdf, &seq)?;
@@ -194,7 +194,7 @@ where
     if h.outside > 0 {
         cap.push_str(&format!(" — {} samples outside the domain!", h.outside));
     }
-    let panel = rows[1].titled(&cap, caption_font())?;
+    let panel = titled(&rows[1], &cap, 16.0)?;
     let (l, r) = panel.split_horizontally(w - BAR_AREA);
     let mut chart = rect_chart(&l, domain, input, false)?;
     draw_cells(&mut chart, &grid, &hist, &seq)?;
@@ -214,7 +214,7 @@ where
             "; black: samples where pdf = 0 ({impossible} cells)"
         ));
     }
-    let panel = rows[2].titled(&cap, caption_font())?;
+    let panel = titled(&rows[2], &cap, 16.0)?;
     let (l, r) = panel.split_horizontally(w - BAR_AREA);
     let mut chart = rect_chart(&l, domain, input, false)?;
     let div = |v: f64| {

@@ -160,7 +160,7 @@ where
         .collect();
     zs.sort_by(|a, b| b.total_cmp(a));
     // Drop ticks that crowd the previous one (near the poles cos θ changes slowly).
-    let min_gap = 0.05 * (z1 - z0);
+    let min_gap = 0.07 * (z1 - z0);
     let mut kept: Vec<f64> = Vec::with_capacity(zs.len());
     for z in zs {
         match kept.last() {

@@ -9,12 +9,12 @@
 //!   difference on the equal-area (φ, cos θ) rectangle;
 //! * [`PlotKind::Ratio`]: pdf / target over the domain, with the sampler's guaranteed bound.
 //!
+//! [`run`] is `gonio plot`: it loads the input, builds the sampler of `--method` and calls
+//! [`render`], which other code (and the tests) may call directly with any [`PlotInput`].
+//!
 //! Every picture carries its own title, axes with units, a colour bar wherever colour encodes a
 //! number and a legend wherever several series share axes. Text is drawn with the bundled DejaVu
 //! Sans font (`assets/fonts`), so the output does not depend on the fonts of the machine.
-
-// Wired into `gonio plot` by the lead when the CLI is merged; until then only the tests call it.
-#![allow(dead_code)]
 
 mod colour;
 mod density;
@@ -23,11 +23,15 @@ mod polar;
 mod ratio;
 mod warp;
 
+use crate::args::PlotArgs;
+use crate::load;
 use anyhow::{bail, Context, Result};
+use gonio::baselines::Method;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::register_font;
 use std::fmt;
+use std::io::Write;
 use std::path::Path;
 use std::str::FromStr;
 use std::sync::OnceLock;
@@ -197,14 +201,13 @@ pub fn render(
         bail!("picture size {width}×{height} is out of range (200–10000 × 150–10000 pixels)");
     }
     ensure_font()?;
-    // Check that the file can be created before the (possibly long) computation, and report a
-    // plain error: the backends panic or report late on an unwritable path.
-    std::fs::File::create(out).with_context(|| format!("cannot create `{}`", out.display()))?;
+    // Like every command's output: a temporary file next to OUT, renamed onto it only on success.
+    let mut file = crate::output::Output::create(Some(out))?;
     let ctx = Ctx {
         kind,
         svg: format == Format::Svg,
     };
-    match format {
+    let bytes = match format {
         Format::Png => {
             let mut rgb = vec![0u8; width as usize * height as usize * 3];
             {
@@ -213,25 +216,30 @@ pub fn render(
                 draw(&root, ctx, input)?;
                 root.present()?;
             }
-            write_png(out, &rgb, width, height)
-                .with_context(|| format!("cannot write `{}`", out.display()))?;
+            encode_png(&rgb, width, height)?
         }
         Format::Svg => {
-            let root = SVGBackend::new(out, (width, height)).into_drawing_area();
-            draw(&root, ctx, input)?;
-            root.present()
-                .with_context(|| format!("cannot write `{}`", out.display()))?;
+            let mut svg = String::new();
+            {
+                let root = SVGBackend::with_string(&mut svg, (width, height)).into_drawing_area();
+                draw(&root, ctx, input)?;
+                root.present()?;
+            }
+            svg.into_bytes()
         }
-    }
+    };
+    file.write_all(&bytes)
+        .with_context(|| format!("cannot write `{}`", out.display()))?;
+    file.finish()?;
     Ok(())
 }
 
 /// Encodes an RGB buffer as PNG: indexed colour when the picture has at most 256 colours (most of
 /// ours: flat fills and lines), else RGB; best compression either way (plotters' own encoder writes
 /// files several times larger).
-fn write_png(path: &Path, rgb: &[u8], width: u32, height: u32) -> Result<()> {
-    let file = std::io::BufWriter::new(std::fs::File::create(path)?);
-    let mut enc = png::Encoder::new(file, width, height);
+fn encode_png(rgb: &[u8], width: u32, height: u32) -> Result<Vec<u8>> {
+    let mut bytes = Vec::new();
+    let mut enc = png::Encoder::new(&mut bytes, width, height);
     enc.set_compression(png::Compression::Best);
     enc.set_adaptive_filter(png::AdaptiveFilterType::Adaptive);
     let mut palette: Vec<[u8; 3]> = Vec::new();
@@ -261,7 +269,64 @@ fn write_png(path: &Path, rgb: &[u8], width: u32, height: u32) -> Result<()> {
         enc.set_depth(png::BitDepth::Eight);
         enc.write_header()?.write_image_data(rgb)?;
     }
-    Ok(())
+    Ok(bytes)
+}
+
+/// `gonio plot FILE -o OUT --kind K [--samples N] [--seed S] [--method M] [--width W] [--height H]`.
+pub fn run(args: &PlotArgs) -> Result<()> {
+    let loaded = load::load(&args.input)?;
+    let kind = PlotKind::from(args.kind);
+    let hds = match args.method {
+        Method::Hds => Some(
+            load::build_hds(&loaded)
+                .with_context(|| format!("{}: cannot build the HDS map", loaded.name))?
+                .0,
+        ),
+        _ => None,
+    };
+    let baseline = match hds {
+        Some(_) => None,
+        None => Some(load::build_sampler(args.method, &loaded)?),
+    };
+    let sampler: &dyn gonio::Sampler = match (&hds, &baseline) {
+        (Some(h), _) => h.as_sampler(),
+        (None, Some(b)) => b.as_ref(),
+        (None, None) => unreachable!("one of the two is built above"),
+    };
+    let hemisphere_map = match &hds {
+        Some(load::Hds::Hemisphere(m)) => Some(m),
+        _ => None,
+    };
+    let title = match loaded.kind {
+        load::InputKind::Example => loaded.name.clone(),
+        _ => Path::new(&loaded.name)
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_else(|| loaded.name.clone()),
+    };
+    let input = PlotInput {
+        title,
+        diagram: &loaded.diagram,
+        sampler,
+        hemisphere_map,
+        ratio_bound: hds.as_ref().map(|h| h.ratio_bound()),
+        samples: args.samples,
+        seed: args.seed,
+        photometric: loaded.kind.is_photometric(),
+    };
+    render(kind, &input, &args.output, args.width, args.height)
+}
+
+impl From<crate::args::PlotKind> for PlotKind {
+    fn from(k: crate::args::PlotKind) -> Self {
+        use crate::args::PlotKind as A;
+        match k {
+            A::Polar => PlotKind::Polar,
+            A::Warp => PlotKind::Warp,
+            A::Density => PlotKind::Density,
+            A::Ratio => PlotKind::Ratio,
+        }
+    }
 }
 
 /// What the drawing functions need to know besides the input.
@@ -289,14 +354,35 @@ where
     }
 }
 
-/// Font of the picture's main title.
-fn title_font() -> TextStyle<'static> {
-    ("sans-serif", 22).into_font().color(&BLACK)
+/// The largest font size up to `size` (down to 9 px) at which `text` fits in `room` pixels, and the
+/// text, shortened with "…" if it does not fit even at 9 px.
+fn fit(text: &str, size: f64, room: u32) -> (String, f64) {
+    let width = |t: &str, s: f64| ("sans-serif", s).into_font().box_size(t).map_or(0, |b| b.0);
+    let mut s = size;
+    while s > 9.0 && width(text, s) > room {
+        s -= 1.0;
+    }
+    let mut text = text.to_string();
+    while width(&text, s) > room && text.chars().count() > 2 {
+        text = text.trim_end_matches('…').to_string();
+        text.pop();
+        text = format!("{}…", text.trim_end());
+    }
+    (text, s)
 }
 
-/// Font of a panel's caption.
-fn caption_font() -> TextStyle<'static> {
-    ("sans-serif", 16).into_font().color(&BLACK)
+/// `area.titled(text)` with the text [`fit`] to the area's width.
+fn titled<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    text: &str,
+    size: f64,
+) -> Result<DrawingArea<DB, Shift>>
+where
+    DB::ErrorType: 'static,
+{
+    let (w, _) = area.dim_in_pixel();
+    let (text, s) = fit(text, size, w.saturating_sub(12));
+    Ok(area.titled(&text, ("sans-serif", s).into_font().color(&BLACK))?)
 }
 
 /// Font of tick labels.

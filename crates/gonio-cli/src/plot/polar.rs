@@ -7,7 +7,7 @@
 //! plain diagram θ = 0° (the pole, +z) is at the top. Only the half of the circle the diagram
 //! covers is drawn when it lies within one hemisphere.
 
-use super::{caption_font, fmt_num, label_font, nice_step, title_font, value_unit, PlotInput};
+use super::{fit, fmt_num, label_font, nice_step, titled, value_unit, PlotInput};
 use anyhow::Result;
 use plotters::coord::Shift;
 use plotters::element::DashedPathElement;
@@ -56,7 +56,7 @@ where
     } else {
         format!("{} — diagram values in two vertical planes", input.title)
     };
-    let area = root.titled(&title, title_font())?;
+    let area = titled(root, &title, 22.0)?;
     let (area, foot) = {
         let (_, h) = area.dim_in_pixel();
         area.split_vertically(h.saturating_sub(30))
@@ -265,10 +265,14 @@ where
             fmt_num(step)
         )
     };
+    let (axes, size) = fit(&axes, 16.0, ww.saturating_sub(12));
     foot.draw(&Text::new(
         axes,
         (ww as i32 / 2, 12),
-        caption_font().pos(Pos::new(HPos::Center, VPos::Center)),
+        ("sans-serif", size)
+            .into_font()
+            .color(&BLACK)
+            .pos(Pos::new(HPos::Center, VPos::Center)),
     ))?;
     Ok(())
 }

@@ -3,7 +3,7 @@
 
 use super::colour::{diverging, draw_bar, Bar, IMPOSSIBLE};
 use super::grid::{cells_for, draw_border, draw_cells, rect_chart, Grid, FRAME, Y_LABEL};
-use super::{caption_font, fmt_num, title_font, Ctx, PlotInput};
+use super::{fmt_num, titled, Ctx, PlotInput};
 use anyhow::Result;
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -88,7 +88,7 @@ where
         bound,
         observed
     );
-    let area = root.titled(&title, title_font())?;
+    let area = titled(root, &title, 22.0)?;
     let mut notes = vec![format!(
         "{} × {} cells, value at each centre; log colour scale centred at 1",
         nx, ny
@@ -101,7 +101,7 @@ where
             "black: pdf > 0 where target = 0 ({impossible} cells)"
         ));
     }
-    let area = area.titled(&notes.join("; "), caption_font())?;
+    let area = titled(&area, &notes.join("; "), 16.0)?;
     let (left, right) = area.split_horizontally(w - BAR_AREA);
 
     let mut chart = rect_chart(&left, domain, input, false)?;

@@ -248,3 +248,57 @@ fn write_gallery() {
         }
     }
 }
+
+#[test]
+fn run_draws_the_example_and_a_json_hemisphere() {
+    let dir = temp_dir("run");
+    let json = dir.join("lobe.json");
+    std::fs::write(
+        &json,
+        r#"{"theta_deg":[0,30,60,90],"phi_deg":[0,90,180,270],
+            "values":[[4,3,1,0],[4,2,1,0],[4,1,0.5,0],[4,2,1,0]]}"#,
+    )
+    .unwrap();
+    for (input, method, kind, out) in [
+        (
+            "example",
+            Method::Hds,
+            crate::args::PlotKind::Ratio,
+            "ex.png",
+        ),
+        (
+            "example",
+            Method::Uniform,
+            crate::args::PlotKind::Warp,
+            "ex.svg",
+        ),
+        (
+            json.to_str().unwrap(),
+            Method::Hds,
+            crate::args::PlotKind::Warp,
+            "j.png",
+        ),
+        (
+            json.to_str().unwrap(),
+            Method::Bilinear,
+            crate::args::PlotKind::Density,
+            "j.svg",
+        ),
+    ] {
+        let args = PlotArgs {
+            input: input.to_string(),
+            output: dir.join(out),
+            kind,
+            samples: 2000,
+            seed: 3,
+            method,
+            width: 800,
+            height: 500,
+        };
+        run(&args).unwrap_or_else(|e| panic!("{input} {method} {kind:?}: {e:#}"));
+        assert!(std::fs::metadata(dir.join(out)).unwrap().len() > 1000);
+    }
+    // Nothing but the outputs (and the input) is left behind: no temporary files.
+    assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 5);
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -9,13 +9,16 @@
 
 use super::colour::stratum;
 use super::grid::{rect_chart, z_range};
-use super::{caption_font, desc_font, label_font, title_font, PlotInput};
+use super::{desc_font, label_font, titled, PlotInput};
 use anyhow::{bail, Result};
 use gonio::sequence::{Sequence, SequenceKind};
 use gonio::{Domain, Point2, Vec3};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::f64::consts::TAU;
+
+/// Most points drawn: more show nothing new and make huge SVG files.
+pub const MAX_POINTS: usize = 16_384;
 
 /// Strata per side of the square used for the colours.
 const STRATA: usize = 8;
@@ -190,6 +193,8 @@ where
     if n == 0 {
         bail!("the warp plot needs at least one point");
     }
+    let requested = n;
+    let n = n.min(MAX_POINTS);
     let mut u: Vec<Point2> = vec![[0.0; 2]; n];
     Sequence::new(SequenceKind::Halton, 0).fill(0, &mut u);
     let colours: Vec<RGBColor> = u
@@ -205,16 +210,21 @@ where
     } else {
         "mapped to directions"
     };
+    let count = if requested > n {
+        format!("the first {n} (of {requested} requested)")
+    } else {
+        n.to_string()
+    };
     let title = format!(
         "{} — warp of `{}`: {} Halton points {}, coloured by their {}×{} stratum of the square",
         input.title,
         input.sampler.name(),
-        n,
+        count,
         stages,
         STRATA,
         STRATA
     );
-    let area = root.titled(&title, title_font())?;
+    let area = titled(root, &title, 22.0)?;
     let ps = panels(input, &u);
     let cells = layout(&area, &ps);
     let dot = |(x, y): (f64, f64), c: &RGBColor| Circle::new((x, y), radius, c.filled());
@@ -222,7 +232,7 @@ where
     for (panel, cell) in ps.iter().zip(&cells) {
         match panel {
             Panel::Square(pts) => {
-                let a = cell.titled("unit square (u, v)", caption_font())?;
+                let a = titled(cell, "unit square (u, v)", 16.0)?;
                 let a = square_in(&a);
                 let mut chart = ChartBuilder::on(&a)
                     .margin(10)
@@ -248,7 +258,7 @@ where
                 points,
                 extent,
             } => {
-                let a = cell.titled(caption, caption_font())?;
+                let a = titled(cell, caption, 16.0)?;
                 let a = square_in(&a);
                 let e = extent * 1.04;
                 let mut chart = ChartBuilder::on(&a)
@@ -289,7 +299,7 @@ where
                 points,
                 domain,
             } => {
-                let a = cell.titled(caption, caption_font())?;
+                let a = titled(cell, caption, 16.0)?;
                 let (cw, ch) = a.dim_in_pixel();
                 // Keep the rectangle no taller than wide so it reads as a map, not a strip.
                 let a = if ch > cw {
