@@ -162,10 +162,19 @@ where
     // Drop ticks that crowd the previous one (near the poles cos θ changes slowly).
     let min_gap = 0.07 * (z1 - z0);
     let mut kept: Vec<f64> = Vec::with_capacity(zs.len());
-    for z in zs {
+    for &z in &zs {
         match kept.last() {
             Some(&k) if k - z < min_gap => {}
             _ => kept.push(z),
+        }
+    }
+    // Keep the bottom end (the nadir, or the horizon) rather than the tick just above it.
+    if let (Some(&last), Some(&end)) = (kept.last(), zs.last()) {
+        if last != end {
+            if kept.len() > 1 && last - end < min_gap {
+                kept.pop();
+            }
+            kept.push(end);
         }
     }
     let zs = kept;

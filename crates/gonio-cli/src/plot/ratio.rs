@@ -70,6 +70,14 @@ where
             extent = extent.max(r.ln().abs());
         }
     }
+    // Include the guaranteed bound when it lies not far beyond what the grid shows.
+    if let Some((a, b)) = input.ratio_bound {
+        for r in [a, b] {
+            if r > 0.0 && r.is_finite() && r.ln().abs() <= 2.0 * extent {
+                extent = extent.max(r.ln().abs());
+            }
+        }
+    }
     let extent = extent.min(100f64.ln()) * 1.05;
 
     let bound = match input.ratio_bound {

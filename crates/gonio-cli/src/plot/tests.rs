@@ -182,68 +182,57 @@ fn numbers_format_briefly() {
     assert_eq!(nice_step(0.9), 1.0);
 }
 
-/// Writes the README gallery into `docs/gallery/` (run with
-/// `cargo test -p gonio-cli --release write_gallery -- --ignored`).
+/// Writes the README gallery into `docs/gallery/` through [`run`], exactly as the commands in
+/// `docs/GALLERY.md` do (run with `cargo test -p gonio-cli --release write_gallery -- --ignored`).
 #[test]
 #[ignore]
 fn write_gallery() {
-    let out = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../docs/gallery");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let out = root.join("docs/gallery");
     std::fs::create_dir_all(&out).unwrap();
-
-    let ex = example_luminaire();
-    let ex_map = SphereMap::new(&ex).unwrap();
+    // The hemisphere example: a synthetic diagram of lobes, stored next to the pictures.
     let hemi = random_hemisphere(Family::Lobes, 10, 12, false, 7);
-    let hemi_map = HemisphereMap::new(&hemi).unwrap();
-    let cases: [(&str, PlotInput); 2] = [
-        (
-            "example",
-            PlotInput {
-                title: "example".into(),
-                diagram: &ex,
-                sampler: &ex_map,
-                hemisphere_map: None,
-                ratio_bound: Some(ex_map.ratio_bound()),
-                samples: 0,
-                seed: 1,
-                photometric: true,
-            },
-        ),
-        (
-            "lobes",
-            PlotInput {
-                title: "lobes (synthetic hemisphere)".into(),
-                diagram: &hemi,
-                sampler: &hemi_map,
-                hemisphere_map: Some(&hemi_map),
-                ratio_bound: Some(hemi_map.ratio_bound()),
-                samples: 0,
-                seed: 1,
-                photometric: false,
-            },
-        ),
-    ];
-    // SVG versions go to the temp dir only (for a look; the README shows the PNGs).
-    let svg_dir = std::env::temp_dir().join("gonio-gallery-svg");
-    std::fs::create_dir_all(&svg_dir).unwrap();
-    for (tag, inp) in &cases {
+    let json = out.join("lobes.json");
+    std::fs::write(
+        &json,
+        serde_json::to_string_pretty(&hemi.to_json()).unwrap() + "\n",
+    )
+    .unwrap();
+    for (input, tag) in [
+        ("example".to_string(), "example"),
+        (json.to_str().unwrap().to_string(), "lobes"),
+    ] {
         for kind in PlotKind::ALL {
-            let (w, h) = kind.default_size();
-            let svg = svg_dir.join(format!("{tag}-{kind}.svg"));
-            render(kind, inp, &svg, w, h).unwrap();
-            eprintln!(
-                "{} {} bytes",
-                svg.display(),
-                std::fs::metadata(&svg).unwrap().len()
-            );
+            let (width, height) = kind.default_size();
             let path = out.join(format!("{tag}-{kind}.png"));
+            let args = PlotArgs {
+                input: input.clone(),
+                output: path.clone(),
+                kind: match kind {
+                    PlotKind::Polar => crate::args::PlotKind::Polar,
+                    PlotKind::Warp => crate::args::PlotKind::Warp,
+                    PlotKind::Density => crate::args::PlotKind::Density,
+                    PlotKind::Ratio => crate::args::PlotKind::Ratio,
+                },
+                samples: kind.default_samples(),
+                seed: 0,
+                method: Method::Hds,
+                width,
+                height,
+            };
             let t = std::time::Instant::now();
-            render(kind, inp, &path, w, h).unwrap();
+            run(&args).unwrap();
             let size = std::fs::metadata(&path).unwrap().len();
             eprintln!(
                 "{} {} bytes in {:.2} s",
                 path.display(),
                 size,
                 t.elapsed().as_secs_f64()
+            );
+            assert!(
+                size < 300_000,
+                "{} is too large for the README",
+                path.display()
             );
         }
     }
