@@ -32,21 +32,22 @@ pub struct PlotArgs {
     /// What to draw.
     #[arg(long, value_enum, default_value_t = PlotKind::Polar)]
     pub kind: PlotKind,
-    /// Number of samples for the sample-based kinds (density, warp).
-    #[arg(long, default_value_t = 100_000)]
-    pub samples: usize,
+    /// Number of samples for the sample-based kinds (default: 1024 Halton points for warp, 10⁶
+    /// iid samples for density).
+    #[arg(long)]
+    pub samples: Option<usize>,
     /// Seed of the sample sequence.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
     /// Sampling method: hds, piecewise-constant, bilinear, rejection, uniform.
     #[arg(long, default_value = "hds")]
     pub method: Method,
-    /// Image width in pixels.
-    #[arg(long, default_value_t = 1024)]
-    pub width: u32,
-    /// Image height in pixels.
-    #[arg(long, default_value_t = 768)]
-    pub height: u32,
+    /// Image width in pixels (default: per kind, e.g. 1200 for density).
+    #[arg(long)]
+    pub width: Option<u32>,
+    /// Image height in pixels (default: per kind).
+    #[arg(long)]
+    pub height: Option<u32>,
 }
 
 /// `gonio bench FILE [--json] [--method M]... [--samples N] [--threads T]`.

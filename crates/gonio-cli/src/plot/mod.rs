@@ -310,11 +310,18 @@ pub fn run(args: &PlotArgs) -> Result<()> {
         sampler,
         hemisphere_map,
         ratio_bound: hds.as_ref().map(|h| h.ratio_bound()),
-        samples: args.samples,
+        samples: args.samples.unwrap_or(0),
         seed: args.seed,
         photometric: loaded.kind.is_photometric(),
     };
-    render(kind, &input, &args.output, args.width, args.height)
+    let (w, h) = kind.default_size();
+    render(
+        kind,
+        &input,
+        &args.output,
+        args.width.unwrap_or(w),
+        args.height.unwrap_or(h),
+    )
 }
 
 impl From<crate::args::PlotKind> for PlotKind {
