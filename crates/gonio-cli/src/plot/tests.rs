@@ -214,11 +214,11 @@ fn write_gallery() {
                     PlotKind::Density => crate::args::PlotKind::Density,
                     PlotKind::Ratio => crate::args::PlotKind::Ratio,
                 },
-                samples: kind.default_samples(),
+                samples: Some(kind.default_samples()),
                 seed: 0,
                 method: Method::Hds,
-                width,
-                height,
+                width: Some(width),
+                height: Some(height),
             };
             let t = std::time::Instant::now();
             run(&args).unwrap();
