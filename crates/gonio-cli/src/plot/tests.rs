@@ -278,11 +278,11 @@ fn run_draws_the_example_and_a_json_hemisphere() {
             input: input.to_string(),
             output: dir.join(out),
             kind,
-            samples: 2000,
+            samples: Some(2000),
             seed: 3,
             method,
-            width: 800,
-            height: 500,
+            width: Some(800),
+            height: Some(500),
         };
         run(&args).unwrap_or_else(|e| panic!("{input} {method} {kind:?}: {e:#}"));
         assert!(std::fs::metadata(dir.join(out)).unwrap().len() > 1000);
