@@ -96,6 +96,25 @@ pub struct BenchReport {
     pub methods: Vec<MethodBench>,
 }
 
+/// `gonio bench FILE [--json]`: loads the input, runs [`run_bench`] and prints the report (an aligned
+/// table, or one pretty-printed JSON object with `--json`).
+pub fn run(args: &crate::args::BenchArgs) -> Result<()> {
+    let loaded = crate::load::load(&args.input)?;
+    let report = run_bench(
+        &loaded.diagram,
+        &args.input,
+        &args.methods(),
+        args.samples,
+        args.threads,
+    )?;
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&report)?);
+    } else {
+        print!("{report}");
+    }
+    Ok(())
+}
+
 /// Measures every method of `methods` on `diagram` with `samples` points per measurement, the
 /// batch on `threads` threads (all logical cores when `None`).
 ///

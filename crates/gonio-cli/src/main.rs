@@ -1,3 +1,154 @@
-#[allow(dead_code)]
-mod bench;
-fn main() {}
+//! `gonio`: importance sampling of luminaire intensity distributions from the command line.
+//!
+//! A thin layer over the `gonio` library: argument parsing ([`args`]), input loading and sampler
+//! construction ([`load`]), output formatting ([`output`]) and progress display ([`progress`]).
+//! See `docs/CLI.md` for every command, format and exit code.
+//!
+//! Exit codes: 0 success; 1 error; 2 usage error; 3 `check` ran and an item failed.
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+pub mod args;
+pub mod bench;
+pub mod commands;
+pub mod csv_in;
+pub mod load;
+pub mod output;
+pub mod plot;
+pub mod progress;
+
+use args::{BenchArgs, CheckArgs, ConvertArgs, DirectionsArgs, InfoArgs, PlotArgs, SampleArgs};
+
+/// Importance sampling of goniometric diagrams (Havran–Dmitriev–Seidel mapping).
+///
+/// FILE is a native diagram (.json), an IES LM-63 file (.ies), a EULUMDAT file (.ldt), or the
+/// word `example` for the built-in example luminaire.
+#[derive(Debug, Parser)]
+#[command(name = "gonio", version, propagate_version = true)]
+struct Cli {
+    /// Never show progress bars.
+    #[arg(short, long, global = true)]
+    quiet: bool,
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Sample directions with their exact pdf (CSV `u,v,x,y,z,pdf` or binary rows).
+    Sample(SampleArgs),
+    /// The pdf of each given direction (CSV `x,y,z,pdf`).
+    Pdf(DirectionsArgs),
+    /// The point of the unit square each given direction comes from (CSV `x,y,z,u,v`).
+    Invert(DirectionsArgs),
+    /// Grid, power, memory, build time and pdf/target bound; header fields of photometric files.
+    Info(InfoArgs),
+    /// Convert between JSON, IES LM-63-2019 and EULUMDAT (by the output's extension).
+    Convert(ConvertArgs),
+    /// Run the statistical test battery; exit 0 only if every item passes.
+    Check(CheckArgs),
+    /// Draw a picture (PNG or SVG).
+    Plot(PlotArgs),
+    /// Measure speed and memory of the sampling methods.
+    Bench(BenchArgs),
+}
+
+/// Exit code of a usage error.
+const EXIT_USAGE: u8 = 2;
+/// Exit code of a check whose battery found a failure.
+const EXIT_CHECK_FAILED: u8 = 3;
+
+fn main() -> ExitCode {
+    std::panic::set_hook(Box::new(|info| {
+        let msg = info
+            .payload()
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| info.payload().downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "unknown panic".into());
+        let at = info
+            .location()
+            .map(|l| format!(" at {}:{}", l.file(), l.line()))
+            .unwrap_or_default();
+        eprintln!(
+            "gonio: error: internal error: {}{at}",
+            msg.replace('\n', " ")
+        );
+    }));
+
+    let cli = match Cli::try_parse() {
+        Ok(c) => c,
+        Err(e) => {
+            use clap::error::ErrorKind;
+            if matches!(
+                e.kind(),
+                ErrorKind::DisplayHelp
+                    | ErrorKind::DisplayVersion
+                    | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
+            ) {
+                let _ = e.print();
+                return if e.kind() == ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand {
+                    ExitCode::from(EXIT_USAGE)
+                } else {
+                    ExitCode::SUCCESS
+                };
+            }
+            let text = e.to_string();
+            // The message is the part before the first blank line (then come usage and hints).
+            let first: Vec<&str> = text
+                .lines()
+                .map(str::trim)
+                .take_while(|l| !l.is_empty())
+                .collect();
+            let first = first.join(" ");
+            let first = first.trim_start_matches("error: ");
+            eprintln!("gonio: error: {first} (see `gonio --help`)");
+            return ExitCode::from(EXIT_USAGE);
+        }
+    };
+    progress::set_quiet(cli.quiet);
+
+    let result = match &cli.command {
+        Command::Sample(a) => commands::sample::run(a).map(|()| true),
+        Command::Pdf(a) => commands::directions::run_pdf(a).map(|()| true),
+        Command::Invert(a) => commands::directions::run_invert(a).map(|()| true),
+        Command::Info(a) => commands::info::run(a).map(|()| true),
+        Command::Convert(a) => commands::convert::run(a).map(|()| true),
+        Command::Check(a) => commands::check::run(a),
+        Command::Plot(a) => plot::run(a).map(|()| true),
+        Command::Bench(a) => bench::run(a).map(|()| true),
+    };
+    match result {
+        Ok(true) => ExitCode::SUCCESS,
+        Ok(false) => ExitCode::from(EXIT_CHECK_FAILED),
+        Err(e) => report(&e),
+    }
+}
+
+/// Prints an error as one line on stderr and picks the exit code. A broken pipe on stdout (the
+/// reader went away, e.g. `gonio sample … | head`) exits quietly with 0.
+fn report(e: &anyhow::Error) -> ExitCode {
+    for cause in e.chain() {
+        if let Some(io) = cause.downcast_ref::<std::io::Error>() {
+            if io.kind() == std::io::ErrorKind::BrokenPipe {
+                return ExitCode::SUCCESS;
+            }
+        }
+    }
+    if let Some(located) = e.downcast_ref::<load::LocatedError>() {
+        eprintln!("{}", one_line(&located.to_string()));
+    } else {
+        // `{:#}` joins the context chain with ": ".
+        eprintln!("gonio: error: {}", one_line(&format!("{e:#}")));
+    }
+    ExitCode::FAILURE
+}
+
+fn one_line(s: &str) -> String {
+    s.split('\n')
+        .map(str::trim)
+        .filter(|l| !l.is_empty())
+        .collect::<Vec<_>>()
+        .join("; ")
+}

@@ -40,7 +40,11 @@ pub mod sampler;
 pub mod sequence;
 pub mod synthetic;
 
+pub use baselines::Method;
+pub use check::{run_battery, BatteryOptions, Report};
 pub use diagram::{Diagram, DiagramError};
 pub use error::Error;
-pub use mapping::{HemisphereMap, SphereMap};
+pub use mapping::{HemisphereMap, SphereLayout, SphereMap};
+pub use photometry::{FileFormat, Photometry};
 pub use sampler::{Domain, InvertError, Point2, Sample, Sampler, Vec3};
+pub use sequence::{Sequence, SequenceKind};

@@ -1,0 +1,192 @@
+//! Argument structs shared between `main.rs` and the command modules written by other engineers
+//! (`plot`, `bench`). They are plain clap `Args` structs: a module receives the parsed struct and
+//! does the rest with [`crate::load::load`] and [`crate::load::build_sampler`].
+
+use clap::{Args, ValueEnum};
+use gonio::baselines::Method;
+use std::path::PathBuf;
+
+/// What `gonio plot` draws.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum PlotKind {
+    /// Polar intensity curves of the diagram (C-planes).
+    Polar,
+    /// The warp of the unit square: grid lines of the square mapped onto the disk/sphere.
+    Warp,
+    /// Sample density: histogram of sampled directions against the target.
+    Density,
+    /// The pdf/target ratio over the sphere.
+    Ratio,
+}
+
+/// `gonio plot FILE -o OUT.png|OUT.svg [--kind K] [--samples N] [--seed S] [--method M]
+/// [--width W] [--height H]`.
+#[derive(Debug, Clone, Args)]
+pub struct PlotArgs {
+    /// Input diagram: `.json`, `.ies`, `.ldt`, or `example` for the built-in luminaire.
+    #[arg(value_name = "FILE")]
+    pub input: String,
+    /// Output image; the extension (`.png` or `.svg`) picks the format.
+    #[arg(short = 'o', long = "output", value_name = "OUT")]
+    pub output: PathBuf,
+    /// What to draw.
+    #[arg(long, value_enum, default_value_t = PlotKind::Polar)]
+    pub kind: PlotKind,
+    /// Number of samples for the sample-based kinds (default: 1024 Halton points for warp, 10⁶
+    /// iid samples for density).
+    #[arg(long)]
+    pub samples: Option<usize>,
+    /// Seed of the sample sequence.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Sampling method: hds, piecewise-constant, bilinear, rejection, uniform.
+    #[arg(long, default_value = "hds")]
+    pub method: Method,
+    /// Image width in pixels (default: per kind, e.g. 1200 for density).
+    #[arg(long)]
+    pub width: Option<u32>,
+    /// Image height in pixels (default: per kind).
+    #[arg(long)]
+    pub height: Option<u32>,
+}
+
+/// `gonio bench FILE [--json] [--method M]... [--samples N] [--threads T]`.
+#[derive(Debug, Clone, Args)]
+pub struct BenchArgs {
+    /// Input diagram: `.json`, `.ies`, `.ldt`, or `example` for the built-in luminaire.
+    #[arg(value_name = "FILE")]
+    pub input: String,
+    /// Print one JSON object instead of a table.
+    #[arg(long)]
+    pub json: bool,
+    /// Methods to measure (repeat the option for several); none given = every method
+    /// ([`Method::ALL`]).
+    #[arg(long = "method", value_name = "M")]
+    pub methods: Vec<Method>,
+    /// Samples per measurement.
+    #[arg(long, default_value_t = 1_000_000)]
+    pub samples: usize,
+    /// Rayon worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+}
+
+impl BenchArgs {
+    /// The methods to measure: those given, or all of them when none was.
+    pub fn methods(&self) -> Vec<Method> {
+        if self.methods.is_empty() {
+            Method::ALL.to_vec()
+        } else {
+            self.methods.clone()
+        }
+    }
+}
+
+/// Output format of `gonio sample`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum SampleFormat {
+    /// Text with the header `u,v,x,y,z,pdf`, numbers in shortest round-trip form.
+    Csv,
+    /// Little-endian f32 rows of the six numbers u, v, x, y, z, pdf; no header.
+    F32,
+    /// Little-endian f64 rows of the six numbers u, v, x, y, z, pdf; no header.
+    F64,
+}
+
+/// `gonio sample FILE (-n N | --points UV.csv) [--sequence S] [--seed S] [--format F] [-o OUT]
+/// [--method M]`.
+#[derive(Debug, Clone, Args)]
+pub struct SampleArgs {
+    /// Input diagram: `.json`, `.ies`, `.ldt`, or `example` for the built-in luminaire.
+    #[arg(value_name = "FILE")]
+    pub input: String,
+    /// Number of samples to draw from the sequence.
+    #[arg(
+        short = 'n',
+        long = "samples",
+        value_name = "N",
+        required_unless_present = "points",
+        conflicts_with = "points"
+    )]
+    pub n: Option<u64>,
+    /// Map these points instead of a sequence: a CSV file with columns `u,v` (by header name).
+    #[arg(long, value_name = "UV.csv")]
+    pub points: Option<String>,
+    /// Point sequence on the unit square.
+    #[arg(long, default_value = "halton")]
+    pub sequence: gonio::sequence::SequenceKind,
+    /// Seed (Sobol' scrambling, random stream; Halton ignores it).
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = SampleFormat::Csv)]
+    pub format: SampleFormat,
+    /// Output file (`-` or absent: standard output).
+    #[arg(short = 'o', long = "output", value_name = "OUT")]
+    pub output: Option<PathBuf>,
+    /// Sampling method: hds, piecewise-constant, bilinear, rejection, uniform.
+    #[arg(long, default_value = "hds")]
+    pub method: Method,
+}
+
+/// `gonio pdf|invert FILE --directions DIRS.csv [-o OUT] [--method M]`.
+#[derive(Debug, Clone, Args)]
+pub struct DirectionsArgs {
+    /// Input diagram: `.json`, `.ies`, `.ldt`, or `example` for the built-in luminaire.
+    #[arg(value_name = "FILE")]
+    pub input: String,
+    /// Directions: a CSV file with columns `x,y,z` (by header name; `-` reads standard input).
+    #[arg(long, value_name = "DIRS.csv")]
+    pub directions: String,
+    /// Output file (`-` or absent: standard output).
+    #[arg(short = 'o', long = "output", value_name = "OUT")]
+    pub output: Option<PathBuf>,
+    /// Sampling method: hds, piecewise-constant, bilinear, rejection, uniform.
+    #[arg(long, default_value = "hds")]
+    pub method: Method,
+}
+
+/// `gonio info FILE [--json]`.
+#[derive(Debug, Clone, Args)]
+pub struct InfoArgs {
+    /// Input diagram: `.json`, `.ies`, `.ldt`, or `example` for the built-in luminaire.
+    #[arg(value_name = "FILE")]
+    pub input: String,
+    /// Print one JSON object (keys documented in docs/CLI.md).
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// `gonio convert IN OUT`.
+#[derive(Debug, Clone, Args)]
+pub struct ConvertArgs {
+    /// Input: `.json`, `.ies`, `.ldt`, or `example`.
+    #[arg(value_name = "IN")]
+    pub input: String,
+    /// Output; its extension picks the format: `.json`, `.ies` (LM-63-2019) or `.ldt`.
+    #[arg(value_name = "OUT")]
+    pub output: PathBuf,
+}
+
+/// `gonio check FILE [--samples N] [--seed S] [--quick] [--json] [--method M]`.
+#[derive(Debug, Clone, Args)]
+pub struct CheckArgs {
+    /// Input diagram: `.json`, `.ies`, `.ldt`, or `example` for the built-in luminaire.
+    #[arg(value_name = "FILE")]
+    pub input: String,
+    /// Samples of the chi-square test and of the flux estimate (default 10⁶, 2·10⁵ with --quick).
+    #[arg(long, value_name = "N")]
+    pub samples: Option<usize>,
+    /// Seed of every random item.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// The cheaper battery (about ten times faster, same tolerances).
+    #[arg(long)]
+    pub quick: bool,
+    /// Print the report as one JSON object.
+    #[arg(long)]
+    pub json: bool,
+    /// Sampling method: hds, piecewise-constant, bilinear, rejection, uniform.
+    #[arg(long, default_value = "hds")]
+    pub method: Method,
+}

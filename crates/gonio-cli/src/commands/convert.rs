@@ -1,0 +1,45 @@
+//! `gonio convert IN OUT`: JSON ↔ IES LM-63-2019 ↔ EULUMDAT, chosen by OUT's extension.
+
+use crate::args::ConvertArgs;
+use crate::load::load;
+use crate::output::Output;
+use gonio::photometry::{write_ies, write_ldt, WriteMeta};
+use std::io::Write;
+
+/// Runs `gonio convert`.
+pub fn run(a: &ConvertArgs) -> anyhow::Result<()> {
+    let ext = a
+        .output
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    let out_name = a.output.display().to_string();
+    // Check the output format before reading anything.
+    match ext.as_deref() {
+        Some("json" | "ies" | "ldt") => {}
+        Some(e) => {
+            anyhow::bail!("{out_name}: unknown output format `.{e}`; expected .json, .ies or .ldt")
+        }
+        None => anyhow::bail!(
+            "{out_name}: the output name has no extension; expected .json, .ies or .ldt"
+        ),
+    }
+    let loaded = load(&a.input)?;
+    let d = &loaded.diagram;
+    let luminaire = std::path::Path::new(&a.input)
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| a.input.clone());
+    let meta = WriteMeta {
+        luminaire,
+        ..WriteMeta::default()
+    };
+    let text = match ext.as_deref() {
+        Some("json") => serde_json::to_string_pretty(&d.to_json())? + "\n",
+        Some("ies") => write_ies(d, &meta),
+        _ => write_ldt(d, &meta),
+    };
+    let mut out = Output::create(Some(&a.output))?;
+    out.write_all(text.as_bytes())?;
+    out.finish()
+}

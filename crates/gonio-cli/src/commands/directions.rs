@@ -1,0 +1,98 @@
+//! `gonio pdf` and `gonio invert`: densities and preimages of the caller's directions.
+
+use crate::args::DirectionsArgs;
+use crate::csv_in::read_columns;
+use crate::load::{build_sampler, load};
+use crate::output::{push_csv_row, Output};
+use gonio::sampler::{normalize, pdf_batch_par};
+use gonio::{InvertError, Vec3};
+use rayon::prelude::*;
+use std::io::Write;
+
+/// (1-based line, 1-based data row) of an input row.
+type LineRow = (usize, usize);
+
+/// Rows per batch.
+const BATCH: usize = 1 << 16;
+
+/// Reads and normalises the directions; refuses zero or non-finite ones, naming the row. Also
+/// returns the (line, row) of each direction for later messages.
+fn read_directions(path: &str) -> anyhow::Result<(Vec<Vec3>, Vec<LineRow>)> {
+    let rows = read_columns(path, ["x", "y", "z"])?;
+    let locs = rows.iter().map(|r| (r.line, r.row)).collect();
+    let dirs = rows
+        .iter()
+        .map(|r| {
+            normalize(r.values).ok_or_else(|| {
+                let [x, y, z] = r.values;
+                anyhow::anyhow!(
+                    "{}: direction ({x}, {y}, {z}) is zero or not finite",
+                    r.locate(path)
+                )
+            })
+        })
+        .collect::<anyhow::Result<Vec<Vec3>>>()?;
+    Ok((dirs, locs))
+}
+
+/// Runs `gonio pdf`: output `x,y,z,pdf` with the normalised direction.
+pub fn run_pdf(a: &DirectionsArgs) -> anyhow::Result<()> {
+    let loaded = load(&a.input)?;
+    let sampler = build_sampler(a.method, &loaded)?;
+    let (dirs, _) = read_directions(&a.directions)?;
+    let mut out = Output::create(a.output.as_deref())?;
+    out.write_all(b"x,y,z,pdf\n")?;
+    let mut pdf = vec![0.0; BATCH.min(dirs.len())];
+    for chunk in dirs.chunks(BATCH) {
+        let p = &mut pdf[..chunk.len()];
+        pdf_batch_par(sampler.as_ref(), chunk, p);
+        let mut buf = Vec::with_capacity(chunk.len() * 80);
+        for (d, p) in chunk.iter().zip(p.iter()) {
+            push_csv_row(&mut buf, &[d[0], d[1], d[2], *p]);
+        }
+        out.write_all(&buf)?;
+    }
+    out.finish()
+}
+
+/// Runs `gonio invert`: output `x,y,z,u,v` with the normalised direction.
+pub fn run_invert(a: &DirectionsArgs) -> anyhow::Result<()> {
+    let loaded = load(&a.input)?;
+    let sampler = build_sampler(a.method, &loaded)?;
+    if sampler.invert([0.0, 0.0, 1.0]) == Err(InvertError::Unsupported) {
+        anyhow::bail!(
+            "method `{}` has no inverse; use hds, piecewise-constant, bilinear or uniform",
+            sampler.name()
+        );
+    }
+    let (dirs, locs) = read_directions(&a.directions)?;
+    // Invert everything before writing, so that a direction outside the domain leaves no file.
+    let uv: Vec<Result<[f64; 2], InvertError>> =
+        dirs.par_iter().map(|&d| sampler.invert(d)).collect();
+    if let Some(k) = uv.iter().position(|r| r.is_err()) {
+        let d = dirs[k];
+        let why = match uv[k] {
+            Err(InvertError::Unsupported) => "the method has no inverse".to_string(),
+            _ => format!(
+                "direction ({}, {}, {}) lies outside the sampler's domain ({:?})",
+                d[0],
+                d[1],
+                d[2],
+                sampler.domain()
+            ),
+        };
+        let (line, row) = locs[k];
+        anyhow::bail!("{}:{line}: row {row}: {why}", a.directions);
+    }
+    let mut out = Output::create(a.output.as_deref())?;
+    out.write_all(b"x,y,z,u,v\n")?;
+    for (dc, uc) in dirs.chunks(BATCH).zip(uv.chunks(BATCH)) {
+        let mut buf = Vec::with_capacity(dc.len() * 80);
+        for (d, u) in dc.iter().zip(uc) {
+            let u = u.as_ref().expect("checked above");
+            push_csv_row(&mut buf, &[d[0], d[1], d[2], u[0], u[1]]);
+        }
+        out.write_all(&buf)?;
+    }
+    out.finish()
+}

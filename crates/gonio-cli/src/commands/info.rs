@@ -1,0 +1,347 @@
+//! `gonio info`: grid, power, memory, build time and ratio bound of the HDS map; for photometric
+//! files every header field that matters and every warning.
+
+use crate::args::InfoArgs;
+use crate::load::{build_hds, load, Hds, InputKind, Loaded};
+use gonio::photometry::Photometry;
+use gonio::Diagram;
+use serde::Serialize;
+
+/// Angle range of one axis.
+#[derive(Debug, Clone, Serialize)]
+pub struct Axis {
+    /// Number of angles.
+    pub count: usize,
+    /// Smallest angle, degrees.
+    pub min_deg: f64,
+    /// Largest angle, degrees.
+    pub max_deg: f64,
+}
+
+impl Axis {
+    fn of(a: &[f64]) -> Self {
+        Axis {
+            count: a.len(),
+            min_deg: a.iter().copied().fold(f64::INFINITY, f64::min),
+            max_deg: a.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+        }
+    }
+}
+
+/// The diagram's grid: N parallels (θ from +z) × M meridians (φ from +x toward +y).
+#[derive(Debug, Clone, Serialize)]
+pub struct Grid {
+    /// Parallels θ, degrees.
+    pub theta: Axis,
+    /// Meridians φ, degrees.
+    pub phi: Axis,
+}
+
+impl Grid {
+    fn of(d: &Diagram) -> Self {
+        let deg = |a: &[f64]| a.iter().map(|x| x.to_degrees()).collect::<Vec<_>>();
+        Grid {
+            theta: Axis::of(&deg(d.theta())),
+            phi: Axis::of(&deg(d.phi())),
+        }
+    }
+}
+
+/// The HDS map built for the input.
+#[derive(Debug, Clone, Serialize)]
+pub struct MapInfo {
+    /// `hemisphere` or `sphere`.
+    pub domain: &'static str,
+    /// ∫ of the (completed) diagram over the domain, in diagram units × sr (lumens for candela).
+    pub target_power: f64,
+    /// Bytes of the map's tables ([`Sampler::memory_bytes`]).
+    pub memory_bytes: usize,
+    /// The paper's count of precomputed floats, M·N + 2M + 2, on the map's grid.
+    pub paper_table_floats: usize,
+    /// Wall-clock time of building the map, milliseconds.
+    pub build_time_ms: f64,
+    /// Guaranteed [min, max] of pdf / target_pdf.
+    pub ratio_bound: [f64; 2],
+    /// Sphere (split layout): probability of the lower hemisphere; absent for the hemisphere.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub lower_probability: Option<f64>,
+}
+
+/// A warning of a photometric reader.
+#[derive(Debug, Clone, Serialize)]
+pub struct WarningInfo {
+    /// 1-based line (0: the file as a whole).
+    pub line: usize,
+    /// 1-based column (0: unknown).
+    pub column: usize,
+    /// What was tolerated.
+    pub message: String,
+}
+
+/// One lamp set.
+#[derive(Debug, Clone, Serialize)]
+pub struct LampInfo {
+    /// Number of lamps (IES: negative means absolute photometry).
+    pub count: i64,
+    /// Flux of the set in lumens as the file states it (IES: lumens per lamp, −1 = absolute).
+    pub flux_lm: f64,
+    /// Description (type of lamp).
+    pub description: String,
+    /// Wattage.
+    pub watts: f64,
+}
+
+/// What a photometric file says about itself.
+#[derive(Debug, Clone, Serialize)]
+pub struct PhotometryInfo {
+    /// `IES LM-63` or `EULUMDAT`.
+    pub format: String,
+    /// e.g. `LM-63-2019`.
+    pub version: String,
+    /// `A`, `B` or `C`.
+    pub photometric_type: String,
+    /// Lamp sets (IES: one).
+    pub lamps: Vec<LampInfo>,
+    /// Lamp lumens stated by the file (sum over the sets; IES: lamps × lumens per lamp); absent
+    /// for IES absolute photometry (lumens per lamp −1).
+    pub lamp_lumens: Option<f64>,
+    /// IES candela multiplier, EULUMDAT conversion factor.
+    pub multiplier: f64,
+    /// Factor applied to the stored values to get candela.
+    pub intensity_scale: f64,
+    /// TILT specification.
+    pub tilt: String,
+    /// Stored vertical angles (γ for type C, V for A/B), degrees.
+    pub stored_vertical: Axis,
+    /// Stored horizontal angles (C for type C, H for A/B), degrees.
+    pub stored_horizontal: Axis,
+    /// Symmetry and expansion rule.
+    pub symmetry: String,
+    /// Whether the distribution was resampled (types A and B).
+    pub resampled: bool,
+    /// Largest stored intensity, candela.
+    pub max_intensity_cd: f64,
+    /// Total flux, lumens (closed-form integral of the expanded diagram).
+    pub flux_lm: f64,
+    /// Every warning of the reader.
+    pub warnings: Vec<WarningInfo>,
+}
+
+impl PhotometryInfo {
+    fn of(p: &Photometry, flux_lm: f64) -> Self {
+        let lamps: Vec<LampInfo> = p
+            .lamp_sets
+            .iter()
+            .map(|l| LampInfo {
+                count: l.count,
+                flux_lm: l.flux_lm,
+                description: l.description.clone(),
+                watts: l.watts,
+            })
+            .collect();
+        let (lamp_lumens, multiplier) = match (&p.ies, &p.ldt) {
+            (Some(i), _) => (
+                (i.lumens_per_lamp > 0.0).then_some(i.lumens_per_lamp * i.lamps as f64),
+                i.multiplier,
+            ),
+            (None, Some(l)) => (
+                Some(p.lamp_sets.iter().map(|s| s.flux_lm).sum()),
+                l.conversion_factor,
+            ),
+            (None, None) => (None, 1.0),
+        };
+        PhotometryInfo {
+            format: p.format.to_string(),
+            version: p.version.to_string(),
+            photometric_type: p.photometric_type.to_string(),
+            lamps,
+            lamp_lumens,
+            multiplier,
+            intensity_scale: p.intensity_scale,
+            tilt: p.tilt.to_string(),
+            stored_vertical: Axis::of(&p.vertical_angles_deg),
+            stored_horizontal: Axis::of(&p.horizontal_angles_deg),
+            symmetry: p.symmetry.to_string(),
+            resampled: p.is_resampled(),
+            max_intensity_cd: p.max_intensity_cd(),
+            flux_lm,
+            warnings: p
+                .warnings
+                .iter()
+                .map(|w| WarningInfo {
+                    line: w.line,
+                    column: w.column,
+                    message: w.message.clone(),
+                })
+                .collect(),
+        }
+    }
+}
+
+/// Everything `gonio info` reports; `--json` prints it with these key names.
+#[derive(Debug, Clone, Serialize)]
+pub struct Info {
+    /// The input as named.
+    pub input: String,
+    /// `example`, `json`, `ies` or `ldt`.
+    pub format: &'static str,
+    /// Unit of the values: `cd` for photometric input and the example, `value` for JSON.
+    pub unit: &'static str,
+    /// The (expanded) diagram's grid.
+    pub grid: Grid,
+    /// Closed-form integral of the diagram over its grid ([`Diagram::integral`]), unit × sr
+    /// (lumens for candela).
+    pub diagram_integral: f64,
+    /// The HDS map.
+    pub map: MapInfo,
+    /// Photometric files only.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub photometry: Option<PhotometryInfo>,
+}
+
+/// Collects the information about `loaded`.
+pub fn collect(loaded: &Loaded) -> anyhow::Result<Info> {
+    let (hds, took) = build_hds(loaded)?;
+    let sampler = hds.as_sampler();
+    let paper = match &hds {
+        Hds::Hemisphere(m) => m.paper_table_floats(),
+        Hds::Sphere(_) => {
+            let d = &loaded.diagram;
+            d.n_meridians() * d.n_parallels() + 2 * d.n_meridians() + 2
+        }
+    };
+    let (lo, hi) = hds.ratio_bound();
+    let integral = loaded.diagram.integral();
+    Ok(Info {
+        input: loaded.name.clone(),
+        format: loaded.kind.name(),
+        unit: if loaded.kind == InputKind::Json {
+            "value"
+        } else {
+            "cd"
+        },
+        grid: Grid::of(&loaded.diagram),
+        diagram_integral: integral,
+        map: MapInfo {
+            domain: match &hds {
+                Hds::Hemisphere(_) => "hemisphere",
+                Hds::Sphere(_) => "sphere",
+            },
+            target_power: hds.target_power(),
+            memory_bytes: sampler.memory_bytes(),
+            paper_table_floats: paper,
+            build_time_ms: took.as_secs_f64() * 1e3,
+            ratio_bound: [lo, hi],
+            lower_probability: match &hds {
+                Hds::Sphere(m) => m.lower_probability(),
+                Hds::Hemisphere(_) => None,
+            },
+        },
+        photometry: loaded
+            .photometry
+            .as_deref()
+            .map(|p| PhotometryInfo::of(p, integral)),
+    })
+}
+
+/// Runs `gonio info`.
+pub fn run(a: &InfoArgs) -> anyhow::Result<()> {
+    let loaded = load(&a.input)?;
+    let info = collect(&loaded)?;
+    let text = if a.json {
+        serde_json::to_string_pretty(&info)? + "\n"
+    } else {
+        human(&info)
+    };
+    crate::output::print(&text)
+}
+
+fn human(i: &Info) -> String {
+    use std::fmt::Write;
+    let mut s = String::new();
+    let power_unit = if i.unit == "cd" { "lm" } else { "value·sr" };
+    let g = &i.grid;
+    let _ = writeln!(s, "input            {} ({})", i.input, i.format);
+    let _ = writeln!(
+        s,
+        "grid             {} parallels × {} meridians; θ {}°..{}°, φ {}°..{}°",
+        g.theta.count, g.phi.count, g.theta.min_deg, g.theta.max_deg, g.phi.min_deg, g.phi.max_deg
+    );
+    let m = &i.map;
+    let _ = writeln!(s, "domain           {}", m.domain);
+    let _ = writeln!(
+        s,
+        "total power      {} {power_unit} (map target), diagram integral {} {power_unit}",
+        m.target_power, i.diagram_integral
+    );
+    let _ = writeln!(
+        s,
+        "table memory     {} bytes (paper's M·N+2M+2 = {} floats = {} bytes as f32)",
+        m.memory_bytes,
+        m.paper_table_floats,
+        4 * m.paper_table_floats
+    );
+    let _ = writeln!(s, "build time       {:.3} ms", m.build_time_ms);
+    let _ = writeln!(
+        s,
+        "pdf/target       within [{}, {}] (guaranteed)",
+        m.ratio_bound[0], m.ratio_bound[1]
+    );
+    if let Some(p) = m.lower_probability {
+        let _ = writeln!(s, "lower hemisphere probability {p}");
+    }
+    if let Some(p) = &i.photometry {
+        let _ = writeln!(s, "format           {} {}", p.format, p.version);
+        let _ = writeln!(s, "photometric type {}", p.photometric_type);
+        for l in &p.lamps {
+            let _ = writeln!(
+                s,
+                "lamps            {} × {} lm, {} W, {}",
+                l.count, l.flux_lm, l.watts, l.description
+            );
+        }
+        match p.lamp_lumens {
+            Some(l) => {
+                let _ = writeln!(s, "lamp lumens      {l}");
+            }
+            None => {
+                let _ = writeln!(s, "lamp lumens      absolute photometry");
+            }
+        }
+        let _ = writeln!(
+            s,
+            "multiplier       {} (intensity scale {})",
+            p.multiplier, p.intensity_scale
+        );
+        let _ = writeln!(s, "TILT             {}", p.tilt);
+        let _ = writeln!(
+            s,
+            "stored angles    vertical {} ({}°..{}°), horizontal {} ({}°..{}°)",
+            p.stored_vertical.count,
+            p.stored_vertical.min_deg,
+            p.stored_vertical.max_deg,
+            p.stored_horizontal.count,
+            p.stored_horizontal.min_deg,
+            p.stored_horizontal.max_deg
+        );
+        let _ = writeln!(
+            s,
+            "expanded grid    {} × {}{}",
+            g.theta.count,
+            g.phi.count,
+            if p.resampled { " (resampled)" } else { "" }
+        );
+        let _ = writeln!(s, "symmetry         {}", p.symmetry);
+        let _ = writeln!(s, "max intensity    {} cd", p.max_intensity_cd);
+        let _ = writeln!(s, "flux             {} lm", p.flux_lm);
+        let _ = writeln!(s, "warnings         {}", p.warnings.len());
+        for w in &p.warnings {
+            let _ = writeln!(
+                s,
+                "  {}:{}:{}: warning: {}",
+                i.input, w.line, w.column, w.message
+            );
+        }
+    }
+    s
+}

@@ -1,0 +1,8 @@
+//! One module per subcommand; each exposes `run(&Args) -> anyhow::Result<()>` (check returns
+//! whether every item passed).
+
+pub mod check;
+pub mod convert;
+pub mod directions;
+pub mod info;
+pub mod sample;

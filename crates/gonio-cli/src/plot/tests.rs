@@ -1,0 +1,293 @@
+use super::*;
+use gonio::synthetic::{example_luminaire, random_hemisphere, Family};
+use gonio::{Diagram, HemisphereMap, Sampler, SphereMap};
+use std::path::PathBuf;
+
+/// A fresh directory under the system temp dir for one test.
+fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("gonio-plot-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn hemisphere() -> (Diagram, HemisphereMap) {
+    let d = random_hemisphere(Family::Lobes, 7, 6, false, 3);
+    let m = HemisphereMap::new(&d).unwrap();
+    (d, m)
+}
+
+fn input<'a>(
+    title: &str,
+    d: &'a Diagram,
+    s: &'a dyn Sampler,
+    h: Option<&'a HemisphereMap>,
+    bound: Option<(f64, f64)>,
+    photometric: bool,
+) -> PlotInput<'a> {
+    PlotInput {
+        title: title.to_string(),
+        diagram: d,
+        sampler: s,
+        hemisphere_map: h,
+        ratio_bound: bound,
+        samples: 3000,
+        seed: 1,
+        photometric,
+    }
+}
+
+/// Width and height from a PNG's IHDR chunk.
+fn png_size(bytes: &[u8]) -> (u32, u32) {
+    assert!(bytes.len() > 24, "PNG too short");
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "not a PNG");
+    assert_eq!(&bytes[12..16], b"IHDR");
+    let be = |b: &[u8]| u32::from_be_bytes([b[0], b[1], b[2], b[3]]);
+    (be(&bytes[16..20]), be(&bytes[20..24]))
+}
+
+fn check_all_kinds(dir: &Path, tag: &str, input: &PlotInput) {
+    for kind in PlotKind::ALL {
+        let (w, h) = (640, 480);
+        let png = dir.join(format!("{tag}-{kind}.png"));
+        render(kind, input, &png, w, h).unwrap_or_else(|e| panic!("{kind} png: {e:#}"));
+        let bytes = std::fs::read(&png).unwrap();
+        assert_eq!(png_size(&bytes), (w, h), "{kind}");
+        let svg = dir.join(format!("{tag}-{kind}.svg"));
+        render(kind, input, &svg, w, h).unwrap_or_else(|e| panic!("{kind} svg: {e:#}"));
+        let text = std::fs::read_to_string(&svg).unwrap();
+        assert!(text.starts_with("<svg"), "{kind}: not an SVG");
+        assert!(
+            text.contains(&input.title),
+            "{kind}: title missing from the SVG"
+        );
+        assert!(text.contains("</svg>"));
+    }
+}
+
+#[test]
+fn every_kind_renders_a_hemisphere_map() {
+    let dir = temp_dir("hemi");
+    let (d, m) = hemisphere();
+    let inp = input("tiny-hemi", &d, &m, Some(&m), Some(m.ratio_bound()), false);
+    check_all_kinds(&dir, "hemi", &inp);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn every_kind_renders_a_sphere_map_photometric() {
+    let dir = temp_dir("sphere");
+    let d = example_luminaire();
+    let m = SphereMap::new(&d).unwrap();
+    let inp = input("tiny-sphere", &d, &m, None, Some(m.ratio_bound()), true);
+    check_all_kinds(&dir, "sphere", &inp);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn every_kind_renders_a_baseline() {
+    let dir = temp_dir("baseline");
+    let (d, _) = hemisphere();
+    let b = gonio::baselines::Method::Bilinear
+        .build_baseline(&d, gonio::Domain::Hemisphere)
+        .unwrap();
+    let inp = input("tiny-bilinear", &d, b.as_ref(), None, None, false);
+    check_all_kinds(&dir, "baseline", &inp);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn unsupported_extension_is_an_error() {
+    let dir = temp_dir("ext");
+    let (d, m) = hemisphere();
+    let inp = input("x", &d, &m, Some(&m), None, false);
+    for name in ["out.jpg", "out", "out.pdf"] {
+        let err = render(PlotKind::Polar, &inp, &dir.join(name), 400, 300).unwrap_err();
+        assert!(err.to_string().contains(".png or .svg"), "{err}");
+        assert!(!dir.join(name).exists());
+    }
+    // Upper-case extensions are fine.
+    render(PlotKind::Polar, &inp, &dir.join("OUT.PNG"), 400, 300).unwrap();
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn bad_size_and_zero_samples_are_errors() {
+    let dir = temp_dir("size");
+    let (d, m) = hemisphere();
+    let inp = input("x", &d, &m, Some(&m), None, false);
+    assert!(render(PlotKind::Polar, &inp, &dir.join("a.png"), 10, 10).is_err());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn kinds_parse_and_print() {
+    for k in PlotKind::ALL {
+        assert_eq!(k.as_str().parse::<PlotKind>().unwrap(), k);
+        assert_eq!(k.to_string(), k.as_str());
+    }
+    assert_eq!("Density".parse::<PlotKind>().unwrap(), PlotKind::Density);
+    let e = "histogram".parse::<PlotKind>().unwrap_err();
+    assert!(e.to_string().contains("polar, warp, density, ratio"));
+}
+
+#[test]
+fn histogram_of_the_hds_map_matches_its_pdf() {
+    let (d, m) = hemisphere();
+    let inp = input("x", &d, &m, Some(&m), None, false);
+    let n = 200_000;
+    let h = density::histogram(&inp, n, 24, 8);
+    assert_eq!(h.outside, 0);
+    assert_eq!(h.counts.iter().sum::<u64>(), n as u64);
+    // The cell averages of the pdf integrate to ≈ 1 over the hemisphere.
+    let total: f64 = h.pdf.iter().sum::<f64>() * h.grid.cell_solid_angle();
+    assert!((total - 1.0).abs() < 0.02, "∫pdf = {total}");
+    // χ² per cell near 1.
+    let (mut chi2, mut dof) = (0.0, 0);
+    for k in 0..h.grid.len() {
+        let e = h.expected(k);
+        if e >= 5.0 {
+            chi2 += (h.counts[k] as f64 - e).powi(2) / e;
+            dof += 1;
+        }
+    }
+    assert!(chi2 / (dof as f64) < 2.0, "χ²/dof = {}", chi2 / dof as f64);
+}
+
+#[test]
+fn ratio_of_the_hds_map_lies_within_its_bound() {
+    let (d, m) = hemisphere();
+    let inp = input("x", &d, &m, Some(&m), Some(m.ratio_bound()), false);
+    let grid = grid::Grid::new(gonio::Domain::Hemisphere, 60, 20);
+    let (lo, hi) = m.ratio_bound();
+    for r in ratio::ratio_grid(&inp, &grid) {
+        if r.is_finite() {
+            assert!(
+                r >= lo * (1.0 - 1e-9) && r <= hi * (1.0 + 1e-9),
+                "{r} ∉ [{lo}, {hi}]"
+            );
+        } else {
+            assert!(r.is_nan(), "pdf > 0 where the target is 0");
+        }
+    }
+}
+
+#[test]
+fn numbers_format_briefly() {
+    assert_eq!(fmt_num(1200.0), "1200");
+    assert_eq!(fmt_num(0.25), "0.25");
+    assert_eq!(fmt_num(1.0), "1");
+    assert_eq!(fmt_num(0.123456), "0.123");
+    assert_eq!(nice_step(230.0), 250.0);
+    assert_eq!(nice_step(0.9), 1.0);
+}
+
+/// Writes the README gallery into `docs/gallery/` through [`run`], exactly as the commands in
+/// `docs/GALLERY.md` do (run with `cargo test -p gonio-cli --release write_gallery -- --ignored`).
+#[test]
+#[ignore]
+fn write_gallery() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let out = root.join("docs/gallery");
+    std::fs::create_dir_all(&out).unwrap();
+    // The hemisphere example: a synthetic diagram of lobes, stored next to the pictures.
+    let hemi = random_hemisphere(Family::Lobes, 10, 12, false, 7);
+    let json = out.join("lobes.json");
+    std::fs::write(
+        &json,
+        serde_json::to_string_pretty(&hemi.to_json()).unwrap() + "\n",
+    )
+    .unwrap();
+    for (input, tag) in [
+        ("example".to_string(), "example"),
+        (json.to_str().unwrap().to_string(), "lobes"),
+    ] {
+        for kind in PlotKind::ALL {
+            let (width, height) = kind.default_size();
+            let path = out.join(format!("{tag}-{kind}.png"));
+            let args = PlotArgs {
+                input: input.clone(),
+                output: path.clone(),
+                kind: match kind {
+                    PlotKind::Polar => crate::args::PlotKind::Polar,
+                    PlotKind::Warp => crate::args::PlotKind::Warp,
+                    PlotKind::Density => crate::args::PlotKind::Density,
+                    PlotKind::Ratio => crate::args::PlotKind::Ratio,
+                },
+                samples: Some(kind.default_samples()),
+                seed: 0,
+                method: Method::Hds,
+                width: Some(width),
+                height: Some(height),
+            };
+            let t = std::time::Instant::now();
+            run(&args).unwrap();
+            let size = std::fs::metadata(&path).unwrap().len();
+            eprintln!(
+                "{} {} bytes in {:.2} s",
+                path.display(),
+                size,
+                t.elapsed().as_secs_f64()
+            );
+            assert!(
+                size < 300_000,
+                "{} is too large for the README",
+                path.display()
+            );
+        }
+    }
+}
+
+#[test]
+fn run_draws_the_example_and_a_json_hemisphere() {
+    let dir = temp_dir("run");
+    let json = dir.join("lobe.json");
+    std::fs::write(
+        &json,
+        r#"{"theta_deg":[0,30,60,90],"phi_deg":[0,90,180,270],
+            "values":[[4,3,1,0],[4,2,1,0],[4,1,0.5,0],[4,2,1,0]]}"#,
+    )
+    .unwrap();
+    for (input, method, kind, out) in [
+        (
+            "example",
+            Method::Hds,
+            crate::args::PlotKind::Ratio,
+            "ex.png",
+        ),
+        (
+            "example",
+            Method::Uniform,
+            crate::args::PlotKind::Warp,
+            "ex.svg",
+        ),
+        (
+            json.to_str().unwrap(),
+            Method::Hds,
+            crate::args::PlotKind::Warp,
+            "j.png",
+        ),
+        (
+            json.to_str().unwrap(),
+            Method::Bilinear,
+            crate::args::PlotKind::Density,
+            "j.svg",
+        ),
+    ] {
+        let args = PlotArgs {
+            input: input.to_string(),
+            output: dir.join(out),
+            kind,
+            samples: Some(2000),
+            seed: 3,
+            method,
+            width: Some(800),
+            height: Some(500),
+        };
+        run(&args).unwrap_or_else(|e| panic!("{input} {method} {kind:?}: {e:#}"));
+        assert!(std::fs::metadata(dir.join(out)).unwrap().len() > 1000);
+    }
+    // Nothing but the outputs (and the input) is left behind: no temporary files.
+    assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 5);
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -1,0 +1,529 @@
+//! The `gonio` binary, run end to end: every command with good and bad input.
+
+use gonio::{Diagram, HemisphereMap, Sampler};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+const BIN: &str = env!("CARGO_BIN_EXE_gonio");
+
+/// A fresh, empty directory for one test.
+fn temp_dir(name: &str) -> PathBuf {
+    static N: AtomicUsize = AtomicUsize::new(0);
+    let d = std::env::temp_dir().join(format!(
+        "gonio-cli-{}-{}-{name}",
+        std::process::id(),
+        N.fetch_add(1, Ordering::Relaxed)
+    ));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn run(args: &[&str]) -> Output {
+    Command::new(BIN)
+        .args(args)
+        .arg("--quiet")
+        .output()
+        .expect("the gonio binary runs")
+}
+
+fn ok(args: &[&str]) -> String {
+    let o = run(args);
+    assert!(
+        o.status.success(),
+        "gonio {args:?} failed: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    String::from_utf8(o.stdout).unwrap()
+}
+
+/// Runs and expects failure; returns stderr, which must be exactly one line.
+fn fails(args: &[&str]) -> String {
+    let o = run(args);
+    assert!(!o.status.success(), "gonio {args:?} should fail");
+    let err = String::from_utf8(o.stderr).unwrap();
+    assert_eq!(err.trim_end().lines().count(), 1, "one-line error: {err:?}");
+    assert!(!err.contains("panicked"), "no panic: {err}");
+    err
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+/// A hemisphere diagram with positive values everywhere, in the native JSON form.
+const HEMI_JSON: &str = r#"{
+  "theta_deg": [0, 30, 60, 90],
+  "phi_deg": [0, 90, 180, 270],
+  "values": [[10, 8, 4, 1], [10, 6, 3, 2], [10, 9, 5, 1], [10, 7, 2, 0.5]]
+}"#;
+
+fn hemi(dir: &Path) -> (PathBuf, HemisphereMap) {
+    let p = dir.join("hemi.json");
+    std::fs::write(&p, HEMI_JSON).unwrap();
+    let map = HemisphereMap::new(&Diagram::from_json_str(HEMI_JSON).unwrap()).unwrap();
+    (p, map)
+}
+
+/// Parses CSV text with a header into (header, rows of numbers).
+fn csv(text: &str) -> (Vec<String>, Vec<Vec<f64>>) {
+    let mut lines = text.lines();
+    let header = lines
+        .next()
+        .expect("a header")
+        .split(',')
+        .map(str::to_string)
+        .collect();
+    let rows = lines
+        .map(|l| l.split(',').map(|x| x.parse::<f64>().unwrap()).collect())
+        .collect();
+    (header, rows)
+}
+
+fn corpus() -> Option<PathBuf> {
+    let candidates: Vec<PathBuf> = std::env::var_os("GONIO_CORPUS")
+        .map(PathBuf::from)
+        .into_iter()
+        .chain(
+            [
+                "../../../shared/data/photometry",
+                "../../../../shared/data/photometry",
+            ]
+            .iter()
+            .map(|r| Path::new(env!("CARGO_MANIFEST_DIR")).join(r)),
+        )
+        .collect();
+    let found = candidates
+        .iter()
+        .find(|c| c.join("ies").is_dir() && c.join("ldt").is_dir())
+        .cloned();
+    if found.is_none() {
+        eprintln!("skipping: photometric corpus not found (set GONIO_CORPUS)");
+    }
+    found
+}
+
+#[test]
+fn sample_csv_matches_the_library_exactly() {
+    let dir = temp_dir("sample");
+    let (json, map) = hemi(&dir);
+    let out = dir.join("s.csv");
+    ok(&["sample", s(&json), "-n", "1000", "-o", s(&out)]);
+    let (header, rows) = csv(&std::fs::read_to_string(&out).unwrap());
+    assert_eq!(header, ["u", "v", "x", "y", "z", "pdf"]);
+    assert_eq!(rows.len(), 1000);
+    for r in &rows {
+        let d = [r[2], r[3], r[4]];
+        assert!(((d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt() - 1.0).abs() < 1e-12);
+        assert!(r[5] > 0.0 && d[2] >= 0.0);
+        // Shortest round-trip printing: u, v, direction and pdf are the library's exact f64s.
+        let lib = map.sample([r[0], r[1]]);
+        assert_eq!(lib.direction, d);
+        assert_eq!(lib.pdf, r[5]);
+        assert!((map.pdf(d) - r[5]).abs() <= 1e-6 * r[5]);
+    }
+    // Standard output gives the same bytes as the file.
+    let stdout = ok(&["sample", s(&json), "-n", "1000"]);
+    assert_eq!(stdout, std::fs::read_to_string(&out).unwrap());
+}
+
+#[test]
+fn invert_and_pdf_agree_with_sample() {
+    let dir = temp_dir("roundtrip");
+    let (json, _) = hemi(&dir);
+    let samples = dir.join("s.csv");
+    ok(&[
+        "sample",
+        s(&json),
+        "-n",
+        "500",
+        "--sequence",
+        "sobol",
+        "--seed",
+        "7",
+        "-o",
+        s(&samples),
+    ]);
+    let (_, srows) = csv(&std::fs::read_to_string(&samples).unwrap());
+    // The sample file has columns x,y,z among others: it serves directly as --directions input.
+    let (h, inv) = csv(&ok(&["invert", s(&json), "--directions", s(&samples)]));
+    assert_eq!(h, ["x", "y", "z", "u", "v"]);
+    assert_eq!(inv.len(), srows.len());
+    for (a, b) in srows.iter().zip(&inv) {
+        assert!(
+            (a[0] - b[3]).abs() < 1e-8 && (a[1] - b[4]).abs() < 1e-8,
+            "{a:?} {b:?}"
+        );
+    }
+    let (h, pdf) = csv(&ok(&["pdf", s(&json), "--directions", s(&samples)]));
+    assert_eq!(h, ["x", "y", "z", "pdf"]);
+    for (a, b) in srows.iter().zip(&pdf) {
+        assert!((a[5] - b[3]).abs() <= 1e-9 * a[5], "{a:?} {b:?}");
+    }
+}
+
+#[test]
+fn pdf_normalises_and_refuses_zero_directions() {
+    let dir = temp_dir("pdf");
+    let (json, map) = hemi(&dir);
+    let dirs = dir.join("d.csv");
+    std::fs::write(&dirs, "id,z,y,x\n1,2,0,0\n2,1,1,1\n").unwrap();
+    let (_, rows) = csv(&ok(&["pdf", s(&json), "--directions", s(&dirs)]));
+    assert_eq!(rows[0][..3], [0.0, 0.0, 1.0]);
+    assert_eq!(rows[0][3], map.pdf([0.0, 0.0, 1.0]));
+    let k = 1.0 / 3f64.sqrt();
+    assert!((rows[1][0] - k).abs() < 1e-15);
+    std::fs::write(&dirs, "x,y,z\n0,0,1\n\n0,0,0\n").unwrap();
+    let out = dir.join("p.csv");
+    let err = fails(&["pdf", s(&json), "--directions", s(&dirs), "-o", s(&out)]);
+    assert!(err.contains(":4: row 2:") && err.contains("zero"), "{err}");
+    assert!(!out.exists());
+    std::fs::write(&dirs, "x,y\n0,0\n").unwrap();
+    let err = fails(&["pdf", s(&json), "--directions", s(&dirs)]);
+    assert!(err.contains("no column `z`"), "{err}");
+}
+
+#[test]
+fn points_on_the_boundary_are_accepted() {
+    let dir = temp_dir("points");
+    let (json, map) = hemi(&dir);
+    let pts = dir.join("uv.csv");
+    let corners =
+        "v,u,extra\n0,0,a\n0,1,b\n1,0,c\n1,1,d\n0.5,0,e\n0,0.5,f\n1,0.5,g\n0.5,1,h\n0.5,0.5,i\n";
+    std::fs::write(&pts, corners).unwrap();
+    let (_, rows) = csv(&ok(&["sample", s(&json), "--points", s(&pts)]));
+    assert_eq!(rows.len(), 9);
+    assert_eq!(rows[1][..2], [1.0, 0.0]); // u = 1, v = 0: columns found by name
+    for r in &rows {
+        let d = [r[2], r[3], r[4]];
+        assert!(((d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt() - 1.0).abs() < 1e-12);
+        assert_eq!(map.sample([r[0], r[1]]).pdf, r[5]);
+    }
+}
+
+#[test]
+fn bad_points_are_refused_with_their_row_and_no_file() {
+    let dir = temp_dir("badpoints");
+    let (json, _) = hemi(&dir);
+    let pts = dir.join("uv.csv");
+    let out = dir.join("out.csv");
+    for (text, row, line) in [
+        ("u,v\n0.1,0.2\n0.3,0.4\nNaN,0.5\n", 3, 4),
+        ("u,v\n0.1,0.2\n# comment\n0.3,1.0000001\n", 2, 4),
+        ("u,v\n-1e-300,0.2\n", 1, 2),
+        ("u,v\n0.1,inf\n", 1, 2),
+        ("u,v\n0.1,abc\n", 1, 2),
+    ] {
+        std::fs::write(&pts, text).unwrap();
+        let err = fails(&["sample", s(&json), "--points", s(&pts), "-o", s(&out)]);
+        assert!(
+            err.contains(&format!(":{line}: row {row}:")),
+            "{text:?}: {err}"
+        );
+        assert!(!out.exists(), "no partial output for {text:?}");
+        assert_eq!(
+            std::fs::read_dir(&dir).unwrap().count(),
+            2,
+            "no temp files left"
+        );
+    }
+    std::fs::write(&pts, "a,b\n1,2\n").unwrap();
+    let err = fails(&["sample", s(&json), "--points", s(&pts)]);
+    assert!(err.contains("no column `u`"), "{err}");
+}
+
+#[test]
+fn binary_formats_have_the_right_size_and_values() {
+    let dir = temp_dir("binary");
+    let (json, _) = hemi(&dir);
+    let (c, b32, b64) = (dir.join("s.csv"), dir.join("s.f32"), dir.join("s.f64"));
+    ok(&["sample", s(&json), "-n", "100", "-o", s(&c)]);
+    ok(&[
+        "sample",
+        s(&json),
+        "-n",
+        "100",
+        "--format",
+        "f32",
+        "-o",
+        s(&b32),
+    ]);
+    ok(&[
+        "sample",
+        s(&json),
+        "-n",
+        "100",
+        "--format",
+        "f64",
+        "-o",
+        s(&b64),
+    ]);
+    let f32s = std::fs::read(&b32).unwrap();
+    let f64s = std::fs::read(&b64).unwrap();
+    assert_eq!(f32s.len(), 100 * 6 * 4);
+    assert_eq!(f64s.len(), 100 * 6 * 8);
+    let (_, rows) = csv(&std::fs::read_to_string(&c).unwrap());
+    for (k, r) in rows.iter().enumerate() {
+        for (j, v) in r.iter().enumerate() {
+            let o = (k * 6 + j) * 8;
+            assert_eq!(f64::from_le_bytes(f64s[o..o + 8].try_into().unwrap()), *v);
+            let o = (k * 6 + j) * 4;
+            assert_eq!(
+                f32::from_le_bytes(f32s[o..o + 4].try_into().unwrap()),
+                *v as f32
+            );
+        }
+    }
+}
+
+#[test]
+fn zero_samples_give_the_header_only_and_large_runs_stream() {
+    assert_eq!(ok(&["sample", "example", "-n", "0"]), "u,v,x,y,z,pdf\n");
+    // More than one batch, from every sequence.
+    for seq in ["halton", "sobol", "random"] {
+        let out = ok(&[
+            "sample",
+            "example",
+            "-n",
+            "70000",
+            "--sequence",
+            seq,
+            "--seed",
+            "3",
+        ]);
+        assert_eq!(out.lines().count(), 70001);
+    }
+}
+
+#[test]
+fn broken_pipe_exits_quietly() {
+    use std::io::Read;
+    let mut child = Command::new(BIN)
+        .args(["sample", "example", "-n", "100000000", "-q"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut buf = [0u8; 64];
+    child.stdout.take().unwrap().read_exact(&mut buf).unwrap();
+    // The read end is dropped here; the next write fails with EPIPE.
+    let out = child.wait_with_output().unwrap();
+    assert!(out.status.success(), "{:?}", out.status);
+    assert!(
+        out.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+#[test]
+fn every_method_samples_and_rejection_cannot_invert() {
+    let dir = temp_dir("methods");
+    let (json, _) = hemi(&dir);
+    for m in [
+        "hds",
+        "piecewise-constant",
+        "bilinear",
+        "rejection",
+        "uniform",
+    ] {
+        let (_, rows) = csv(&ok(&["sample", s(&json), "-n", "50", "--method", m]));
+        assert_eq!(rows.len(), 50);
+        assert!(rows.iter().all(|r| r[5] > 0.0 && r[4] >= 0.0), "{m}");
+    }
+    let dirs = dir.join("d.csv");
+    std::fs::write(&dirs, "x,y,z\n0,0,1\n").unwrap();
+    let err = fails(&[
+        "invert",
+        s(&json),
+        "--directions",
+        s(&dirs),
+        "--method",
+        "rejection",
+    ]);
+    assert!(err.contains("no inverse"), "{err}");
+    let err = fails(&["sample", s(&json), "-n", "5", "--method", "magic"]);
+    assert!(err.contains("magic"), "{err}");
+    // A direction below the horizon has no preimage on the hemisphere.
+    std::fs::write(&dirs, "x,y,z\n0,0,1\n0,0,-1\n").unwrap();
+    let err = fails(&["invert", s(&json), "--directions", s(&dirs)]);
+    assert!(err.contains(":3: row 2:"), "{err}");
+}
+
+#[test]
+fn info_json_has_the_documented_keys() {
+    let dir = temp_dir("info");
+    let (json, map) = hemi(&dir);
+    let v: serde_json::Value = serde_json::from_str(&ok(&["info", s(&json), "--json"])).unwrap();
+    assert_eq!(v["format"], "json");
+    assert_eq!(v["grid"]["theta"]["count"], 4);
+    assert_eq!(v["grid"]["phi"]["count"], 4);
+    assert_eq!(v["grid"]["theta"]["max_deg"], 90.0);
+    assert_eq!(v["map"]["domain"], "hemisphere");
+    assert_eq!(v["map"]["target_power"], map.target_power());
+    assert_eq!(v["map"]["memory_bytes"], map.memory_bytes());
+    assert_eq!(v["map"]["paper_table_floats"], map.paper_table_floats());
+    assert!(v["map"]["build_time_ms"].as_f64().unwrap() >= 0.0);
+    let (lo, hi) = map.ratio_bound();
+    // serde_json's default parser may be 1 ulp off; the printed text is exact.
+    let rb = v["map"]["ratio_bound"].as_array().unwrap();
+    assert!((rb[0].as_f64().unwrap() - lo).abs() <= 1e-15 * lo);
+    assert!((rb[1].as_f64().unwrap() - hi).abs() <= 1e-15 * hi);
+    assert!(v.get("photometry").is_none());
+    let v: serde_json::Value = serde_json::from_str(&ok(&["info", "example", "--json"])).unwrap();
+    assert_eq!(v["map"]["domain"], "sphere");
+    assert_eq!(v["unit"], "cd");
+    let text = ok(&["info", "example"]);
+    assert!(text.contains("pdf/target") && text.contains("build time"));
+}
+
+#[test]
+fn check_passes_on_a_good_diagram() {
+    let dir = temp_dir("check");
+    let (json, _) = hemi(&dir);
+    let text = ok(&["check", s(&json), "--quick"]);
+    assert!(text.contains("PASS"), "{text}");
+    let v: serde_json::Value = serde_json::from_str(&ok(&[
+        "check", "example", "--quick", "--json", "--seed", "5",
+    ]))
+    .unwrap();
+    assert_eq!(v["passed"], true);
+    assert!(v["options"]["ratio"]["claimed_bound"].is_array());
+    let o = run(&["check", s(&json), "--quick", "--method", "bilinear"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stdout));
+}
+
+#[test]
+fn bad_input_files_give_located_one_line_errors() {
+    let dir = temp_dir("badjson");
+    let bad = dir.join("bad.json");
+    std::fs::write(&bad, "{\n  \"theta_deg\": [0, 90],\n  \"colour\": 1\n}").unwrap();
+    let err = fails(&["info", s(&bad)]);
+    assert!(err.starts_with(&format!("{}:3:", s(&bad))), "{err}");
+    assert!(err.contains("colour"), "{err}");
+    // Valid JSON, invalid diagram: named, no location.
+    std::fs::write(
+        &bad,
+        r#"{"theta_deg": [0, 90], "phi_deg": [0], "values": [[0, 0]]}"#,
+    )
+    .unwrap();
+    let err = fails(&["sample", s(&bad), "-n", "3"]);
+    assert!(
+        err.starts_with("gonio: error:") && err.contains("bad.json"),
+        "{err}"
+    );
+    let err = fails(&["info", s(&dir.join("diagram.txt"))]);
+    assert!(err.contains("unknown input format"), "{err}");
+    let err = fails(&["info", s(&dir.join("missing.JSON"))]);
+    assert!(err.contains("cannot read"), "{err}");
+    let bad_ies = dir.join("bad.IES");
+    std::fs::write(&bad_ies, "IESNA:LM-63-2002\nTILT=NONE\n1 -1 1 x\n").unwrap();
+    let err = fails(&["info", s(&bad_ies)]);
+    assert!(err.starts_with(&format!("{}:", s(&bad_ies))), "{err}");
+    // Usage errors: exit code 2, one line.
+    let o = run(&["sample", "example"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert_eq!(
+        String::from_utf8_lossy(&o.stderr)
+            .trim_end()
+            .lines()
+            .count(),
+        1
+    );
+}
+
+#[test]
+fn convert_round_trips_through_ies_and_ldt() {
+    let dir = temp_dir("convert");
+    let j = dir.join("ex.json");
+    ok(&["convert", "example", s(&j)]);
+    let d0 = Diagram::from_json_str(&std::fs::read_to_string(&j).unwrap()).unwrap();
+    let ex = gonio::synthetic::example_luminaire();
+    assert_eq!(d0.values(), ex.values());
+    // Degrees → radians is not always exact to the last bit.
+    for (a, b) in d0
+        .theta()
+        .iter()
+        .chain(d0.phi())
+        .zip(ex.theta().iter().chain(ex.phi()))
+    {
+        assert!((a - b).abs() < 1e-14);
+    }
+    for ext in ["ies", "ldt"] {
+        let f = dir.join(format!("ex.{ext}"));
+        ok(&["convert", s(&j), s(&f)]);
+        let back = dir.join(format!("back-{ext}.json"));
+        ok(&["convert", s(&f), s(&back)]);
+        let d1 = Diagram::from_json_str(&std::fs::read_to_string(&back).unwrap()).unwrap();
+        assert!((d1.integral() / d0.integral() - 1.0).abs() < 1e-9, "{ext}");
+        let v: serde_json::Value = serde_json::from_str(&ok(&["info", s(&f), "--json"])).unwrap();
+        assert!(v["photometry"]["flux_lm"].as_f64().unwrap() > 0.0);
+    }
+    let err = fails(&["convert", "example", s(&dir.join("x.png"))]);
+    assert!(err.contains("unknown output format"), "{err}");
+    assert!(!dir.join("x.png").exists());
+}
+
+#[test]
+fn tilt_files_are_read_next_to_the_ies_file() {
+    let dir = temp_dir("tilt");
+    let ies = dir.join("lamp.ies");
+    ok(&["convert", "example", s(&ies)]);
+    let text = std::fs::read_to_string(&ies).unwrap();
+    assert!(text.contains("TILT=NONE"));
+    std::fs::write(&ies, text.replace("TILT=NONE", "TILT=lamp.tlt")).unwrap();
+    let err = fails(&["info", s(&ies)]);
+    assert!(err.contains("lamp.tlt"), "{err}");
+    std::fs::write(dir.join("lamp.tlt"), "1\n3\n0 45 90\n0.5 0.6 0.7\n").unwrap();
+    let v: serde_json::Value = serde_json::from_str(&ok(&["info", s(&ies), "--json"])).unwrap();
+    assert!(v["photometry"]["tilt"]
+        .as_str()
+        .unwrap()
+        .contains("lamp.tlt"));
+    assert_eq!(v["photometry"]["intensity_scale"], 0.5);
+}
+
+#[test]
+fn corpus_files_load_sample_and_report() {
+    let Some(corpus) = corpus() else { return };
+    for sub in ["ies", "ldt"] {
+        let mut files: Vec<PathBuf> = std::fs::read_dir(corpus.join(sub))
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.extension().is_some_and(|e| e.eq_ignore_ascii_case(sub)))
+            .collect();
+        files.sort();
+        for f in files.iter().take(3) {
+            let o = run(&["info", s(f), "--json"]);
+            if !o.status.success() {
+                // Files the reader refuses on purpose must still fail cleanly.
+                let err = String::from_utf8_lossy(&o.stderr);
+                assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+                continue;
+            }
+            let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+            let p = &v["photometry"];
+            for key in [
+                "format",
+                "version",
+                "photometric_type",
+                "lamps",
+                "multiplier",
+                "tilt",
+                "stored_vertical",
+                "stored_horizontal",
+                "symmetry",
+                "max_intensity_cd",
+                "flux_lm",
+                "warnings",
+            ] {
+                assert!(p.get(key).is_some(), "{key} in {}", f.display());
+            }
+            assert_eq!(v["map"]["domain"], "sphere");
+            let (_, rows) = csv(&ok(&["sample", s(f), "-n", "200"]));
+            assert_eq!(rows.len(), 200);
+            assert!(rows.iter().all(|r| r[5] >= 0.0));
+        }
+    }
+}
