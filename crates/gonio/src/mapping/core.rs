@@ -62,6 +62,12 @@ pub(crate) struct HdsCore {
     radius_scale: f64,
     /// 1 / (x_{j+1} − x_j), N − 1 entries (0 for an empty segment).
     inv_dx: Vec<f64>,
+    /// Radial guide tables, row-major M × (K + 1) with K = [`HdsCore::radial_k`]: entry (i, k) is
+    /// the largest j ≤ N − 2 with U(i, j) ≤ (k/K)·U(i, N−1), the segment of meridian i's own radial
+    /// CDF at r_B² = k/K. They bracket the forward map's radial search.
+    radial_guide: Vec<u32>,
+    /// K = ⌈N/2⌉ cells per radial guide table.
+    radial_k: usize,
     /// T = ∫_disk D dA (§4.3), in diagram units × disk area.
     total: f64,
     /// The completed diagram; the target density is its (θ, φ)-bilinear interpolant.
@@ -134,6 +140,16 @@ impl HdsCore {
                 }
             })
             .collect();
+        let radial_k = n.div_ceil(2).max(1);
+        let mut radial_guide = Vec::with_capacity(m * (radial_k + 1));
+        for i in 0..m {
+            let row = &u[i * n..(i + 1) * n];
+            for k in 0..=radial_k {
+                let level = k as f64 / radial_k as f64 * row[n - 1];
+                let j = row.partition_point(|&v| v <= level).max(1) - 1;
+                radial_guide.push(j.min(n - 2) as u32);
+            }
+        }
         let target_total = diagram.integral();
         let db_range = density_ratio_range(&diagram, &x);
         HdsCore {
@@ -153,6 +169,8 @@ impl HdsCore {
             radius_guide,
             radius_scale: radius_len as f64 / x_max,
             inv_dx,
+            radial_guide,
+            radial_k,
             total,
             diagram,
             target_total,
@@ -193,7 +211,7 @@ impl HdsCore {
             + self.r2.len()
             + self.cum.len())
             + 8 * self.inv_dx.len()
-            + 4 * (self.wedge_guide.len() + self.radius_guide.len())
+            + 4 * (self.wedge_guide.len() + self.radius_guide.len() + self.radial_guide.len())
             + std::mem::size_of::<Self>()
     }
 
@@ -298,17 +316,32 @@ impl HdsCore {
         let (da, db) = (&self.d[i * n..i * n + n], &self.d[i1 * n..i1 * n + n]);
         let ut = |j: usize| (1.0 - eps) * ua[j] + eps * ub[j];
         let w = rb * rb * ut(n - 1);
-        // largest j ≤ N−2 with Ũ_j ≤ w
-        let (mut lo, mut hi) = (0usize, n - 1);
-        while hi - lo > 1 {
-            let mid = (lo + hi) / 2;
+        // Largest j ≤ N−2 with Ũ_j ≤ w. Ũ/Ũ_{N−1} is a convex combination of the two rows'
+        // normalised cumulatives, so the answer lies between the rows' own answers for r_B², which
+        // the radial guide tables bracket: j ∈ [min(g_a[k], g_b[k]), max(g_a[k+1], g_b[k+1])].
+        let kg = self.radial_k;
+        let k = ((rb * rb * kg as f64) as usize).min(kg - 1);
+        let (ga, gb) = (
+            &self.radial_guide[i * (kg + 1)..(i + 1) * (kg + 1)],
+            &self.radial_guide[i1 * (kg + 1)..(i1 + 1) * (kg + 1)],
+        );
+        let (mut lo, mut hi) = (ga[k].min(gb[k]) as usize, ga[k + 1].max(gb[k + 1]) as usize);
+        while hi > lo {
+            let mid = (lo + hi + 1) / 2;
             if ut(mid) <= w {
                 lo = mid;
             } else {
-                hi = mid;
+                hi = mid - 1;
             }
         }
-        let j = lo;
+        let mut j = lo;
+        // Round-off may move the answer just outside the bracket: settle it exactly.
+        while j > 0 && ut(j) > w {
+            j -= 1;
+        }
+        while j + 2 < n && ut(j + 1) <= w {
+            j += 1;
+        }
         let d0 = (1.0 - eps) * da[j] + eps * db[j];
         let d1 = (1.0 - eps) * da[j + 1] + eps * db[j + 1];
         let (x0, x1) = (self.x[j], self.x[j + 1]);
