@@ -327,7 +327,7 @@ impl HdsCore {
         );
         let (mut lo, mut hi) = (ga[k].min(gb[k]) as usize, ga[k + 1].max(gb[k + 1]) as usize);
         while hi > lo {
-            let mid = (lo + hi + 1) / 2;
+            let mid = (lo + hi).div_ceil(2);
             if ut(mid) <= w {
                 lo = mid;
             } else {
