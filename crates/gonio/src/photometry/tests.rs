@@ -778,7 +778,12 @@ fn dir_tilt_resolver_reads_next_to_the_file() {
     let t = "IESNA91\nTILT=t.tlt\n1 1000 1 2 1 1 2 0 0 0\n1 1 10\n0 90\n0\n10 4\n";
     let p = read(t.as_bytes(), FileFormat::Ies, &r).unwrap();
     assert_eq!(p.candela, vec![5.0, 2.0]);
-    let e = read(t.replace("t.tlt", "absent.tlt").as_bytes(), FileFormat::Ies, &r).unwrap_err();
+    let e = read(
+        t.replace("t.tlt", "absent.tlt").as_bytes(),
+        FileFormat::Ies,
+        &r,
+    )
+    .unwrap_err();
     assert_eq!((e.line, e.column), (2, 6));
     assert!(e.message.contains("absent.tlt"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
