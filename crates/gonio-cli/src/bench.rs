@@ -102,6 +102,7 @@ pub fn run(args: &crate::args::BenchArgs) -> Result<()> {
     let loaded = crate::load::load(&args.input)?;
     let report = run_bench(
         &loaded.diagram,
+        loaded.domain(),
         &args.input,
         &args.methods(),
         args.samples,
@@ -118,12 +119,14 @@ pub fn run(args: &crate::args::BenchArgs) -> Result<()> {
 /// Measures every method of `methods` on `diagram` with `samples` points per measurement, the
 /// batch on `threads` threads (all logical cores when `None`).
 ///
-/// The HDS sampler is a [`HemisphereMap`] when the diagram lies within θ ≤ 90°, else a
-/// [`SphereMap`]; the baselines are built for the same domain. A method that cannot be built (for
+/// The HDS sampler is a [`HemisphereMap`] for `Domain::Hemisphere` (the diagram must lie within
+/// θ ≤ 90°), else a [`SphereMap`]; the baselines are built for the same domain (the CLI passes
+/// `load::domain`, so photometric files are always measured on the sphere). A method that cannot be built (for
 /// example rejection sampling of a very peaked diagram) is reported with its error; only a failure
 /// to set up the measurement itself is an `Err`.
 pub fn run_bench(
     diagram: &Diagram,
+    domain: Domain,
     label: &str,
     methods: &[Method],
     samples: usize,
@@ -144,13 +147,7 @@ pub fn run_bench(
         .build()
         .context("building the batch thread pool")?;
 
-    let hemisphere =
-        *diagram.theta().last().expect("a diagram has parallels") <= std::f64::consts::FRAC_PI_2;
-    let domain = if hemisphere {
-        Domain::Hemisphere
-    } else {
-        Domain::Sphere
-    };
+    let hemisphere = domain == Domain::Hemisphere;
     let mut points = vec![[0.0; 2]; samples];
     Halton::with_skip(1).fill(0, &mut points);
 
@@ -498,7 +495,7 @@ mod tests {
     fn report_has_every_method_and_serialises() {
         let d =
             gonio::synthetic::random_hemisphere(gonio::synthetic::Family::Lobes, 7, 8, false, 1);
-        let r = run_bench(&d, "toy", &Method::ALL, 512, Some(2)).unwrap();
+        let r = run_bench(&d, Domain::Hemisphere, "toy", &Method::ALL, 512, Some(2)).unwrap();
         assert_eq!(r.methods.len(), Method::ALL.len());
         for m in &r.methods {
             assert!(m.error.is_some() || m.forward_ns.unwrap() > 0.0, "{m:?}");
@@ -517,7 +514,15 @@ mod tests {
     #[test]
     fn sphere_diagram_uses_the_sphere_domain() {
         let d = gonio::synthetic::example_luminaire();
-        let r = run_bench(&d, "example", &[Method::Hds, Method::Uniform], 256, Some(1)).unwrap();
+        let r = run_bench(
+            &d,
+            Domain::Sphere,
+            "example",
+            &[Method::Hds, Method::Uniform],
+            256,
+            Some(1),
+        )
+        .unwrap();
         assert_eq!(r.domain, "sphere");
         assert!(r.methods.iter().all(|m| m.error.is_none()));
     }
