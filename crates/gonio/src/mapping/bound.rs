@@ -20,7 +20,10 @@
 //!    on any sub-interval [θ_a, θ_b], which bounds |∂(D/B)/∂θ| there by interval arithmetic, and the
 //!    mean value theorem gives D/B ≤ (D/B)(mid) + max|∂(D/B)/∂θ|·(θ_b − θ_a)/2. The search refines
 //!    until this bound is within 1e-10 of the best value seen (or a budget of 20,000 evaluations per
-//!    segment is spent, which leaves a looser but still valid bound), and returns the bound itself.
+//!    segment is spent, which leaves a looser but still valid bound), and returns the bound itself,
+//!    capped by the closed-form limits of fact 2, which hold for every ρ and are the tight ones when
+//!    ρ is extreme (a cosine lobe falling from 1 to 1e-20 within one cell: the branch and bound would
+//!    need ~log2 ρ levels there).
 //!
 //! The result is therefore an upper (lower) bound, not a sampled estimate, and tight to ~1e-10.
 //! A relative margin of 1e-12 covers round-off in evaluating s and t.
@@ -68,7 +71,7 @@ pub(crate) fn density_ratio_range(diagram: &Diagram, x: &[f64]) -> (f64, f64) {
         let (h, dx) = (t1 - t0, x1 - x0);
         let s = |t: f64| ((parallel_radius(t) - x0) / dx).clamp(0.0, 1.0);
         let tt = |t: f64| ((t - t0) / h).clamp(0.0, 1.0);
-        let slope = |t: f64| FRAC_1_SQRT_2 * (0.5 * t).cos() * h / dx;
+        let slope_cap = |t: f64| FRAC_1_SQRT_2 * (0.5 * t).cos() * h / dx;
         let (mut rho_max, mut rho_min) = (1.0f64, 1.0f64);
         let (mut a_zero, mut b_zero) = (false, false);
         for i in 0..m {
@@ -84,10 +87,10 @@ pub(crate) fn density_ratio_range(diagram: &Diagram, x: &[f64]) -> (f64, f64) {
             }
         }
         if a_zero {
-            hi = hi.max(slope(t0));
+            hi = hi.max(slope_cap(t0));
         }
         if b_zero {
-            lo = lo.min(slope(t1));
+            lo = lo.min(slope_cap(t1));
         }
         // s′ = x′(θ)/Δx is decreasing (x concave); t′ = 1/h.
         let ds = |t: f64| FRAC_1_SQRT_2 * (0.5 * t).cos() / dx;
@@ -103,7 +106,9 @@ pub(crate) fn density_ratio_range(diagram: &Diagram, x: &[f64]) -> (f64, f64) {
                 let hi_num = ds(a) * d_hi - dt * n_lo;
                 c * lo_num.abs().max(hi_num.abs()) / (d_lo * d_lo)
             };
-            hi = hi.max(supremum(g, slope, t0, t1));
+            // g(θ; ρ) ≤ g(θ; ∞) = s/t ≤ x′(θ_j)Δθ/Δx (fact 2): a closed-form cap that keeps the
+            // bound tight where the branch and bound would need ~log2(ρ) levels (ρ up to 1e20+).
+            hi = hi.max(supremum(g, slope, t0, t1).min(slope_cap(t0)));
         }
         if rho_min < 1.0 {
             // minimise (1 − s c)/(1 − t c): maximise g = N/Dn, N = 1 − t c, Dn = 1 − s c (both
@@ -117,7 +122,8 @@ pub(crate) fn density_ratio_range(diagram: &Diagram, x: &[f64]) -> (f64, f64) {
                 let hi_num = ds(a) * n_hi - dt * d_lo;
                 c * lo_num.abs().max(hi_num.abs()) / (d_lo * d_lo)
             };
-            lo = lo.min(1.0 / supremum(g, slope, t0, t1));
+            // likewise g(θ; ρ) ≥ g(θ; 0) = (1 − s)/(1 − t) ≥ x′(θ_{j+1})Δθ/Δx.
+            lo = lo.min((1.0 / supremum(g, slope, t0, t1)).max(slope_cap(t1)));
         }
     }
     (lo * (1.0 - MARGIN), hi * (1.0 + MARGIN))
