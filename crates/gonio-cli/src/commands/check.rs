@@ -4,7 +4,7 @@ use crate::args::CheckArgs;
 use crate::load::{build_hds, build_sampler, load};
 use crate::progress::Progress;
 use gonio::baselines::Method;
-use gonio::check::{run_battery_with_progress, BatteryOptions};
+use gonio::check::{cell_boundary_points, run_battery_with_progress, BatteryOptions};
 
 /// Runs `gonio check`; `Ok(true)` when every item passed.
 pub fn run(a: &CheckArgs) -> anyhow::Result<bool> {
@@ -30,6 +30,12 @@ pub fn run(a: &CheckArgs) -> anyhow::Result<bool> {
         opts.flux_total = loaded.diagram.integral();
         build_sampler(a.method, &loaded)?
     };
+    // The round trip also runs on the preimages of the diagram's cell boundaries.
+    opts.round_trip.extra_points = cell_boundary_points(
+        sampler.as_ref(),
+        &loaded.diagram,
+        if a.quick { 16 } else { 64 },
+    );
     let progress = Progress::fraction("check");
     let report = run_battery_with_progress(sampler.as_ref(), &opts, &|item, f| {
         progress.set_fraction(f, item)

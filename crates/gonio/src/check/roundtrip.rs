@@ -21,6 +21,10 @@ pub struct RoundTripOptions {
     pub points_per_line: usize,
     /// Largest accepted max(|u′ − u|, |v′ − v|).
     pub tolerance: f64,
+    /// Further points of the square to test, e.g. the preimages of the diagram's cell boundaries
+    /// from [`cell_boundary_points`] (not serialised; their number is in the report).
+    #[serde(skip)]
+    pub extra_points: Vec<Point2>,
 }
 
 impl Default for RoundTripOptions {
@@ -32,6 +36,7 @@ impl Default for RoundTripOptions {
             lines: 16,
             points_per_line: 257,
             tolerance: 1e-8,
+            extra_points: Vec::new(),
         }
     }
 }
@@ -65,6 +70,8 @@ pub struct RoundTripReport {
     pub worst_inverse: Option<Point2>,
     /// The tolerance applied.
     pub tolerance: f64,
+    /// How many of the points were [`RoundTripOptions::extra_points`] (cell boundaries).
+    pub extra_points: usize,
 }
 
 #[derive(Default)]
@@ -170,7 +177,8 @@ pub(crate) fn round_trip_with_progress(
     progress: &dyn Fn(f64),
 ) -> RoundTripReport {
     let seq = Sequence::new(opts.sequence, opts.seed);
-    let lines = line_points(opts.lines, opts.points_per_line);
+    let mut lines = line_points(opts.lines, opts.points_per_line);
+    lines.extend_from_slice(&opts.extra_points);
     let total = opts.points + lines.len();
     let mut acc = Acc::default();
     let mut pts = vec![[0.0; 2]; super::CHUNK.min(total)];
@@ -212,6 +220,7 @@ pub(crate) fn round_trip_with_progress(
         worst_point: acc.worst.map(|w| w.0),
         worst_inverse: acc.worst.map(|w| w.1),
         tolerance: opts.tolerance,
+        extra_points: opts.extra_points.len(),
     };
     r.message = if acc.unsupported {
         r.status = Status::NotApplicable;
@@ -240,13 +249,61 @@ pub(crate) fn round_trip_with_progress(
     r
 }
 
+/// Points of the square on the preimages of the cell boundaries of `diagram`: for every parallel
+/// θ_j and every meridian φ_i, `per_line` directions along it (within the sampler's domain) are
+/// inverted by the sampler. These are where the map's pieces meet (kinks of the radial and angular
+/// stages), so they are the points most likely to expose an inverse that picks the wrong cell.
+/// Empty when the sampler has no inverse. Directions of zero pdf are left out.
+pub fn cell_boundary_points(
+    sampler: &dyn Sampler,
+    diagram: &crate::Diagram,
+    per_line: usize,
+) -> Vec<Point2> {
+    let (theta, phi) = (diagram.theta(), diagram.phi());
+    let t_max = match sampler.domain() {
+        crate::Domain::Hemisphere => std::f64::consts::FRAC_PI_2,
+        crate::Domain::Sphere => std::f64::consts::PI,
+    };
+    let steps = per_line.max(2);
+    let mut dirs = Vec::with_capacity((theta.len() + phi.len()) * steps);
+    for &t in theta.iter().filter(|&&t| t <= t_max) {
+        for k in 0..steps {
+            let p = std::f64::consts::TAU * (k as f64 + 0.5) / steps as f64;
+            dirs.push(crate::sampler::direction(t, p));
+        }
+    }
+    for &p in phi {
+        for k in 0..steps {
+            let t = t_max * (k as f64 + 0.5) / steps as f64;
+            dirs.push(crate::sampler::direction(t, p));
+        }
+    }
+    let mut out = Vec::with_capacity(dirs.len());
+    for d in dirs {
+        if sampler.pdf(d) <= 0.0 {
+            continue;
+        }
+        match sampler.invert(d) {
+            Ok(u) if u[0].is_finite() && u[1].is_finite() => out.push(u),
+            Err(InvertError::Unsupported) => return Vec::new(),
+            _ => {}
+        }
+    }
+    out
+}
+
 impl RoundTripReport {
     /// One line for the human-readable summary.
     pub fn summary(&self) -> String {
         format!(
-            "max |invert(sample(u)) - u| = {:.3e} over {} points ({} on seams, {} skipped at \
-             pdf 0) — {}",
-            self.max_error, self.tested, self.seam_points, self.skipped_zero_pdf, self.message
+            "max |invert(sample(u)) - u| = {:.3e} over {} points ({} on cell boundaries, {} on \
+             seams, {} skipped at pdf 0) — {}",
+            self.max_error,
+            self.tested,
+            self.extra_points,
+            self.seam_points,
+            self.skipped_zero_pdf,
+            self.message
         )
     }
 }
