@@ -4,7 +4,8 @@
 //! α = 0.01 with the Šidák correction (per-test threshold 1 − (1 − α)^(1/K)); seeds are fixed.
 
 use gonio::check::{
-    chi_square_points, chi_square_test, run_battery, BatteryOptions, ChiSquareOptions,
+    cell_boundary_points, chi_square_points, chi_square_test, run_battery, BatteryOptions,
+    ChiSquareOptions,
 };
 use gonio::mapping::SphereLayout;
 use gonio::sequence::{Halton, Sequence};
@@ -101,16 +102,23 @@ fn chi_square_iid_passes_and_halton_is_far_below_one() {
 /// the build-time ratio bound as the claimed bound.
 #[test]
 fn battery_passes_with_the_claimed_bound() {
-    let hemi = HemisphereMap::new(&random_hemisphere(Family::Lobes, 10, 12, true, 77)).unwrap();
-    let split = SphereMap::new(&example_luminaire()).unwrap();
-    let lambert = SphereMap::with_layout(&random_sphere(9, 7, 3), SphereLayout::Lambert).unwrap();
-    let list: [(&str, &dyn Sampler, (f64, f64)); 3] = [
-        ("hemisphere", &hemi, hemi.ratio_bound()),
-        ("split sphere", &split, split.ratio_bound()),
-        ("lambert sphere", &lambert, lambert.ratio_bound()),
+    let (dh, ds, dl) = (
+        random_hemisphere(Family::Lobes, 10, 12, true, 77),
+        example_luminaire(),
+        random_sphere(9, 7, 3),
+    );
+    let hemi = HemisphereMap::new(&dh).unwrap();
+    let split = SphereMap::new(&ds).unwrap();
+    let lambert = SphereMap::with_layout(&dl, SphereLayout::Lambert).unwrap();
+    let list: [(&str, &dyn Sampler, (f64, f64), &Diagram); 3] = [
+        ("hemisphere", &hemi, hemi.ratio_bound(), &dh),
+        ("split sphere", &split, split.ratio_bound(), &ds),
+        ("lambert sphere", &lambert, lambert.ratio_bound(), &dl),
     ];
-    for (k, (name, s, bound)) in list.into_iter().enumerate() {
+    for (k, (name, s, bound, d)) in list.into_iter().enumerate() {
         let mut opts = BatteryOptions::quick().with_seed(3 + k as u64);
+        opts.round_trip.extra_points = cell_boundary_points(s, d, 16);
+        assert!(opts.round_trip.extra_points.len() > 100, "{name}");
         opts.chi_square.tests = 3;
         opts.ratio.claimed_bound = Some(bound);
         if name == "lambert sphere" {

@@ -266,7 +266,11 @@ pub fn cell_boundary_points(
     };
     let steps = per_line.max(2);
     let mut dirs = Vec::with_capacity((theta.len() + phi.len()) * steps);
-    for &t in theta.iter().filter(|&&t| t <= t_max) {
+    // Parallels at the poles are single directions, not lines: left out.
+    for &t in theta
+        .iter()
+        .filter(|&&t| t > 0.0 && t < std::f64::consts::PI && t <= t_max)
+    {
         for k in 0..steps {
             let p = std::f64::consts::TAU * (k as f64 + 0.5) / steps as f64;
             dirs.push(crate::sampler::direction(t, p));
