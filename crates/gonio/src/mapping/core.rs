@@ -237,31 +237,26 @@ impl HdsCore {
     /// skipped by taking the last such i), found from the guide table.
     #[inline]
     fn wedge(&self, phib: f64) -> usize {
-        let k = ((phib * self.guide_scale) as usize).min(self.wedge_guide.len() - 1);
-        let mut i = self.wedge_guide[k] as usize;
-        // The guide's cell start may round to either side of φ_B: step back, then forward.
-        while i > 0 && self.cum[i] > phib {
-            i -= 1;
-        }
-        while i + 1 < self.m && self.cum[i + 1] <= phib {
-            i += 1;
-        }
-        i
+        guided_search(
+            &self.cum,
+            &self.wedge_guide,
+            self.guide_scale,
+            phib,
+            self.m - 1,
+        )
     }
 
     /// The segment of the parallel radii that holds disk radius `xr` (as `diagram::segment`: the
     /// largest j ≤ N − 2 with x_j ≤ xr), found from the guide table.
     #[inline]
     fn radial_segment(&self, xr: f64) -> usize {
-        let k = ((xr * self.radius_scale) as usize).min(self.radius_guide.len() - 1);
-        let mut j = self.radius_guide[k] as usize;
-        while j > 0 && self.x[j] > xr {
-            j -= 1;
-        }
-        while j + 2 < self.n && self.x[j + 1] <= xr {
-            j += 1;
-        }
-        j
+        guided_search(
+            &self.x,
+            &self.radius_guide,
+            self.radius_scale,
+            xr,
+            self.n - 2,
+        )
     }
 
     #[inline]
@@ -403,6 +398,22 @@ impl HdsCore {
         let (i, eps) = self.sector(p);
         super::angular::star_radius2(self.r2[i], self.r2[i + 1], eps)
     }
+}
+
+/// The largest i ≤ `last` with a_i ≤ x (0 if none), for non-decreasing `a`, starting from the guess
+/// of a guide table whose cell k covers [k, k + 1)/`scale`. The guess may round to either side of x:
+/// step back, then forward; on a well-built guide both loops run at most a step or two.
+#[inline]
+fn guided_search(a: &[f64], guide: &[u32], scale: f64, x: f64, last: usize) -> usize {
+    let k = ((x * scale) as usize).min(guide.len() - 1);
+    let mut i = (guide[k] as usize).min(last);
+    while i > 0 && a[i] > x {
+        i -= 1;
+    }
+    while i < last && a[i + 1] <= x {
+        i += 1;
+    }
+    i
 }
 
 #[cfg(test)]
