@@ -223,16 +223,6 @@ fn invalid_file_fails_with_its_line() {
 }
 
 /// The images of stored plane angle `c` under a symmetry (independent of the library's rule).
-fn images(sym: Symmetry, c: f64) -> Vec<f64> {
-    match sym {
-        Symmetry::Quadrant => vec![c, 180.0 - c, 180.0 + c, 360.0 - c],
-        Symmetry::BilateralC0C180 => vec![c, 360.0 - c],
-        Symmetry::BilateralC90C270 => vec![c, 180.0 - c],
-        Symmetry::Rotational => vec![c, 37.0, 123.4, 301.0],
-        _ => vec![c],
-    }
-}
-
 #[test]
 fn type_c_nodes_are_kept_exactly() {
     let Some(dir) = common::corpus_dir() else {
@@ -262,7 +252,7 @@ fn type_c_nodes_are_kept_exactly() {
                 }
                 let want = p.raw_values[h * nv + k] * p.intensity_scale;
                 let theta = (180.0 - g).to_radians();
-                for img in images(p.symmetry, c) {
+                for img in common::images(p.symmetry, c) {
                     let got = d.interpolate(theta, img.rem_euclid(360.0).to_radians());
                     assert!(
                         (got - want).abs() <= 1e-12 * want.abs(),

@@ -8,7 +8,7 @@
 mod common;
 
 use gonio::check::{chi_square_test, ChiSquareOptions};
-use gonio::photometry::{read, DirTiltResolver, FileFormat, PhotometricType, Photometry, Symmetry};
+use gonio::photometry::{read, DirTiltResolver, FileFormat, PhotometricType, Photometry};
 use gonio::{Sampler, SphereMap};
 use rand::{Rng, SeedableRng};
 use std::path::{Path, PathBuf};
@@ -35,16 +35,6 @@ fn load(path: &Path) -> Photometry {
     let fmt = FileFormat::from_path_extension(path).unwrap();
     read(&bytes, fmt, &DirTiltResolver::new(path.parent().unwrap()))
         .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
-}
-
-fn images(sym: Symmetry, c: f64) -> Vec<f64> {
-    match sym {
-        Symmetry::Quadrant => vec![c, 180.0 - c, 180.0 + c, 360.0 - c],
-        Symmetry::BilateralC0C180 => vec![c, 360.0 - c],
-        Symmetry::BilateralC90C270 => vec![c, 180.0 - c],
-        Symmetry::Rotational => vec![c, 37.0, 123.4, 301.0],
-        _ => vec![c],
-    }
 }
 
 #[test]
@@ -74,7 +64,7 @@ fn pdf_at_measured_nodes_is_candela_times_one_constant() {
                     continue; // poles
                 }
                 let cd = p.raw_values[h * nv + k] * p.intensity_scale;
-                for img in images(p.symmetry, c) {
+                for img in common::images(p.symmetry, c) {
                     let (gr, cr) = (g.to_radians(), img.to_radians());
                     // the photometric frame: γ = 0 is −z, C = 0 along +x
                     let om = [gr.sin() * cr.cos(), gr.sin() * cr.sin(), -gr.cos()];
