@@ -110,7 +110,8 @@ fn battery_passes_with_the_claimed_bound() {
     let hemi = HemisphereMap::new(&dh).unwrap();
     let split = SphereMap::new(&ds).unwrap();
     let lambert = SphereMap::with_layout(&dl, SphereLayout::Lambert).unwrap();
-    let list: [(&str, &dyn Sampler, (f64, f64), &Diagram); 3] = [
+    type Case<'a> = (&'a str, &'a dyn Sampler, (f64, f64), &'a Diagram);
+    let list: [Case; 3] = [
         ("hemisphere", &hemi, hemi.ratio_bound(), &dh),
         ("split sphere", &split, split.ratio_bound(), &ds),
         ("lambert sphere", &lambert, lambert.ratio_bound(), &dl),
