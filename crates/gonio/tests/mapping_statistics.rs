@@ -172,4 +172,11 @@ fn one_sided_diagrams_sample_one_hemisphere() {
     }
     assert_eq!(map.pdf([0.0, 0.0, 1.0]), 0.0);
     assert_eq!(map.pdf([0.6, 0.0, 0.8]), 0.0);
+    // The horizon belongs to the lower map here, whatever the sign of the zero.
+    for z in [0.0, -0.0] {
+        let h = [0.0, 1.0, z];
+        assert!(map.pdf(h) > 0.0);
+        let u = map.invert(h).unwrap();
+        assert!(map.sample(u).direction[1] > 1.0 - 1e-12);
+    }
 }

@@ -56,6 +56,12 @@ fn mirror(d: Vec3) -> Vec3 {
     [d[0], d[1], -d[2]]
 }
 
+/// Whether direction `d` is served by the lower map of a split layout: z < 0, or z = ±0 (the
+/// horizon, which both maps share with equal values there) when there is no upper map.
+fn lower_side(d: Vec3, has_upper: bool) -> bool {
+    d[2] < 0.0 || (d[2] == 0.0 && !has_upper)
+}
+
 impl SphereMap {
     /// Builds the map with the default [`SphereLayout::Split`] layout.
     ///
@@ -158,7 +164,7 @@ impl SphereMap {
     fn target_value(&self, d: Vec3) -> f64 {
         match &self.layout {
             Layout::Split { upper, lower, .. } => {
-                let (core, dir) = if d[2] < 0.0 {
+                let (core, dir) = if lower_side(d, upper.is_some()) {
                     (lower, mirror(d))
                 } else {
                     (upper, d)
@@ -221,7 +227,7 @@ impl Sampler for SphereMap {
     fn pdf(&self, d: Vec3) -> f64 {
         let dens = match &self.layout {
             Layout::Split { upper, lower, .. } => {
-                if d[2] < 0.0 {
+                if lower_side(d, upper.is_some()) {
                     lower.as_ref().map_or(0.0, |c| c.density(mirror(d)))
                 } else {
                     upper.as_ref().map_or(0.0, |c| c.density(d))
@@ -241,7 +247,7 @@ impl Sampler for SphereMap {
                 lower,
                 p_lower,
             } => {
-                if d[2] < 0.0 {
+                if lower_side(d, upper.is_some()) {
                     let l = lower.as_ref().ok_or(InvertError::OutsideDomain)?;
                     let w = l.invert(mirror(d));
                     Ok([w[0] * p_lower, w[1]])
