@@ -19,7 +19,7 @@ use gonio::Diagram;
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use statrs::distribution::{ChiSquared, ContinuousCDF};
-use std::f64::consts::PI;
+use std::f64::consts::{FRAC_PI_2, PI};
 
 const ALPHA: f64 = 0.01;
 const CHI2_SAMPLES: usize = 100_000;
@@ -491,4 +491,136 @@ fn chi_square_detects_a_wrong_density() {
         3,
     );
     assert!(p < 1e-6, "p = {p}");
+}
+
+/// Diagrams that leave most pixels of the piecewise-constant image empty: rows and columns of zero
+/// probability next to positive ones, where a sample on a pixel edge used to be attributed by
+/// `pdf` and `invert` to the empty neighbour.
+fn sparse_cases() -> Vec<Case> {
+    let h = Domain::Hemisphere;
+    let s = Domain::Sphere;
+    vec![
+        Case {
+            name: "narrow beam (θ ≤ 3°)/sphere",
+            diagram: build(&[0.0, 1.0, 2.0, 3.0, 4.0, 180.0], &[0.0], |t, _| {
+                if t <= 3f64.to_radians() {
+                    1.0
+                } else {
+                    0.0
+                }
+            }),
+            domain: s,
+        },
+        Case {
+            name: "lower hemisphere only/sphere",
+            diagram: build(&grid(5.0, 180.0), &[0.0], |t, _| (-t.cos()).max(0.0)),
+            domain: s,
+        },
+        Case {
+            name: "sideways peak in one quadrant/sphere",
+            diagram: build(&grid(10.0, 180.0), &grid(30.0, 330.0), |t, p| {
+                if (0.0..=FRAC_PI_2).contains(&p) {
+                    t.sin().powi(4)
+                } else {
+                    0.0
+                }
+            }),
+            domain: s,
+        },
+        Case {
+            name: "narrow beam off axis, one quadrant/hemisphere",
+            diagram: build(&grid(5.0, 90.0), &grid(30.0, 330.0), |t, p| {
+                if (40f64.to_radians()..=55f64.to_radians()).contains(&t)
+                    && (0.0..=FRAC_PI_2).contains(&p)
+                {
+                    1.0
+                } else {
+                    0.0
+                }
+            }),
+            domain: h,
+        },
+    ]
+}
+
+/// `invert(sample(u))` returns u (or a u′ sampling the same direction, where the map is not
+/// injective) and `pdf(sample(u).direction) == sample(u).pdf` exactly, for u on the square's edges
+/// (u = 1 reaches the far edge of the last pixel of positive probability) and at the preimages of
+/// pixel edges and corners (u exactly at a CDF breakpoint, next to empty rows and columns).
+#[test]
+fn piecewise_constant_round_trip_on_pixel_edges() {
+    use gonio::baselines::equal_area::{
+        equal_area_square_to_hemisphere, equal_area_square_to_sphere,
+    };
+    let mut failures = Vec::new();
+    for case in cases().into_iter().chain(sparse_cases()) {
+        let what = case.name;
+        let s = PiecewiseConstant::new(&case.diagram, case.domain).unwrap();
+        let n = s.resolution();
+        let map = match case.domain {
+            Domain::Hemisphere => equal_area_square_to_hemisphere,
+            Domain::Sphere => equal_area_square_to_sphere,
+        };
+        let nf = n as f64;
+        let mut us = Vec::new();
+        for i in 0..=n {
+            for j in 0..=n {
+                let (a, b) = (i as f64 / nf, j as f64 / nf);
+                let mid = (j as f64 + 0.5) / nf;
+                for p in [[a, b], [a, mid], [mid, a]] {
+                    if let Ok(u) = s.invert(map(p)) {
+                        us.push(u);
+                    }
+                }
+            }
+        }
+        let k = 64;
+        for i in 0..=k {
+            for j in 0..=256 {
+                let (a, b) = (i as f64 / k as f64, j as f64 / 256.0);
+                us.push([a, b]);
+                us.push([b, a]);
+            }
+        }
+        let (mut tested, mut pdf_bad, mut trip_bad) = (0, 0, 0);
+        let mut first = None;
+        for u in us {
+            let smp = s.sample(u);
+            if s.pdf(smp.direction) != smp.pdf {
+                pdf_bad += 1;
+                first.get_or_insert(format!(
+                    "pdf {} ≠ sample pdf {} at u = {u:?}",
+                    s.pdf(smp.direction),
+                    smp.pdf
+                ));
+            }
+            if smp.pdf == 0.0 {
+                continue;
+            }
+            tested += 1;
+            let v = s.invert(smp.direction).unwrap();
+            let e = (v[0] - u[0]).abs().max((v[1] - u[1]).abs());
+            if e > INVERT_TOL {
+                let d = s.sample(v).direction;
+                let dd = (0..3)
+                    .map(|i| (d[i] - smp.direction[i]).abs())
+                    .fold(0.0, f64::max);
+                if dd > 1e-12 {
+                    trip_bad += 1;
+                    first.get_or_insert(format!("invert(sample({u:?})) = {v:?}"));
+                }
+            }
+        }
+        failures.extend((pdf_bad + trip_bad > 0).then(|| {
+            format!(
+                "{what}: {pdf_bad} pdf mismatches, {trip_bad} round-trip failures of {tested}; first: {}",
+                first.unwrap_or_default()
+            )
+        }));
+        assert!(
+            tested > 10_000,
+            "{what}: only {tested} points of positive pdf"
+        );
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
 }

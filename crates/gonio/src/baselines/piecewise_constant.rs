@@ -45,9 +45,11 @@ pub const SUPERSAMPLING: usize = 4;
 /// pixels where the target varies; a pixel whose average is positive but that contains directions of
 /// zero target (at the edge of a beam or of the diagram's θ range) gives those directions pdf > 0;
 /// a pixel whose sub-pixel points all miss a narrow positive feature gives it pdf = 0 (biased).
-/// Pixels of value 0 are never sampled. Samples on pixel boundaries (a set of measure zero) report
-/// the density of the pixel they were drawn from, which [`Sampler::pdf`] may attribute to the
-/// neighbouring pixel; `invert` is discontinuous across row boundaries in u₀.
+/// Pixels of value 0 are never sampled. A sample drawn on an edge of its pixel (u at a CDF
+/// breakpoint, u = 1, the fold lines of Clarberg's map) is moved into the pixel by a few ulps where
+/// the rounding of m⁻¹(m(p)) would otherwise give the neighbouring pixel, so [`Sampler::pdf`] and
+/// `invert` always see the sampled pixel: `pdf(sample(u).direction) == sample(u).pdf` exactly and
+/// `invert(sample(u)) = u` to ~1e-13. `invert` is discontinuous across row boundaries in u₀.
 #[derive(Debug, Clone)]
 pub struct PiecewiseConstant {
     target: Target,
@@ -156,13 +158,45 @@ impl PiecewiseConstant {
         (idx(p[1]), idx(p[0]))
     }
 
+    /// m⁻¹ of a direction, normalised first; `None` outside the domain (or for a zero or
+    /// non-finite vector). `pdf`, `invert` and the edge test of `sample` all go through here, so
+    /// they agree on the pixel of every direction.
     #[inline]
-    fn to_square(&self, d: Vec3) -> Point2 {
-        match self.target.domain {
+    fn square_point(&self, direction: Vec3) -> Option<Point2> {
+        let d = normalize(direction)?;
+        if !self.target.domain.contains(d) {
+            return None;
+        }
+        Some(match self.target.domain {
             Domain::Hemisphere => equal_area_hemisphere_to_square(d),
             Domain::Sphere => equal_area_sphere_to_square(d),
+        })
+    }
+
+    /// The pixel (row, column) of a direction, as `pdf` and `invert` see it.
+    #[inline]
+    fn locate(&self, direction: Vec3) -> Option<(usize, usize)> {
+        self.square_point(direction).map(|p| self.pixel(p))
+    }
+
+    /// m: the square point `p` as a direction.
+    #[inline]
+    fn to_direction(&self, p: Point2) -> Vec3 {
+        match self.target.domain {
+            Domain::Hemisphere => equal_area_square_to_hemisphere(p),
+            Domain::Sphere => equal_area_square_to_sphere(p),
         }
     }
+}
+
+/// Offsets within a pixel (in pixel units) closer than this to 0 or 1 are checked in `sample`:
+/// far above the round-trip error of the equal-area maps (~1e-15 pixel at R = 4096), far below
+/// any offset a random u gives except with probability ~4e-6.
+const EDGE: f64 = 1e-6;
+
+#[inline]
+fn near_edge(t: f64) -> bool {
+    !(EDGE..=1.0 - EDGE).contains(&t)
 }
 
 /// The equal-area map of the domain (area = the domain's solid angle).
@@ -185,32 +219,51 @@ impl Sampler for PiecewiseConstant {
         let (r, dv) = invert_cdf(&self.marginal, self.marginal_last, clamp_unit(u[1]));
         let row = &self.conditional[r * (n + 1)..(r + 1) * (n + 1)];
         let (c, du) = invert_cdf(row, self.conditional_last[r] as usize, clamp_unit(u[0]));
-        let p = [(c as f64 + du) / n as f64, (r as f64 + dv) / n as f64];
-        let direction = match self.target.domain {
-            Domain::Hemisphere => equal_area_square_to_hemisphere(p),
-            Domain::Sphere => equal_area_square_to_sphere(p),
-        };
+        let nf = n as f64;
+        let mut p = [(c as f64 + du) / nf, (r as f64 + dv) / nf];
+        let mut direction = self.to_direction(p);
+        // On (or within rounding of) an edge of pixel (r, c), m⁻¹(m(p)) may fall in the
+        // neighbouring pixel (e.g. dv = 0 gives p₁ = r/R exactly, and m⁻¹ may return r/R − 1 ulp;
+        // u = 1 gives the far edge of the last positive pixel), whose density and CDFs differ — it
+        // may even have probability 0. `pdf` and `invert` must see the pixel that was sampled, so
+        // move p into the pixel by the smallest step (from 1 ulp, doubling) that makes them agree.
+        // Away from the edges the round trip of the map (error ~1e-16) cannot leave the pixel.
+        if near_edge(du) || near_edge(dv) {
+            let (c0, r0) = (c as f64 / nf, r as f64 / nf);
+            let (c1, r1) = ((c + 1) as f64 / nf, (r + 1) as f64 / nf);
+            let mut delta = f64::EPSILON;
+            while self.locate(direction) != Some((r, c)) {
+                if delta > 0.25 / nf {
+                    // Unreachable for maps whose round trip is accurate to 1/(4R); the centre of
+                    // the pixel is then the safe choice.
+                    p = [(c as f64 + 0.5) / nf, (r as f64 + 0.5) / nf];
+                    direction = self.to_direction(p);
+                    break;
+                }
+                p = [
+                    p[0].clamp(c0 + delta, c1 - delta),
+                    p[1].clamp(r0 + delta, r1 - delta),
+                ];
+                direction = self.to_direction(p);
+                delta *= 2.0;
+            }
+        }
         Sample {
             direction,
             pdf: self.pdf[r * n + c],
         }
     }
     fn pdf(&self, direction: Vec3) -> f64 {
-        match normalize(direction) {
-            Some(d) if self.target.domain.contains(d) => {
-                let (r, c) = self.pixel(self.to_square(d));
-                self.pdf[r * self.resolution + c]
-            }
-            _ => 0.0,
+        match self.locate(direction) {
+            Some((r, c)) => self.pdf[r * self.resolution + c],
+            None => 0.0,
         }
     }
     fn invert(&self, direction: Vec3) -> Result<Point2, InvertError> {
-        let d = normalize(direction).ok_or(InvertError::OutsideDomain)?;
-        if !self.target.domain.contains(d) {
-            return Err(InvertError::OutsideDomain);
-        }
+        let p = self
+            .square_point(direction)
+            .ok_or(InvertError::OutsideDomain)?;
         let n = self.resolution;
-        let p = self.to_square(d);
         let (r, c) = self.pixel(p);
         let du = (p[0] * n as f64 - c as f64).clamp(0.0, 1.0);
         let dv = (p[1] * n as f64 - r as f64).clamp(0.0, 1.0);
@@ -225,5 +278,83 @@ impl Sampler for PiecewiseConstant {
     fn memory_bytes(&self) -> usize {
         std::mem::size_of::<f64>() * (self.pdf.len() + self.marginal.len() + self.conditional.len())
             + std::mem::size_of::<u32>() * self.conditional_last.len()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A beam of a few pixels and an empty upper hemisphere: most rows and columns have zero
+    /// probability. Every CDF breakpoint u = (conditional[r][c], marginal[r]) of a positive pixel,
+    /// and the far edges u = 1, sample a direction that `pdf` and `invert` place in the sampled
+    /// pixel (they used to see the empty neighbour: rounding in m⁻¹(m(p)) moved p = r/R below the
+    /// edge, and u = 1 gave the far edge of the last positive pixel).
+    fn diagram(theta: &[f64], phi: &[f64], f: impl Fn(f64, f64) -> f64) -> Diagram {
+        let values: Vec<Vec<f64>> = phi
+            .iter()
+            .map(|&p| theta.iter().map(|&t| f(t, p)).collect())
+            .collect();
+        Diagram::from_degrees(theta, phi, &values).unwrap()
+    }
+
+    #[test]
+    fn breakpoints_stay_in_their_pixel() {
+        let cases = [
+            // A narrow beam at the north pole (a few pixels at the square's centre).
+            (
+                diagram(&[0.0, 2.0, 3.0, 180.0], &[0.0], |t, _| f64::from(t <= 2.0)),
+                Domain::Sphere,
+            ),
+            // Lower hemisphere only, in one quadrant (the square's corner triangles).
+            (
+                diagram(
+                    &[0.0, 100.0, 160.0, 180.0],
+                    &[0.0, 90.0, 180.0, 270.0],
+                    |t, p| f64::from(t >= 160.0 && p < 100.0),
+                ),
+                Domain::Sphere,
+            ),
+            // An off-axis beam in one quadrant of the hemisphere.
+            (
+                diagram(
+                    &[0.0, 40.0, 45.0, 50.0, 90.0],
+                    &[0.0, 30.0, 60.0, 90.0],
+                    |t, p| f64::from((45.0..=50.0).contains(&t) && p <= 30.0),
+                ),
+                Domain::Hemisphere,
+            ),
+        ];
+        for (diagram, domain) in &cases {
+            for res in [16, 64, 256] {
+                let s = PiecewiseConstant::with_resolution(diagram, *domain, res).unwrap();
+                check_breakpoints(&s);
+            }
+        }
+    }
+
+    fn check_breakpoints(s: &PiecewiseConstant) {
+        let (n, res) = (s.resolution, s.resolution);
+        let mut points = vec![[1.0, 1.0], [1.0, 0.0], [0.0, 1.0], [0.0, 0.0]];
+        for r in 0..n {
+            for c in 0..n {
+                if s.pdf[r * n + c] > 0.0 {
+                    let row = &s.conditional[r * (n + 1)..(r + 1) * (n + 1)];
+                    for u0 in [row[c], row[c + 1]] {
+                        for u1 in [s.marginal[r], s.marginal[r + 1]] {
+                            points.push([u0, u1]);
+                        }
+                    }
+                }
+            }
+        }
+        for u in points {
+            let smp = s.sample(u);
+            assert!(smp.pdf > 0.0, "R = {res}: zero density at {u:?}");
+            assert_eq!(s.pdf(smp.direction), smp.pdf, "R = {res}: pdf at {u:?}");
+            let v = s.invert(smp.direction).unwrap();
+            let e = (v[0] - u[0]).abs().max((v[1] - u[1]).abs());
+            assert!(e < 1e-12, "R = {res}: invert(sample({u:?})) = {v:?}");
+        }
     }
 }
