@@ -105,6 +105,8 @@ fn every_file_samples_correctly() {
             &map,
             &ChiSquareOptions {
                 samples: 40_000,
+                // 16 × 32 equal-solid-angle bins: ~80 samples a bin on average
+                resolution: Some([16, 32]),
                 seed: 500 + i as u64,
                 alpha: 0.01,
                 tests: k,

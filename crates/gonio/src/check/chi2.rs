@@ -36,7 +36,7 @@ impl Default for ChiSquareOptions {
             alpha: 0.01,
             tests: 1,
             min_expected: 5.0,
-            quad_nodes: 6,
+            quad_nodes: 3,
         }
     }
 }

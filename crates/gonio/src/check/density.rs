@@ -157,7 +157,7 @@ impl Default for NormalisationOptions {
     fn default() -> Self {
         NormalisationOptions {
             resolution: None,
-            quad_nodes: 4,
+            quad_nodes: 3,
             tolerance: 1e-3,
         }
     }

@@ -98,10 +98,10 @@ impl BinGrid {
     /// `nodes × nodes` Gauss–Legendre rule, on 2×2 sub-cells and on the cell itself; where the two
     /// differ by more than [`QUAD_REL_TOL`] of the cell's integral plus [`QUAD_TOL`] (absolute, the
     /// integral of a pdf over the domain being 1; divided by 4 per level) the sub-cells are refined
-    /// in turn, down to 2⁻⁸ of the bin. Every bin is first split into 4×4 cells, so that features as
+    /// in turn, down to 2⁻⁷ of the bin. Every bin is first split into 4×4 cells, so that features as
     /// narrow as 1/(16·nodes) of a bin are seen by some node. Kinks of a tabulated pdf (its
     /// parallels and meridians) are thereby localised, and beams a fraction of a degree wide are
-    /// integrated to ~1e-4 relative — far below the chi-square's own resolution (an expected count
+    /// integrated to ~1e-3 relative (1e-7 absolute) — far below the chi-square's own resolution (an expected count
     /// E has noise √E, so a relative error δ matters only when δ·√E approaches 1).
     pub fn integrate<F>(&self, nodes: usize, f: F) -> Vec<f64>
     where
@@ -139,7 +139,7 @@ impl BinGrid {
                     for a in 0..k {
                         for b in 0..k {
                             let (ta, pa) = (t0 + a as f64 * ht, p0 + b as f64 * hp);
-                            total += adapt(&cell_rule, ta, ta + ht, pa, pa + hp, QUAD_TOL, 6);
+                            total += adapt(&cell_rule, ta, ta + ht, pa, pa + hp, QUAD_TOL, 5);
                         }
                     }
                     *cell = total;
@@ -150,9 +150,9 @@ impl BinGrid {
 }
 
 /// Absolute tolerance of [`BinGrid::integrate`] per cell of the first split.
-pub const QUAD_TOL: f64 = 1e-10;
+pub const QUAD_TOL: f64 = 1e-7;
 /// Relative tolerance of [`BinGrid::integrate`] per cell.
-pub const QUAD_REL_TOL: f64 = 1e-4;
+pub const QUAD_REL_TOL: f64 = 1e-3;
 
 /// Adaptive 2×2 refinement of `rule` over [ta, tb] × [pa, pb] (see [`BinGrid::integrate`]).
 fn adapt(
