@@ -180,3 +180,25 @@ fn one_sided_diagrams_sample_one_hemisphere() {
         assert!(map.sample(u).direction[1] > 1.0 - 1e-12);
     }
 }
+
+/// The stages of a sphere map end in the sampled direction, on the side that was sampled.
+#[test]
+fn sphere_stages_end_in_the_sample() {
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(12);
+    for layout in [SphereLayout::Split, SphereLayout::Lambert] {
+        let map = SphereMap::with_layout(&example_luminaire(), layout).unwrap();
+        for _ in 0..2000 {
+            let u = [rng.gen::<f64>(), rng.gen::<f64>()];
+            let st = map.stages(u);
+            let d = map.sample(u).direction;
+            assert_eq!(st.square, u);
+            assert!(
+                (0..3).all(|k| (st.direction[k] - d[k]).abs() < 1e-15),
+                "{layout:?} {u:?}"
+            );
+            if layout == SphereLayout::Split {
+                assert_eq!(st.lower, u[0] < map.lower_probability().unwrap());
+            }
+        }
+    }
+}

@@ -132,6 +132,9 @@ pub struct PlotInput<'a> {
     /// The HDS hemisphere map whose intermediate stages `warp` draws. `None`: `warp` draws the
     /// square and the sampler's directions only (e.g. for a baseline or a sphere map).
     pub hemisphere_map: Option<&'a gonio::HemisphereMap>,
+    /// The HDS sphere map whose stages `warp` draws when there is no hemisphere map: those of its
+    /// more probable hemisphere's map (split layout), or of its single map (Lambert layout).
+    pub sphere_map: Option<&'a gonio::SphereMap>,
     /// The sampler's guaranteed range of pdf / target (e.g. [`gonio::HemisphereMap::ratio_bound`]),
     /// marked on the `ratio` plot; `None` when the method guarantees none.
     pub ratio_bound: Option<(f64, f64)>,
@@ -297,6 +300,10 @@ pub fn run(args: &PlotArgs) -> Result<()> {
         Some(load::Hds::Hemisphere(m)) => Some(m),
         _ => None,
     };
+    let sphere_map = match &hds {
+        Some(load::Hds::Sphere(m)) => Some(m),
+        _ => None,
+    };
     let title = match loaded.kind {
         load::InputKind::Example => loaded.name.clone(),
         _ => Path::new(&loaded.name)
@@ -309,6 +316,7 @@ pub fn run(args: &PlotArgs) -> Result<()> {
         diagram: &loaded.diagram,
         sampler,
         hemisphere_map,
+        sphere_map,
         ratio_bound: hds.as_ref().map(|h| h.ratio_bound()),
         samples: args.samples.unwrap_or(0),
         seed: args.seed,

@@ -30,6 +30,7 @@ fn input<'a>(
         diagram: d,
         sampler: s,
         hemisphere_map: h,
+        sphere_map: None,
         ratio_bound: bound,
         samples: 3000,
         seed: 1,

@@ -3,9 +3,11 @@
 //!
 //! With a [`gonio::HemisphereMap`]: square → M_B (disk) → M_C (star domain) → M_D (disk, which is
 //! the Lambert equal-area projection of the hemisphere) → directions on the equal-area (φ, cos θ)
-//! rectangle. Without one (a baseline or a sphere map, whose stages the library does not expose):
-//! the square → the directions in Lambert equal-area disk(s) (one per hemisphere) and on the
-//! rectangle.
+//! rectangle. With a [`gonio::SphereMap`]: the same stages of the map of its more probable
+//! hemisphere (split layout; the other hemisphere's points are left out of the stage panels) or
+//! of its single map (Lambert layout, whose M_D disk has radius √2), then all directions on the
+//! (φ, cos θ) rectangle of the sphere. Without either (a baseline): the square → the directions in
+//! Lambert equal-area disk(s) (one per hemisphere) and on the rectangle.
 
 use super::colour::stratum;
 use super::grid::{rect_chart, z_range};
@@ -59,16 +61,50 @@ fn rect_point(d: Vec3) -> (f64, f64) {
 fn panels(input: &PlotInput, u: &[Point2]) -> Vec<Panel> {
     let square = Panel::Square(u.iter().map(|p| (p[0], p[1])).collect());
     let photometric = input.photometric;
-    match input.hemisphere_map {
-        Some(map) => {
-            let st: Vec<_> = u.iter().map(|&p| map.stages(p)).collect();
-            let star: Vec<(f64, f64)> = st.iter().map(|s| cart(s.star_c)).collect();
-            let star_extent = st.iter().fold(1.0f64, |a, s| a.max(s.star_c.0));
+    let staged: Option<(Vec<Option<gonio::mapping::Stages>>, String, f64)> =
+        match (input.hemisphere_map, input.sphere_map) {
+            (Some(map), _) => Some((
+                u.iter().map(|&p| Some(map.stages(p))).collect(),
+                String::new(),
+                1.0,
+            )),
+            (None, Some(map)) => match map.lower_probability() {
+                Some(p_lower) => {
+                    let lower = p_lower >= 0.5;
+                    let side = if lower { "lower" } else { "upper" };
+                    Some((
+                        u.iter()
+                            .map(|&p| Some(map.stages(p)).filter(|s| s.lower == lower))
+                            .collect(),
+                        format!(" ({side}-hemisphere map)"),
+                        1.0,
+                    ))
+                }
+                None => Some((
+                    u.iter().map(|&p| Some(map.stages(p))).collect(),
+                    " (Lambert sphere)".into(),
+                    std::f64::consts::SQRT_2,
+                )),
+            },
+            (None, None) => None,
+        };
+    match staged {
+        Some((st, which, d_extent)) => {
+            let nan = (f64::NAN, f64::NAN);
+            let pick = |f: &dyn Fn(&gonio::mapping::Stages) -> (f64, f64)| -> Vec<(f64, f64)> {
+                st.iter().map(|s| s.as_ref().map_or(nan, f)).collect()
+            };
+            let star = pick(&|s| cart(s.star_c));
+            let star_extent = st.iter().flatten().fold(1.0f64, |a, s| a.max(s.star_c.0));
+            let dirs: Vec<Vec3> = u
+                .iter()
+                .map(|&p| input.sampler.sample(p).direction)
+                .collect();
             vec![
                 square,
                 Panel::Disk {
-                    caption: "after M_B (concentric): disk".into(),
-                    points: st.iter().map(|s| cart(s.disk_b)).collect(),
+                    caption: format!("after M_B (concentric): disk{which}"),
+                    points: pick(&|s| cart(s.disk_b)),
                     extent: 1.0,
                 },
                 Panel::Disk {
@@ -78,13 +114,13 @@ fn panels(input: &PlotInput, u: &[Point2]) -> Vec<Panel> {
                 },
                 Panel::Disk {
                     caption: "after M_D (radial): Lambert disk".into(),
-                    points: st.iter().map(|s| cart(s.disk_d)).collect(),
-                    extent: 1.0,
+                    points: pick(&|s| cart(s.disk_d)),
+                    extent: d_extent,
                 },
                 Panel::Rect {
                     caption: "directions, equal-area (φ, cos θ)".into(),
-                    points: st.iter().map(|s| rect_point(s.direction)).collect(),
-                    domain: Domain::Hemisphere,
+                    points: dirs.iter().map(|&d| rect_point(d)).collect(),
+                    domain: input.sampler.domain(),
                 },
             ]
         }
@@ -205,7 +241,7 @@ where
         })
         .collect();
     let radius = if n <= 4000 { 2 } else { 1 };
-    let stages = if input.hemisphere_map.is_some() {
+    let stages = if input.hemisphere_map.is_some() || input.sphere_map.is_some() {
         "through the stages of the HDS map"
     } else {
         "mapped to directions"

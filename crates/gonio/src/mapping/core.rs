@@ -287,6 +287,7 @@ impl HdsCore {
             star_c: (rb * rho2.max(0.0).sqrt(), phi),
             disk_d: (sphere_to_disk_radius(direction), phi),
             direction,
+            lower: false,
         }
     }
 

@@ -37,6 +37,10 @@ pub struct Stages {
     pub star_c: (f64, f64),
     /// After M_D: the disk (r_D, φ_D), r_D ≤ 1 for a hemisphere (≤ √2 for the Lambert sphere).
     pub disk_d: (f64, f64),
-    /// After M_E: the unit direction (in the hemisphere map's own frame: z ≥ 0).
+    /// After M_E: the unit direction, in the sampler's frame (for the lower map of a split sphere
+    /// layout, mirrored to z ≤ 0 as the sample is).
     pub direction: [f64; 3],
+    /// Whether the point went through the lower-hemisphere map of a split sphere layout (the disk
+    /// coordinates are then those of that map, whose pole is the nadir).
+    pub lower: bool,
 }

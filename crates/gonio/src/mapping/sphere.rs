@@ -132,6 +132,53 @@ impl SphereMap {
         }
     }
 
+    /// The intermediate points of the forward map at `u` (see [`super::Stages`]): those of the
+    /// hemisphere map that serves `u` in the split layout (with `square` the original point and the
+    /// direction as sampled), or of the single Lambert map.
+    pub fn stages(&self, u: Point2) -> super::Stages {
+        match &self.layout {
+            Layout::Split {
+                upper,
+                lower,
+                p_lower,
+            } => {
+                let (core, w, is_lower) = match (upper, lower) {
+                    (Some(up), Some(l)) => {
+                        if u[0] < *p_lower {
+                            (l, [(u[0] / p_lower).min(1.0), u[1]], true)
+                        } else {
+                            let w = ((u[0] - p_lower) / (1.0 - p_lower)).clamp(0.0, 1.0);
+                            (up, [w, u[1]], false)
+                        }
+                    }
+                    (Some(up), None) => (up, u, false),
+                    (None, Some(l)) => (l, u, true),
+                    (None, None) => return self.core_less_stages(u),
+                };
+                let mut st = core.stages(w);
+                st.square = u;
+                if is_lower {
+                    st.direction = mirror(st.direction);
+                    st.lower = true;
+                }
+                st
+            }
+            Layout::Lambert(c) => c.stages(u),
+        }
+    }
+
+    /// Never reached: a map without any hemisphere is refused at build time.
+    fn core_less_stages(&self, u: Point2) -> super::Stages {
+        super::Stages {
+            square: u,
+            disk_b: (0.0, 0.0),
+            star_c: (0.0, 0.0),
+            disk_d: (0.0, 0.0),
+            direction: [0.0, 0.0, 1.0],
+            lower: false,
+        }
+    }
+
     /// The layout in use.
     pub fn layout(&self) -> SphereLayout {
         match self.layout {
