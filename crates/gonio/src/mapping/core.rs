@@ -268,9 +268,10 @@ impl HdsCore {
         }
     }
 
-    /// The intermediate points of the forward map (for pictures and tests).
-    pub(crate) fn stages(&self, uv: [f64; 2]) -> super::Stages {
-        let (rb, phib) = square_to_disk(uv);
+    /// M_C: the wedge i with Γ_i ≤ φ_B < Γ_{i+1} (empty wedges are skipped by taking the last such
+    /// i), the fraction ε of sector i that has the wedge's area, and φ_C = φ_i + εβ_i.
+    #[inline]
+    fn angular(&self, phib: f64) -> (usize, f64, f64) {
         let i = self.wedge(phib);
         let eps = solve_wedge(
             self.beta[i],
@@ -278,7 +279,13 @@ impl HdsCore {
             self.r2[i + 1],
             (phib - self.cum[i]) / self.kappa,
         );
-        let phi = self.phi[i] + eps * self.beta[i];
+        (i, eps, self.phi[i] + eps * self.beta[i])
+    }
+
+    /// The intermediate points of the forward map (for pictures and tests).
+    pub(crate) fn stages(&self, uv: [f64; 2]) -> super::Stages {
+        let (rb, phib) = square_to_disk(uv);
+        let (i, eps, phi) = self.angular(phib);
         let rho2 = (1.0 - eps) * self.r2[i] + eps * self.r2[i + 1];
         let (direction, _) = self.sample(uv);
         super::Stages {
@@ -297,16 +304,9 @@ impl HdsCore {
         let n = self.n;
         // M_B
         let (rb, phib) = square_to_disk(uv);
-        // M_C: wedge i with Γ_i ≤ φ_B < Γ_{i+1}; empty wedges are skipped by taking the last such i.
-        let i = self.wedge(phib);
+        // M_C
+        let (i, eps, phi) = self.angular(phib);
         let i1 = self.next(i);
-        let eps = solve_wedge(
-            self.beta[i],
-            self.r2[i],
-            self.r2[i + 1],
-            (phib - self.cum[i]) / self.kappa,
-        );
-        let phi = self.phi[i] + eps * self.beta[i];
         // M_D on the interpolated tables Ũ_j, d̃_j (§6, A6).
         let (ua, ub) = (&self.u[i * n..i * n + n], &self.u[i1 * n..i1 * n + n]);
         let (da, db) = (&self.d[i * n..i * n + n], &self.d[i1 * n..i1 * n + n]);

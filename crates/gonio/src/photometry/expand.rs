@@ -397,6 +397,14 @@ pub fn direction_of_hv(t: PhotometricType, h_deg: f64, v_deg: f64) -> [f64; 3] {
 /// The type A/B intensity (candela) at (H, V) in degrees, bilinear in (H, V) on the mirrored
 /// table; 0 outside the measured ranges.
 pub(crate) fn ab_intensity(p: &Photometry, h: f64, v: f64) -> f64 {
+    let (ha, hx, va, vx) = ab_axes(p);
+    ab_eval(p, &ha, &hx, &va, &vx, h, v)
+}
+
+/// A type A/B file's horizontal and vertical axes with their mirror images (per its symmetry):
+/// (angle, stored index) pairs and the angles alone, for each axis.
+#[allow(clippy::type_complexity)]
+fn ab_axes(p: &Photometry) -> (Vec<(f64, usize)>, Vec<f64>, Vec<(f64, usize)>, Vec<f64>) {
     let (mh, mv) = match p.symmetry {
         Symmetry::TypeAB {
             horizontal,
@@ -408,7 +416,7 @@ pub(crate) fn ab_intensity(p: &Photometry, h: f64, v: f64) -> f64 {
     let va = mirrored_axis(&p.vertical_angles_deg, mv);
     let hx: Vec<f64> = ha.iter().map(|x| x.0).collect();
     let vx: Vec<f64> = va.iter().map(|x| x.0).collect();
-    ab_eval(p, &ha, &hx, &va, &vx, h, v)
+    (ha, hx, va, vx)
 }
 
 fn ab_eval(
@@ -431,17 +439,7 @@ fn ab_eval(
 }
 
 fn type_ab(p: &Photometry, t: PhotometricType) -> Result<Diagram, crate::Error> {
-    let (mh, mv) = match p.symmetry {
-        Symmetry::TypeAB {
-            horizontal,
-            vertical,
-        } => (horizontal, vertical),
-        _ => (false, false),
-    };
-    let ha = mirrored_axis(&p.horizontal_angles_deg, mh);
-    let va = mirrored_axis(&p.vertical_angles_deg, mv);
-    let hx: Vec<f64> = ha.iter().map(|x| x.0).collect();
-    let vx: Vec<f64> = va.iter().map(|x| x.0).collect();
+    let (ha, hx, va, vx) = ab_axes(p);
     // Lower hemisphere only when every measured direction has z ≤ 0.
     let lower_only = match t {
         PhotometricType::B => vx[0] >= -90.0 && vx[vx.len() - 1] <= 90.0,
