@@ -61,7 +61,7 @@ pub use density::{
     PdfConsistencyOptions, PdfConsistencyReport, RatioOptions, RatioReport,
 };
 pub use flux::{flux_estimate, FluxOptions, FluxReport};
-pub use grid::BinGrid;
+pub use grid::{BinGrid, QUAD_REL_TOL, QUAD_TOL};
 pub use roundtrip::{cell_boundary_points, round_trip, RoundTripOptions, RoundTripReport};
 
 use crate::sampler::{Domain, Point2, Sample, Sampler};

@@ -19,7 +19,7 @@ use crate::diagram::{Diagram, DiagramError};
 use crate::sampler::{spherical, Domain, InvertError, Point2, Sample, Sampler, Vec3};
 use std::f64::consts::{FRAC_PI_2, PI};
 
-/// How the sphere is laid out on the unit square (see the [module documentation](self)).
+/// How the sphere is laid out on the unit square (see [`SphereMap`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum SphereLayout {
     /// Two hemisphere maps side by side on the square, split by power.
@@ -44,6 +44,19 @@ enum Layout {
 /// The HDS map from the unit square onto the whole sphere. Directions are in the diagram's frame
 /// (θ from +z). A diagram that covers only θ ∈ [0°, 90°] or [90°, 180°] gives zero density on the
 /// other hemisphere, which is never sampled.
+///
+/// Two layouts (ALGORITHM §13), measured against each other in `docs/SPHERE.md`:
+/// * [`SphereLayout::Split`] (the default): one hemisphere map per side of the horizon, each built
+///   from its half of the diagram (the lower half mirrored), chosen by the first coordinate of the
+///   square in proportion to the hemispheres' power. Low distortion everywhere; the map is
+///   continuous except across the seam line u = P_lower of the square
+///   ([`SphereMap::lower_probability`]), where the sample jumps between hemispheres.
+/// * [`SphereLayout::Lambert`]: a single map whose M_E is the whole-sphere Lambert lift, the disk of
+///   radius √2 (x_j = √(1 − cos θ_j) up to θ = π). Continuous on the whole square, but the far pole
+///   is the whole rim of the disk, so cells near θ = π are strongly stretched.
+///
+/// In both, every sample's pdf is D/(2T) with T the total disk power of the map(s), so at every
+/// node the pdf is the node value times one constant.
 #[derive(Debug, Clone)]
 pub struct SphereMap {
     layout: Layout,
