@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# The README's test command: every test of the project — the Rust workspace, the Python package
+# and the C/C++ examples — in one run. Each part is a script of its own under scripts/ so that it can
+# also be run alone; a part that cannot run on this machine says so in the summary at the end.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+status=0
+summary=()
+run_part() {
+  local name="$1"; shift
+  echo
+  echo "==== ${name}: $*"
+  if "$@"; then
+    summary+=("${name}: ok")
+  else
+    summary+=("${name}: FAILED")
+    status=1
+  fi
+}
+
+run_part "rust" cargo test --workspace --locked
+for part in python c; do
+  if [ -f "scripts/test-${part}.sh" ]; then
+    run_part "${part}" bash "scripts/test-${part}.sh"
+  fi
+done
+
+echo
+echo "==== summary"
+printf '%s\n' "${summary[@]}"
+exit "$status"
