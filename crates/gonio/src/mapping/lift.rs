@@ -37,6 +37,20 @@ pub fn sphere_to_disk_radius(d: [f64; 3]) -> f64 {
     r2.clamp(0.0, 2.0).sqrt()
 }
 
+/// Disk azimuth φ ∈ [0, 2π) of a direction (the inverse of [`disk_to_sphere`] in φ), as
+/// [`crate::sampler::spherical`] computes it, without the polar angle.
+#[inline]
+pub fn sphere_to_disk_azimuth(d: [f64; 3]) -> f64 {
+    let mut phi = d[1].atan2(d[0]);
+    if phi < 0.0 {
+        phi += std::f64::consts::TAU;
+    }
+    if phi >= std::f64::consts::TAU {
+        phi = 0.0;
+    }
+    phi
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
