@@ -2,14 +2,11 @@
 //!
 //! * [`load`] reads a `.json` (native diagram), `.ies` or `.ldt` file (extension in any letter
 //!   case), or the special name [`EXAMPLE`] for the built-in luminaire;
-//! * [`build_sampler`] builds the sampler of a [`Method`] for what was loaded, on the domain
-//!   [`domain`] chooses;
-//! * [`build_hds`] builds the HDS map with its concrete type, for `info` and `check`.
+//! * [`build_sampler`] builds the sampler of a [`Method`] for what was loaded (through the
+//!   library's factory, [`Method::build`]), on the domain [`domain`] chooses.
 
 use anyhow::Context;
-use gonio::baselines::Method;
-use gonio::mapping::SphereLayout;
-use gonio::{Diagram, Domain, HemisphereMap, Sampler, SphereMap};
+use gonio::{Diagram, Domain, Method, Sampler};
 use std::fmt;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -162,13 +159,6 @@ pub fn diagram_from_json(name: &str, text: &str) -> anyhow::Result<Diagram> {
             message: strip_serde_location(&message).to_string(),
         }
         .into(),
-        gonio::Error::Parse(p) => LocatedError {
-            file: name.to_string(),
-            line: p.line,
-            column: p.column,
-            message: p.message,
-        }
-        .into(),
         other => anyhow::anyhow!("{name}: invalid diagram: {other}"),
     })
 }
@@ -209,87 +199,34 @@ fn load_photometry(
 }
 
 /// The domain of every sampler built for `loaded`: photometric input (IES, EULUMDAT, the example)
-/// always gets the whole sphere; a JSON diagram gets the upper hemisphere when its last parallel
-/// lies at θ ≤ 90°, the sphere otherwise.
+/// always gets the whole sphere; a JSON diagram gets the library's policy,
+/// [`Domain::for_diagram`] (the upper hemisphere when its last parallel lies at θ ≤ 90°, the
+/// sphere otherwise).
 pub fn domain(loaded: &Loaded) -> Domain {
-    let theta_max = *loaded
-        .diagram
-        .theta()
-        .last()
-        .expect("a diagram has parallels");
-    if loaded.kind.is_photometric() || theta_max > std::f64::consts::FRAC_PI_2 {
+    if loaded.kind.is_photometric() {
         Domain::Sphere
     } else {
-        Domain::Hemisphere
+        Domain::for_diagram(&loaded.diagram)
     }
 }
 
-/// The HDS map, with its concrete type (for `info` and `check`, which need more than the
-/// [`Sampler`] trait offers).
-// One map per run: the size difference of the variants does not matter.
-#[allow(clippy::large_enum_variant)]
-#[derive(Debug, Clone)]
-pub enum Hds {
-    /// The hemisphere map (JSON diagrams within θ ≤ 90°).
-    Hemisphere(HemisphereMap),
-    /// The sphere map, split layout.
-    Sphere(SphereMap),
-}
-
-impl Hds {
-    /// Guaranteed (min, max) of pdf / target_pdf.
-    pub fn ratio_bound(&self) -> (f64, f64) {
-        match self {
-            Hds::Hemisphere(m) => m.ratio_bound(),
-            Hds::Sphere(m) => m.ratio_bound(),
-        }
-    }
-    /// ∫ of the (completed) diagram over the domain, in diagram units × sr (lumens for candela).
-    pub fn target_power(&self) -> f64 {
-        match self {
-            Hds::Hemisphere(m) => m.target_power(),
-            Hds::Sphere(m) => m.target_power(),
-        }
-    }
-    /// The map as a sampler.
-    pub fn as_sampler(&self) -> &dyn Sampler {
-        match self {
-            Hds::Hemisphere(m) => m,
-            Hds::Sphere(m) => m,
-        }
-    }
-    /// The map as a boxed sampler.
-    pub fn into_sampler(self) -> Box<dyn Sampler> {
-        match self {
-            Hds::Hemisphere(m) => Box::new(m),
-            Hds::Sphere(m) => Box::new(m),
-        }
-    }
-}
-
-/// Builds the HDS map for `loaded` on [`domain`], and the time the build took.
-pub fn build_hds(loaded: &Loaded) -> anyhow::Result<(Hds, Duration)> {
-    let start = Instant::now();
-    let map = match domain(loaded) {
-        Domain::Hemisphere => Hds::Hemisphere(HemisphereMap::new(&loaded.diagram)?),
-        Domain::Sphere => Hds::Sphere(SphereMap::with_layout(
-            &loaded.diagram,
-            SphereLayout::Split,
-        )?),
-    };
-    Ok((map, start.elapsed()))
-}
-
-/// The sampler of `method` for `loaded`: the HDS map for [`Method::Hds`], the baseline otherwise,
-/// on the domain [`domain`] chooses.
+/// The sampler of `method` for `loaded`, built by the library's factory ([`Method::build`]) on
+/// the domain [`domain`] chooses.
 pub fn build_sampler(method: Method, loaded: &Loaded) -> anyhow::Result<Box<dyn Sampler>> {
-    match method {
-        Method::Hds => Ok(build_hds(loaded)
-            .with_context(|| format!("{}: cannot build the HDS map", loaded.name))?
-            .0
-            .into_sampler()),
-        m => m
-            .build_baseline(&loaded.diagram, domain(loaded))
-            .with_context(|| format!("{}: cannot build the {m} sampler", loaded.name)),
-    }
+    Ok(build_sampler_timed(method, loaded)?.0)
+}
+
+/// [`build_sampler`] and the wall-clock time the build took.
+pub fn build_sampler_timed(
+    method: Method,
+    loaded: &Loaded,
+) -> anyhow::Result<(Box<dyn Sampler>, Duration)> {
+    let start = Instant::now();
+    let sampler = method
+        .build(&loaded.diagram, domain(loaded))
+        .with_context(|| match method {
+            Method::Hds => format!("{}: cannot build the HDS map", loaded.name),
+            m => format!("{}: cannot build the {m} sampler", loaded.name),
+        })?;
+    Ok((sampler, start.elapsed()))
 }

@@ -7,21 +7,17 @@
 //! `cargo bench -p gonio --bench mapping` (add a filter such as `-- 181x361` to run a subset).
 
 use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use gonio::baselines::Method;
 use gonio::sampler::sample_batch_par;
 use gonio::sequence::Halton;
 use gonio::synthetic::{random_hemisphere, Family};
-use gonio::{Diagram, Domain, HemisphereMap, Point2, Sample, Sampler, Vec3};
+use gonio::{Diagram, Domain, Method, Point2, Sample, Sampler, Vec3};
 use std::time::Duration;
 
 const BATCH: usize = 4096;
 const GRIDS: [(usize, usize); 3] = [(19, 36), (181, 361), (1024, 1024)];
 
 fn build(method: Method, d: &Diagram) -> Option<Box<dyn Sampler>> {
-    match method {
-        Method::Hds => Some(Box::new(HemisphereMap::new(d).ok()?)),
-        m => m.build_baseline(d, Domain::Hemisphere).ok(),
-    }
+    method.build(d, Domain::Hemisphere).ok()
 }
 
 fn points(n: usize) -> Vec<Point2> {

@@ -102,9 +102,18 @@ pub enum DiagramError {
     /// Every value is zero, so there is nothing to sample.
     #[error("the diagram has zero total power: every value is 0")]
     ZeroPower,
-    /// The diagram does not fit the domain of the sampler it was given to.
-    #[error("{0}")]
-    Domain(String),
+    /// The diagram reaches beyond the polar range the map covers (e.g. past θ = 90° for a
+    /// hemisphere map).
+    #[error("the diagram reaches θ = {theta_deg}°, beyond the {limit_deg}° this map covers")]
+    BeyondDomain {
+        /// The diagram's last parallel, in degrees.
+        theta_deg: f64,
+        /// The largest θ the map covers, in degrees.
+        limit_deg: f64,
+    },
+    /// The Lambert sphere layout was asked for a diagram that lies on one side of the horizon.
+    #[error("the Lambert sphere layout needs a diagram that spans the horizon")]
+    NotSpanningHorizon,
 }
 
 /// A validated goniometric diagram. See the [module documentation](self) for the frame and layout.

@@ -131,6 +131,14 @@ pub trait Sampler: Send + Sync {
         None
     }
 
+    /// The sampler as [`std::any::Any`], for the few consumers that need what only one concrete
+    /// type offers (e.g. [`crate::SphereMap::lower_probability`] for `gonio info`): downcast with
+    /// `sampler.as_any().and_then(|a| a.downcast_ref::<SphereMap>())`. `None` (the default) for
+    /// samplers that do not offer it; every sampler of the library does.
+    fn as_any(&self) -> Option<&dyn std::any::Any> {
+        None
+    }
+
     /// Samples every point of `u` into the same position of `out`; allocates nothing.
     ///
     /// # Panics

@@ -254,15 +254,14 @@ pub(crate) fn meridians(sym: Symmetry, horiz: &[f64]) -> Vec<(f64, usize)> {
 }
 
 /// The expanded diagram (see [`Photometry::to_diagram`]).
-pub(crate) fn to_diagram(p: &Photometry) -> Result<Diagram, crate::Error> {
+pub(crate) fn to_diagram(p: &Photometry) -> Result<Diagram, crate::DiagramError> {
     // The fields are public: check the shape before indexing.
     let (n_v, n_h) = (p.vertical_angles_deg.len(), p.horizontal_angles_deg.len());
     if n_v == 0 || n_h == 0 {
         return Err(crate::DiagramError::Empty {
             parallels: n_v,
             meridians: n_h,
-        }
-        .into());
+        });
     }
     let expected = n_v.saturating_mul(n_h);
     if p.candela.len() != expected {
@@ -270,8 +269,7 @@ pub(crate) fn to_diagram(p: &Photometry) -> Result<Diagram, crate::Error> {
             what: "candela (stored planes × vertical angles)".into(),
             expected,
             found: p.candela.len(),
-        }
-        .into());
+        });
     }
     match p.photometric_type {
         PhotometricType::C => type_c(p),
@@ -279,7 +277,7 @@ pub(crate) fn to_diagram(p: &Photometry) -> Result<Diagram, crate::Error> {
     }
 }
 
-fn type_c(p: &Photometry) -> Result<Diagram, crate::Error> {
+fn type_c(p: &Photometry) -> Result<Diagram, crate::DiagramError> {
     let vert = &p.vertical_angles_deg;
     let n_v = vert.len();
     // Rows in γ order: (γ, Some(stored index) or None for a zero row).
@@ -316,8 +314,7 @@ fn type_c(p: &Photometry) -> Result<Diagram, crate::Error> {
         return Err(crate::DiagramError::TooLarge {
             parallels: n,
             meridians: phi.len(),
-        }
-        .into());
+        });
     }
     let mut values = Vec::with_capacity(total);
     for &(_, plane) in &mer {
@@ -325,7 +322,7 @@ fn type_c(p: &Photometry) -> Result<Diagram, crate::Error> {
             values.push(row.map_or(0.0, |v| p.candela[plane * n_v + v]));
         }
     }
-    Ok(Diagram::new(theta, phi, values)?)
+    Diagram::new(theta, phi, values)
 }
 
 /// One axis of a type A/B table, mirrored about 0 when asked: (angle, stored index), increasing.
@@ -438,7 +435,7 @@ fn ab_eval(
     (1.0 - th) * a + th * b
 }
 
-fn type_ab(p: &Photometry, t: PhotometricType) -> Result<Diagram, crate::Error> {
+fn type_ab(p: &Photometry, t: PhotometricType) -> Result<Diagram, crate::DiagramError> {
     let (ha, hx, va, vx) = ab_axes(p);
     // Lower hemisphere only when every measured direction has z ≤ 0.
     let lower_only = match t {
@@ -463,5 +460,5 @@ fn type_ab(p: &Photometry, t: PhotometricType) -> Result<Diagram, crate::Error> 
     }
     let theta = theta_deg.iter().map(|t| t.to_radians().min(PI)).collect();
     let phi = phi_deg.iter().map(|c| c.to_radians()).collect();
-    Ok(Diagram::new(theta, phi, values)?)
+    Diagram::new(theta, phi, values)
 }
