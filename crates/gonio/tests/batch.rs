@@ -2,6 +2,9 @@
 //! documented bounds, exact pdf, round trips in f64 and f32, and results that do not depend on the
 //! backend (AVX2+FMA and portable are both run explicitly), the block size or the thread count.
 
+// Columns of the structure-of-arrays outputs are indexed by component on purpose.
+#![allow(clippy::needless_range_loop)]
+
 use gonio::mapping::batch::{invert_soa_par, pdf_soa_par, sample_soa_par, SoaSampler};
 use gonio::mapping::simd::{Backend, BatchFloat};
 use gonio::synthetic::{example_luminaire, random_hemisphere, Family};
@@ -9,10 +12,13 @@ use gonio::{HemisphereMap, Sampler, SphereLayout, SphereMap};
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 
+/// Builds one map of the test list.
+type MakeMap = Box<dyn Fn() -> Box<dyn Probe>>;
+
 /// Every map shape the batch paths handle: uniform and irregular meridians, zero-heavy values, the
 /// split sphere (both halves), the Lambert sphere.
-fn maps() -> Vec<(String, Box<dyn Fn() -> Box<dyn Probe>>)> {
-    let mut v: Vec<(String, Box<dyn Fn() -> Box<dyn Probe>>)> = Vec::new();
+fn maps() -> Vec<(String, MakeMap)> {
+    let mut v: Vec<(String, MakeMap)> = Vec::new();
     for (fam, n, m, irr, seed) in [
         (Family::Lobes, 19, 36, false, 1),
         (Family::Lobes, 181, 361, false, 2),

@@ -26,6 +26,9 @@
 //! assert!((uu[0] - 0.3).abs() < 1e-5 && (vv[1] - 0.1).abs() < 1e-5);
 //! ```
 
+// Lane loops index several arrays by the same lane number on purpose (they vectorise).
+#![allow(clippy::needless_range_loop)]
+
 use super::core::HdsCore;
 use super::simd::{Backend, BatchFloat, Lane};
 use super::sphere::CoresRef;

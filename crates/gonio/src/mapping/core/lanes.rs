@@ -6,6 +6,9 @@
 //! tables read from their f64 values, while the table searches compare in f64 (exact for f32
 //! inputs).
 
+// Lane loops index several arrays by the same lane number on purpose (they vectorise).
+#![allow(clippy::needless_range_loop)]
+
 use super::HdsCore;
 use crate::mapping::simd::{Lane, LANES as L};
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI, TAU};
