@@ -26,25 +26,25 @@ pub const ANGULAR_AREA: f64 = 1.0;
 /// and the sector lookup of a D-disk azimuth.
 #[derive(Debug, Clone)]
 pub(crate) struct Angular {
-    m: usize,
+    pub(super) m: usize,
     /// Meridian azimuths, M + 1 entries with φ_M = 2π.
-    phi: Vec<f64>,
+    pub(super) phi: Vec<f64>,
     /// Sector widths β_i, M entries.
-    beta: Vec<f64>,
+    pub(super) beta: Vec<f64>,
     /// 1/β when the meridians are uniform (O(1) sector lookup), else 0.
-    inv_uniform_beta: f64,
+    pub(super) inv_uniform_beta: f64,
     /// Squared star radii R_i² = U(i, N−1)/s, M + 1 entries (R_M = R_0).
-    r2: Vec<f64>,
+    pub(super) r2: Vec<f64>,
     /// Cumulative wedge angles Γ_i, M + 1 entries, Γ_0 = 0, Γ_M = 2π exactly.
-    cum: Vec<f64>,
+    pub(super) cum: Vec<f64>,
     /// Γ_M / Σγ^i (1 up to round-off): keeps Γ exactly cumulative.
-    kappa: f64,
+    pub(super) kappa: f64,
     /// Guide table of the wedge search: entry k is the wedge that holds φ_B = 2πk/K (K = the
     /// table's length, 2M), so the search starts at most a step or two below its answer (O(1)
     /// for all but pathological Γ).
-    wedge_guide: Vec<u32>,
+    pub(super) wedge_guide: Vec<u32>,
     /// K / 2π for [`Angular::wedge_guide`].
-    guide_scale: f64,
+    pub(super) guide_scale: f64,
 }
 
 impl Angular {
@@ -112,7 +112,7 @@ impl Angular {
     /// The wedge of B-disk azimuth `phib`: the largest i ≤ M − 1 with Γ_i ≤ φ_B (empty wedges are
     /// skipped by taking the last such i), found from the guide table.
     #[inline]
-    fn wedge(&self, phib: f64) -> usize {
+    pub(super) fn wedge(&self, phib: f64) -> usize {
         guided_search(
             &self.cum,
             &self.wedge_guide,

@@ -13,6 +13,8 @@ use crate::diagram::Diagram;
 use crate::sampler::Vec3;
 use std::f64::consts::PI;
 
+mod lanes;
+
 /// One HDS map (ALGORITHM §4): the tables of its two table-driven stages, M_C ([`Angular`]) and
 /// M_D ([`Radial`]), plus the completed diagram it was built from. M_B and M_E need no tables.
 #[derive(Debug, Clone)]

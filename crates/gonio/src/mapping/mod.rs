@@ -19,6 +19,7 @@
 //! and M_E.
 
 pub mod angular;
+pub mod batch;
 mod bound;
 mod complete;
 pub mod concentric;
@@ -26,6 +27,7 @@ mod core;
 mod hemisphere;
 pub mod lift;
 pub mod radial;
+pub mod simd;
 mod sphere;
 
 pub use hemisphere::HemisphereMap;

@@ -144,26 +144,26 @@ pub fn radial_area(s: f64, d: f64) -> f64 {
 /// density D that the map's pdf is made of.
 #[derive(Debug, Clone)]
 pub(crate) struct Radial {
-    n: usize,
+    pub(super) n: usize,
     /// Parallel radii x_j = √(1 − cos θ_j) on the disk, N entries.
-    x: Vec<f64>,
+    pub(super) x: Vec<f64>,
     /// Nodal disk densities d_{i,j} = p_{i,j}, row-major M × N.
-    d: Vec<f64>,
+    pub(super) d: Vec<f64>,
     /// Cumulative radial masses U(i, j) = 2∫₀^{x_j} d_i(x) x dx, row-major M × N.
-    u: Vec<f64>,
+    pub(super) u: Vec<f64>,
     /// Guide table of the parallel search: entry k is the segment of x that holds radius
     /// k·x_{N−1}/K (K = the table's length, 2N), for `pdf` and `invert`.
-    radius_guide: Vec<u32>,
+    pub(super) radius_guide: Vec<u32>,
     /// K / x_{N−1} for [`Radial::radius_guide`].
-    radius_scale: f64,
+    pub(super) radius_scale: f64,
     /// 1 / (x_{j+1} − x_j), N − 1 entries (0 for an empty segment).
-    inv_dx: Vec<f64>,
+    pub(super) inv_dx: Vec<f64>,
     /// Radial guide tables, row-major M × (K + 1) with K = [`Radial::radial_k`]: entry (i, k) is
     /// the largest j ≤ N − 2 with U(i, j) ≤ (k/K)·U(i, N−1), the segment of meridian i's own radial
     /// CDF at r_B² = k/K. They bracket the forward map's radial search.
-    radial_guide: Vec<u32>,
+    pub(super) radial_guide: Vec<u32>,
     /// K = ⌈N/2⌉ cells per radial guide table.
-    radial_k: usize,
+    pub(super) radial_k: usize,
 }
 
 impl Radial {
@@ -237,7 +237,7 @@ impl Radial {
     /// The segment of the parallel radii that holds disk radius `xr` (as `diagram::segment`: the
     /// largest j ≤ N − 2 with x_j ≤ xr), found from the guide table.
     #[inline]
-    fn segment_of(&self, xr: f64) -> usize {
+    pub(super) fn segment_of(&self, xr: f64) -> usize {
         guided_search(
             &self.x,
             &self.radius_guide,
