@@ -58,7 +58,7 @@ pub struct Stages {
 /// e.g. guide tables and the nodal densities: see [`crate::Sampler::memory_bytes`].)
 ///
 /// ```
-/// let d = gonio::Diagram::from_degrees(&[0.0, 90.0], &[0.0, 180.0], &[vec![1.0, 0.0]; 2]).unwrap();
+/// let d = gonio::Diagram::from_degrees(&[0.0, 90.0], &[0.0, 180.0], &vec![vec![1.0, 0.0]; 2]).unwrap();
 /// assert_eq!(gonio::mapping::paper_table_floats(&d), 2 * 2 + 2 * 2 + 2);
 /// ```
 pub fn paper_table_floats(diagram: &crate::Diagram) -> usize {
