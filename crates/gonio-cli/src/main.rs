@@ -59,11 +59,13 @@ enum Command {
     Bench(BenchArgs),
 }
 
-/// `--tolerance`: a finite number > 0.
+/// `--tolerance`: a number in (0, 1), as `BuildOptions::tolerance` takes it.
 fn parse_tolerance(s: &str) -> Result<f64, String> {
     match s.parse::<f64>() {
-        Ok(t) if t.is_finite() && t > 0.0 => Ok(t),
-        _ => Err(format!("the tolerance must be a number > 0, got `{s}`")),
+        Ok(t) if t > 0.0 && t < 1.0 => Ok(t),
+        _ => Err(format!(
+            "the tolerance must be a number in (0, 1), got `{s}`"
+        )),
     }
 }
 

@@ -124,6 +124,12 @@ pub trait Sampler: Send + Sync {
         None
     }
 
+    /// What refinement to a tolerance asked, reached and cost, for a map built with one
+    /// ([`crate::mapping::Refinement`]); `None` (the default) otherwise.
+    fn refinement(&self) -> Option<&crate::mapping::Refinement> {
+        None
+    }
+
     /// The intermediate points of the forward map at `u` (for the warp plot and tests), for
     /// methods built from stages (the HDS map); `None` (the default) otherwise.
     fn stages(&self, u: Point2) -> Option<crate::mapping::Stages> {

@@ -5,7 +5,9 @@
 use gonio::mapping::{RefineLimits, RefineStop};
 use gonio::sampler::direction;
 use gonio::synthetic::{random_hemisphere, Family};
-use gonio::{Diagram, HemisphereMap, Sampler, SphereLayout, SphereMap};
+use gonio::{
+    BuildOptions, Diagram, Domain, HemisphereMap, Method, Sampler, SphereLayout, SphereMap,
+};
 use proptest::prelude::*;
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
@@ -301,5 +303,24 @@ fn map_intensity_is_exact_at_nodes_and_gives_constant_weights() {
         let (lo, hi) = map.ratio_bound();
         let f = map.target_power() / map.map_power();
         assert!(f >= lo && f <= hi, "node ratio {f} outside [{lo}, {hi}]");
+    }
+}
+
+/// The factory passes the tolerance on: `BuildOptions::tolerance` gives a refined map whose report
+/// is reachable through the `Sampler` trait.
+#[test]
+fn the_factory_refines_to_the_tolerance() {
+    let d = random_hemisphere(Family::UniformRandom, 5, 6, true, 21);
+    for domain in [Domain::Hemisphere, Domain::Sphere] {
+        let plain = Method::Hds.build(&d, domain).unwrap();
+        assert!(plain.refinement().is_none());
+        let opts = BuildOptions::default().tolerance(Some(0.01));
+        let s = Method::Hds.build_with(&d, domain, &opts).unwrap();
+        let r = s
+            .refinement()
+            .expect("a refined map reports its refinement");
+        assert!(r.reached && r.tolerance == 0.01);
+        let (lo, hi) = s.ratio_bound().unwrap();
+        assert!(lo >= 0.99 && hi <= 1.01, "[{lo}, {hi}]");
     }
 }

@@ -211,6 +211,9 @@ impl Sampler for HemisphereMap {
     fn ratio_bound(&self) -> Option<(f64, f64)> {
         Some(HemisphereMap::ratio_bound(self))
     }
+    fn refinement(&self) -> Option<&Refinement> {
+        HemisphereMap::refinement(self)
+    }
     fn stages(&self, u: Point2) -> Option<super::Stages> {
         Some(HemisphereMap::stages(self, u))
     }

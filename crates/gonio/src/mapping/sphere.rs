@@ -445,6 +445,9 @@ impl Sampler for SphereMap {
     fn ratio_bound(&self) -> Option<(f64, f64)> {
         Some(SphereMap::ratio_bound(self))
     }
+    fn refinement(&self) -> Option<&Refinement> {
+        SphereMap::refinement(self)
+    }
     fn stages(&self, u: Point2) -> Option<super::Stages> {
         Some(SphereMap::stages(self, u))
     }
