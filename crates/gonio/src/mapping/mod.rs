@@ -13,6 +13,7 @@
 //! guaranteed pdf/target range at build time.
 
 pub mod angular;
+pub mod batch;
 mod bound;
 mod complete;
 pub mod concentric;
@@ -21,6 +22,7 @@ mod hemisphere;
 pub mod lift;
 pub mod radial;
 pub mod refine;
+pub mod simd;
 mod sphere;
 
 pub use hemisphere::HemisphereMap;

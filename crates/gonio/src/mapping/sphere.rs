@@ -42,6 +42,16 @@ enum Layout {
     Lambert(Box<HdsCore>),
 }
 
+/// Borrowed view of a [`SphereMap`]'s maps, for the batch paths.
+pub(crate) enum CoresRef<'a> {
+    Split {
+        upper: Option<&'a HdsCore>,
+        lower: Option<&'a HdsCore>,
+        p_lower: f64,
+    },
+    Lambert(&'a HdsCore),
+}
+
 /// The HDS map from the unit square onto the whole sphere. Directions are in the diagram's frame
 /// (θ from +z). A diagram that covers only θ ∈ [0°, 90°] or [90°, 180°] gives zero density on the
 /// other hemisphere, which is never sampled.
@@ -222,7 +232,7 @@ impl SphereMap {
                 reached,
                 stop: if reached { None } else { stop },
                 parallels_before,
-                parallels_after: map.cores().map(|c| c.diagram().n_parallels()).sum(),
+                parallels_after: map.map_cores().map(|c| c.diagram().n_parallels()).sum(),
                 meridians_added: 0,
                 memory_before,
                 memory_after: map.memory_bytes(),
@@ -233,7 +243,7 @@ impl SphereMap {
     }
 
     /// The hemisphere maps (split layout) or the one Lambert map.
-    fn cores(&self) -> impl Iterator<Item = &HdsCore> {
+    fn map_cores(&self) -> impl Iterator<Item = &HdsCore> {
         let (a, b): (Option<&HdsCore>, Option<&HdsCore>) = match &self.layout {
             Layout::Split { upper, lower, .. } => (upper.as_ref(), lower.as_ref()),
             Layout::Lambert(c) => (Some(c), None),
@@ -306,6 +316,27 @@ impl SphereMap {
             direction: [0.0, 0.0, 1.0],
             lower: false,
         }
+    }
+
+    /// The maps of the layout (for the batch paths).
+    pub(crate) fn cores(&self) -> CoresRef<'_> {
+        match &self.layout {
+            Layout::Split {
+                upper,
+                lower,
+                p_lower,
+            } => CoresRef::Split {
+                upper: upper.as_ref(),
+                lower: lower.as_ref(),
+                p_lower: *p_lower,
+            },
+            Layout::Lambert(c) => CoresRef::Lambert(c),
+        }
+    }
+
+    /// 1/(2T): the pdf per unit of disk density.
+    pub(crate) fn inv_2t(&self) -> f64 {
+        self.inv_2t
     }
 
     /// The layout in use.
@@ -459,5 +490,14 @@ impl Sampler for SphereMap {
             }
             Layout::Lambert(c) => c.memory_bytes(),
         }
+    }
+    fn sample_batch(&self, u: &[Point2], out: &mut [Sample]) {
+        super::batch::sample_batch_aos(self, u, out)
+    }
+    fn pdf_batch(&self, dirs: &[Vec3], out: &mut [f64]) {
+        super::batch::pdf_batch_aos(self, dirs, out)
+    }
+    fn invert_batch(&self, dirs: &[Vec3], out: &mut [Result<Point2, InvertError>]) {
+        super::batch::invert_batch_aos(self, dirs, out)
     }
 }
