@@ -6,9 +6,10 @@
 //!   library's factory, [`Method::build`]), on the domain [`domain`] chooses.
 
 use anyhow::Context;
-use gonio::{Diagram, Domain, Method, Sampler};
+use gonio::{BuildOptions, Diagram, Domain, Method, Sampler};
 use std::fmt;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
 /// The input name that loads [`gonio::synthetic::example_luminaire`] instead of a file.
@@ -210,8 +211,27 @@ pub fn domain(loaded: &Loaded) -> Domain {
     }
 }
 
-/// The sampler of `method` for `loaded`, built by the library's factory ([`Method::build`]) on
-/// the domain [`domain`] chooses.
+/// The global `--tolerance` (bits of an `f64`; NaN = none): the HDS map is refined to it.
+static TOLERANCE: AtomicU64 = AtomicU64::new(NO_TOLERANCE);
+const NO_TOLERANCE: u64 = 0x7ff8_0000_0000_0000;
+
+/// Sets the tolerance every HDS map of this run is refined to (the global `--tolerance`).
+pub fn set_tolerance(tolerance: Option<f64>) {
+    TOLERANCE.store(
+        tolerance.map_or(NO_TOLERANCE, f64::to_bits),
+        Ordering::Relaxed,
+    );
+}
+
+/// The tolerance set by [`set_tolerance`], if any.
+pub fn tolerance() -> Option<f64> {
+    let t = f64::from_bits(TOLERANCE.load(Ordering::Relaxed));
+    (!t.is_nan()).then_some(t)
+}
+
+/// The sampler of `method` for `loaded`, built by the library's factory ([`Method::build_with`])
+/// on the domain [`domain`] chooses, with the global `--tolerance` (which only the HDS map reads;
+/// a warning goes to stderr when refinement did not reach it).
 pub fn build_sampler(method: Method, loaded: &Loaded) -> anyhow::Result<Box<dyn Sampler>> {
     Ok(build_sampler_timed(method, loaded)?.0)
 }
@@ -222,11 +242,16 @@ pub fn build_sampler_timed(
     loaded: &Loaded,
 ) -> anyhow::Result<(Box<dyn Sampler>, Duration)> {
     let start = Instant::now();
+    let options = BuildOptions::default().tolerance(tolerance());
     let sampler = method
-        .build(&loaded.diagram, domain(loaded))
+        .build_with(&loaded.diagram, domain(loaded), &options)
         .with_context(|| match method {
             Method::Hds => format!("{}: cannot build the HDS map", loaded.name),
             m => format!("{}: cannot build the {m} sampler", loaded.name),
         })?;
-    Ok((sampler, start.elapsed()))
+    let took = start.elapsed();
+    if let Some(w) = sampler.refinement().and_then(|r| r.warning()) {
+        eprintln!("gonio: warning: {}: {w}", loaded.name);
+    }
+    Ok((sampler, took))
 }

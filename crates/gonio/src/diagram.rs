@@ -111,6 +111,12 @@ pub enum DiagramError {
         /// The largest θ the map covers, in degrees.
         limit_deg: f64,
     },
+    /// A map was asked for a tolerance that is not a finite number > 0.
+    #[error("the tolerance must be a finite number > 0, got {tolerance}")]
+    BadTolerance {
+        /// The tolerance asked for.
+        tolerance: f64,
+    },
     /// The Lambert sphere layout was asked for a diagram that lies on one side of the horizon.
     #[error("the Lambert sphere layout needs a diagram that spans the horizon")]
     NotSpanningHorizon,

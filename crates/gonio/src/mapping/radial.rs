@@ -217,11 +217,6 @@ impl Radial {
         }
     }
 
-    /// The parallel radii x_j, N entries.
-    pub(crate) fn radii(&self) -> &[f64] {
-        &self.x
-    }
-
     /// U(i, N−1): the total radial mass of meridian `i`.
     #[inline]
     pub(crate) fn meridian_mass(&self, i: usize) -> f64 {
