@@ -4,7 +4,7 @@
 //!
 //! Checked for every map that builds: `sample` gives a finite unit direction inside the domain
 //! with a finite pdf ≥ 0; where that pdf is positive, `pdf(direction)` agrees with it to 1e-6
-//! (relative); `pdf` of any unit direction is finite and ≥ 0; `invert` of a direction with positive
+//! (relative, with an absolute floor of 1e-12 /sr); `pdf` of any unit direction is finite and ≥ 0; `invert` of a direction with positive
 //! pdf gives a point of the closed square that maps back to the direction (to 1e-6).
 #![no_main]
 
@@ -95,10 +95,16 @@ fn check(s: &dyn Sampler, points: &[[f64; 2]], dirs: &[[f64; 3]]) {
         if domain == Domain::Hemisphere {
             assert!(d[2] >= 0.0, "{u:?} → {d:?} below the horizon");
         }
-        if x.pdf > 0.0 {
+        // At a pole the density has one value only if the diagram has one value there; the
+        // fuzzer makes diagrams whose meridians differ at θ = 0 or 180° (the limit then depends
+        // on the azimuth of approach), so the agreement is checked off the poles.
+        let at_pole = 1.0 - d[2].abs() < 1e-12;
+        if x.pdf > 0.0 && !at_pole {
             let p = s.pdf(d);
+            // Relative 1e-6, with an absolute floor of 1e-12 (per steradian) for densities that
+            // are round-off next to zero values.
             assert!(
-                (p - x.pdf).abs() <= 1e-6 * x.pdf,
+                (p - x.pdf).abs() <= 1e-6 * x.pdf + 1e-12,
                 "{u:?} → {d:?}: sampled pdf {} but pdf() {}",
                 x.pdf,
                 p
