@@ -292,6 +292,23 @@ fn oversized_inputs_are_refused_before_reading() {
     drop(f);
     let err = fails(&["info", s(&json)]);
     assert!(err.contains("more than the limit"), "{err}");
+    // A header of more than 10000 lines before `TILT=` is refused at the line where the limit is
+    // passed (a hostile header used to cost a warning and a string per line: 3.7 GB for 60 MB).
+    let p = dir.join("header.ies");
+    fs::write(
+        &p,
+        format!(
+            "IESNA:LM-63-2002\n{}{}",
+            "a\n".repeat(20_000),
+            ies_text("NONE")
+        ),
+    )
+    .unwrap();
+    let err = fails(&["info", s(&p)]);
+    assert!(
+        err.contains(":10002:1: no `TILT=` line within the first 10000 header lines"),
+        "{err}"
+    );
     // Trailing data after the table: a warning that says where it starts.
     let mut text = ies_text("NONE");
     text.push_str(&"0\n".repeat(1000));

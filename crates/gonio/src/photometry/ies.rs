@@ -3,7 +3,7 @@
 use super::tokens::{check_angles, excerpt, strip_bom, text, Cursor, Lines};
 use super::{
     expand, IesInfo, Keyword, LampSet, ParseError, PhotometricType, Photometry, Tilt, TiltResolver,
-    TiltTable, Version, Warning, MAX_ANGLES,
+    TiltTable, Version, Warning, MAX_ANGLES, MAX_HEADER_LINES,
 };
 use crate::diagram::MAX_NODES;
 
@@ -112,6 +112,16 @@ pub(crate) fn read_ies(
         .map(|(k, l)| (k + header_start, l))
     {
         let lno = k + 1;
+        if k - header_start >= MAX_HEADER_LINES {
+            return Err(ParseError::new(
+                lno,
+                1,
+                format!(
+                    "no `TILT=` line within the first {MAX_HEADER_LINES} header lines: \
+                     this is not an IES LM-63 file"
+                ),
+            ));
+        }
         if let Some((col, value)) = tilt_line(raw) {
             tilt_at = Some((k, col, value));
             break;

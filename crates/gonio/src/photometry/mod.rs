@@ -48,6 +48,11 @@ pub const MAX_ANGLES: usize = 100_000;
 /// duplicates (so that every conversion keeps them distinct).
 pub const MIN_ANGLE_STEP_DEG: f64 = 1e-9;
 
+/// Largest number of header lines (keywords, `[MORE]` and free text) before the `TILT=` line of
+/// an IES file: a file without a `TILT=` line within them is refused (real headers have a few
+/// dozen lines; the cap bounds the memory and the warnings a hostile header can cost).
+pub const MAX_HEADER_LINES: usize = 10_000;
+
 /// Largest number of EULUMDAT lamp sets accepted.
 pub const MAX_LAMP_SETS: usize = 1_000;
 
