@@ -3,8 +3,8 @@
 use crate::arrays;
 use crate::diagram::{domain_name, parse_domain, PyDiagram};
 use crate::{detached, BuildError, InputError};
-use gonio::baselines::Method;
 use gonio::sampler::normalize;
+use gonio::Method;
 use gonio::{InvertError, Point2, Sample, Sampler, Vec3};
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
@@ -76,8 +76,8 @@ pub(crate) type Built = (Box<dyn Sampler>, Option<(f64, f64)>, f64);
 /// (directions (n, 3), pdf (n,)) as numpy arrays.
 type SampleArrays<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>);
 
-/// Builds the sampler of `method` for `diagram` on `domain`, with its guaranteed ratio bound and
-/// the power its target normalises (diagram units × sr).
+/// Builds the sampler of `method` for `diagram` on `domain` through the library's factory
+/// [`Method::build_with`], with its guaranteed ratio bound and target power.
 pub(crate) fn build(
     method: Method,
     diagram: &gonio::Diagram,
@@ -85,28 +85,17 @@ pub(crate) fn build(
     resolution: Option<usize>,
     seed: Option<u64>,
     tolerance: Option<f64>,
-) -> Result<Built, String> {
-    let _ = (resolution, seed, tolerance);
-    match method {
-        Method::Hds => match domain {
-            gonio::Domain::Hemisphere => {
-                let m = gonio::HemisphereMap::new(diagram).map_err(|e| e.to_string())?;
-                let (b, p) = (m.ratio_bound(), m.target_power());
-                Ok((Box::new(m), Some(b), p))
-            }
-            gonio::Domain::Sphere => {
-                let m = gonio::SphereMap::new(diagram).map_err(|e| e.to_string())?;
-                let (b, p) = (m.ratio_bound(), m.target_power());
-                Ok((Box::new(m), Some(b), p))
-            }
-        },
-        m => {
-            let s = m
-                .build_baseline(diagram, domain)
-                .map_err(|e| e.to_string())?;
-            Ok((s, None, diagram.integral()))
-        }
+) -> Result<Built, gonio::BuildError> {
+    let mut options = gonio::BuildOptions::default().tolerance(tolerance);
+    if let Some(r) = resolution {
+        options = options.resolution(r);
     }
+    if let Some(s) = seed {
+        options = options.seed(s);
+    }
+    let s = method.build_with(diagram, domain, &options)?;
+    let (bound, power) = (s.ratio_bound(), s.target_power());
+    Ok((s, bound, power))
 }
 
 impl PySampler {
