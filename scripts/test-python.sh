@@ -8,7 +8,7 @@
 #   * Mitsuba's llvm_ad_rgb variant needs libLLVM: when none is found and we are root with apt-get,
 #     libllvm19 is installed (set GONIO_NO_APT=1 to forbid that); otherwise its test is SKIPPED
 #     with the reason, and everything else still runs;
-#   * the CLI binary used to compare results is built with cargo (dev profile, as cargo test has).
+#   * the CLI binary used to compare results is built with cargo (test profile, as cargo test has).
 #
 # Exit status: 0 all passed, 1 a failure, 77 the part could not run at all (no Python 3.9+).
 set -euo pipefail
@@ -70,9 +70,10 @@ rm -rf "$wheels"
 "$vpy" -m pip install "${pip_quiet[@]}" --force-reinstall --no-deps "$wheels"/gonio-*.whl
 "$vpy" -c 'import gonio; print("gonio", gonio.__version__, "from", gonio.__file__)'
 
-# The CLI, to compare the package's results with it.
+# The CLI, to compare the package's results with it: the test profile, which `cargo test
+# --workspace` (run before this by scripts/test-all.sh) has already built, so nothing is rebuilt.
 if [ -z "${GONIO_BIN:-}" ]; then
-  cargo build -q --locked -p gonio-cli
+  cargo build -q --locked --profile test -p gonio-cli --bin gonio
   export GONIO_BIN="$root/target/debug/gonio"
 fi
 

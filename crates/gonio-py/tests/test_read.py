@@ -130,3 +130,26 @@ def test_convert_matches_write(path, tmp_path):
     d = gonio.read(path)
     assert out.read_bytes() == d.dumps("ldt", luminaire=path.stem).encode()
     np.testing.assert_array_equal(gonio.read(out).values, d.values)
+
+
+def test_tilt_file_is_resolved_next_to_the_ies_file(tmp_path):
+    (tmp_path / "lamp.tlt").write_text("1\n3\n0 45 90\n0.5 0.75 1.0\n")
+    ies = """IESNA:LM-63-2002
+TILT=lamp.tlt
+1 1000 1 3 1 1 2 0.5 0.5 0.1
+1.0 1.0 100
+0 45 90
+0
+100 80 0
+"""
+    (tmp_path / "t.ies").write_text(ies)
+    d = gonio.read(tmp_path / "t.ies")
+    t = d.header["tilt"]
+    assert t["kind"] == "file" and t["file"] == "lamp.tlt" and t["geometry"] == 1
+    np.testing.assert_array_equal(t["factors"], [0.5, 0.75, 1.0])
+    # The factor at the tilt angle 0° (0.5) is applied to every intensity.
+    assert d.header["intensity_scale"] == pytest.approx(0.5)
+    np.testing.assert_allclose(d.intensity([[0, 0, -1.0]]), [50.0], rtol=1e-12)
+    # Without a directory (read_bytes) the TILT file cannot be had: a located error.
+    with pytest.raises(gonio.ParseError, match="lamp.tlt"):
+        gonio.read_bytes(ies, "ies", name="t.ies")
