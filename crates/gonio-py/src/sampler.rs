@@ -222,10 +222,16 @@ impl PySampler {
         directions: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let rows = arrays::rows::<3>(directions, "directions")?;
+        let dirs = rows.as_slice();
         let s = self.sampler.as_ref();
-        let out = map_rows(py, "pdf", &rows.as_slice(), |d| {
-            normalize(*d).map(|d| s.pdf(d))
-        })?;
+        let mut out = vec![0.0; dirs.len()];
+        let bad = detached(py, "pdf", || pdf_into(s, &dirs, &mut out))?;
+        if let Some(k) = bad {
+            return Err(InputError::new_err(format!(
+                "pdf: row {k}: direction {:?} is zero or not finite",
+                dirs[k]
+            )));
+        }
         Ok(arrays::new_1d(py, out))
     }
 
@@ -328,16 +334,50 @@ fn invert_into(s: &dyn Sampler, dirs: &[Vec3], out: &mut [f64]) -> Option<usize>
         .zip(dirs.par_chunks(CHUNK))
         .enumerate()
         .filter_map(|(c, (o, d))| {
-            let mut first_bad = None;
-            for (k, (o, d)) in o.chunks_exact_mut(2).zip(d).enumerate() {
-                match normalize(*d).map(|d| s.invert(d)) {
-                    Some(Ok(u)) => o.copy_from_slice(&u),
-                    _ => {
-                        first_bad.get_or_insert(c * CHUNK + k);
-                    }
+            let mut unit = [[0.0; 3]; CHUNK];
+            let unit = &mut unit[..d.len()];
+            if let Some(k) = normalize_all(d, unit) {
+                return Some(c * CHUNK + k);
+            }
+            let mut res = [Ok([0.0; 2]); CHUNK];
+            let res = &mut res[..d.len()];
+            s.invert_batch(unit, res);
+            for (k, (o, r)) in o.chunks_exact_mut(2).zip(res.iter()).enumerate() {
+                match r {
+                    Ok(u) => o.copy_from_slice(u),
+                    Err(_) => return Some(c * CHUNK + k),
                 }
             }
-            first_bad
+            None
+        })
+        .min()
+}
+
+/// Normalises every direction of `d` into `unit`; the index of the first zero or non-finite one.
+fn normalize_all(d: &[Vec3], unit: &mut [Vec3]) -> Option<usize> {
+    for (k, (u, d)) in unit.iter_mut().zip(d).enumerate() {
+        match normalize(*d) {
+            Some(v) => *u = v,
+            None => return Some(k),
+        }
+    }
+    None
+}
+
+/// The library's batch pdf ([`Sampler::pdf_batch`], the SIMD path of the HDS maps) of every
+/// normalised direction; the first zero or non-finite direction.
+fn pdf_into(s: &dyn Sampler, dirs: &[Vec3], out: &mut [f64]) -> Option<usize> {
+    out.par_chunks_mut(CHUNK)
+        .zip(dirs.par_chunks(CHUNK))
+        .enumerate()
+        .filter_map(|(c, (o, d))| {
+            let mut unit = [[0.0; 3]; CHUNK];
+            let unit = &mut unit[..d.len()];
+            if let Some(k) = normalize_all(d, unit) {
+                return Some(c * CHUNK + k);
+            }
+            s.pdf_batch(unit, o);
+            None
         })
         .min()
 }
