@@ -6,12 +6,14 @@
 //!   [`domain`] chooses;
 //! * [`build_hds`] builds the HDS map with its concrete type, for `info` and `check`.
 
+use crate::input::{read_regular, tame, TiltFiles, MAX_INPUT_BYTES};
 use anyhow::Context;
 use gonio::baselines::Method;
 use gonio::mapping::SphereLayout;
 use gonio::{Diagram, Domain, HemisphereMap, Sampler, SphereMap};
 use std::fmt;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
 /// The input name that loads [`gonio::synthetic::example_luminaire`] instead of a file.
@@ -144,8 +146,9 @@ pub fn load(name: &str) -> anyhow::Result<Loaded> {
     })
 }
 
+/// Reads an input file: a regular file of at most [`MAX_INPUT_BYTES`] (see [`crate::input`]).
 fn read_file(name: &str) -> anyhow::Result<Vec<u8>> {
-    std::fs::read(name).map_err(|e| anyhow::anyhow!("cannot read {name}: {e}"))
+    read_regular(Path::new(name), name, MAX_INPUT_BYTES)
 }
 
 /// Parses the native JSON form, turning library errors into CLI errors that name the file.
@@ -159,14 +162,14 @@ pub fn diagram_from_json(name: &str, text: &str) -> anyhow::Result<Diagram> {
             file: name.to_string(),
             line,
             column,
-            message: strip_serde_location(&message).to_string(),
+            message: tame(strip_serde_location(&message)),
         }
         .into(),
         gonio::Error::Parse(p) => LocatedError {
             file: name.to_string(),
             line: p.line,
             column: p.column,
-            message: p.message,
+            message: tame(&p.message),
         }
         .into(),
         other => anyhow::anyhow!("{name}: invalid diagram: {other}"),
@@ -185,7 +188,7 @@ fn load_photometry(
     name: &str,
     kind: InputKind,
 ) -> anyhow::Result<(gonio::photometry::Photometry, Diagram)> {
-    use gonio::photometry::{read, DirTiltResolver, FileFormat};
+    use gonio::photometry::{read, FileFormat};
     let bytes = read_file(name)?;
     let format = if kind == InputKind::Ies {
         FileFormat::Ies
@@ -196,11 +199,11 @@ fn load_photometry(
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
         _ => PathBuf::from("."),
     };
-    let p = read(&bytes, format, &DirTiltResolver::new(dir)).map_err(|e| LocatedError {
+    let p = read(&bytes, format, &TiltFiles::new(dir)).map_err(|e| LocatedError {
         file: name.to_string(),
         line: e.line,
         column: e.column,
-        message: e.message,
+        message: tame(&e.message),
     })?;
     let d = p
         .to_diagram()
@@ -244,6 +247,13 @@ impl Hds {
             Hds::Sphere(m) => m.ratio_bound(),
         }
     }
+    /// What refinement to `--tolerance` asked, reached and cost (`None` without a tolerance).
+    pub fn refinement(&self) -> Option<&gonio::mapping::Refinement> {
+        match self {
+            Hds::Hemisphere(m) => m.refinement(),
+            Hds::Sphere(m) => m.refinement(),
+        }
+    }
     /// ∫ of the (completed) diagram over the domain, in diagram units × sr (lumens for candela).
     pub fn target_power(&self) -> f64 {
         match self {
@@ -267,16 +277,38 @@ impl Hds {
     }
 }
 
-/// Builds the HDS map for `loaded` on [`domain`], and the time the build took.
+/// The global `--tolerance` (bits of an `f64`; NaN = none): the HDS map is refined to it.
+static TOLERANCE: AtomicU64 = AtomicU64::new(NO_TOLERANCE);
+const NO_TOLERANCE: u64 = 0x7ff8_0000_0000_0000;
+
+/// Sets the tolerance every HDS map of this run is refined to (the global `--tolerance`).
+pub fn set_tolerance(tolerance: Option<f64>) {
+    TOLERANCE.store(
+        tolerance.map_or(NO_TOLERANCE, f64::to_bits),
+        Ordering::Relaxed,
+    );
+}
+
+/// The tolerance set by [`set_tolerance`], if any.
+pub fn tolerance() -> Option<f64> {
+    let t = f64::from_bits(TOLERANCE.load(Ordering::Relaxed));
+    (!t.is_nan()).then_some(t)
+}
+
+/// Builds the HDS map for `loaded` on [`domain`] (refined to [`tolerance`] when one is set, with a
+/// warning on stderr when it was not reached), and the time the build took.
 pub fn build_hds(loaded: &Loaded) -> anyhow::Result<(Hds, Duration)> {
     let start = Instant::now();
-    let map = match domain(loaded) {
-        Domain::Hemisphere => Hds::Hemisphere(HemisphereMap::new(&loaded.diagram)?),
-        Domain::Sphere => Hds::Sphere(SphereMap::with_layout(
-            &loaded.diagram,
-            SphereLayout::Split,
-        )?),
+    let d = &loaded.diagram;
+    let map = match (domain(loaded), tolerance()) {
+        (Domain::Hemisphere, None) => Hds::Hemisphere(HemisphereMap::new(d)?),
+        (Domain::Hemisphere, Some(t)) => Hds::Hemisphere(HemisphereMap::with_tolerance(d, t)?),
+        (Domain::Sphere, None) => Hds::Sphere(SphereMap::with_layout(d, SphereLayout::Split)?),
+        (Domain::Sphere, Some(t)) => Hds::Sphere(SphereMap::with_tolerance(d, t)?),
     };
+    if let Some(w) = map.refinement().and_then(|r| r.warning()) {
+        eprintln!("gonio: warning: {}: {w}", loaded.name);
+    }
     Ok((map, start.elapsed()))
 }
 
