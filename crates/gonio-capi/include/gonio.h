@@ -33,6 +33,24 @@ typedef int32_t GonioDomain;
 // A sampling method: one of the `GONIO_METHOD_*` constants.
 typedef int32_t GonioMethod;
 
+// A layout of the HDS map on the sphere: one of the `GONIO_SPHERE_LAYOUT_*` constants.
+typedef int32_t GonioSphereLayout;
+
+// Options of [`gonio_sampler_build_with`]; each method reads those that apply to it. Fill it
+// with [`gonio_build_options_default`], then change fields. (The struct may gain fields in later
+// versions; always start from the defaults.)
+typedef struct GonioBuildOptions {
+  // HDS: the requested relative accuracy of the pdf/target bound, in (0, 1); 0 for none (the
+  // default). Validated; see `BuildOptions::tolerance` in the library for what it achieves.
+  double tolerance;
+  // Piecewise-constant: pixels per side of the image (default 0 = the library's default).
+  size_t resolution;
+  // Rejection: seed of the proposal stream (default 0).
+  uint64_t seed;
+  // HDS on the sphere: a `GONIO_SPHERE_LAYOUT_*` constant (default split).
+  GonioSphereLayout sphere_layout;
+} GonioBuildOptions;
+
 // One sample: a unit direction in gonio's frame and the exact density of the sampler there.
 typedef struct GonioSample {
   // The unit direction `[x, y, z]`.
@@ -108,6 +126,12 @@ typedef struct GonioSample {
 
 // The whole sphere (4π sr).
 #define GONIO_DOMAIN_SPHERE 2
+
+// Two hemisphere maps side by side on the square, split by power (the default).
+#define GONIO_SPHERE_LAYOUT_SPLIT 0
+
+// One map with the whole-sphere Lambert lift.
+#define GONIO_SPHERE_LAYOUT_LAMBERT 1
 
 #ifdef __cplusplus
 extern "C" {
@@ -209,9 +233,9 @@ GonioStatus gonio_diagram_warning(const struct GonioDiagram *diagram,
 GonioStatus gonio_diagram_domain(const struct GonioDiagram *diagram, GonioDomain *domain);
 
 // Builds a sampler of `method` (a `GONIO_METHOD_*` constant) on `domain` (a `GONIO_DOMAIN_*`
-// constant; [`GONIO_DOMAIN_AUTO`] for the diagram's own policy) with default options. On
-// success `*out` receives a new handle that the caller releases with [`gonio_sampler_free`]; it
-// does not borrow `diagram`.
+// constant; [`GONIO_DOMAIN_AUTO`] for the diagram's own policy) with default options, through
+// the library's factory `Method::build`. On success `*out` receives a new handle that the caller
+// releases with [`gonio_sampler_free`]; it does not borrow `diagram`.
 //
 // # Safety
 // `diagram` must be NULL or a live handle; `out` NULL or valid for writing a pointer.
@@ -219,6 +243,23 @@ GonioStatus gonio_sampler_build(const struct GonioDiagram *diagram,
                                 GonioMethod method,
                                 GonioDomain domain,
                                 struct GonioSampler **out);
+
+// Writes the default options into `*options`.
+//
+// # Safety
+// `options` must be NULL or valid for writing a [`GonioBuildOptions`].
+GonioStatus gonio_build_options_default(struct GonioBuildOptions *options);
+
+// As [`gonio_sampler_build`] with `options` (through the factory's `Method::build_with`).
+//
+// # Safety
+// `diagram` must be NULL or a live handle; `options` NULL or a valid [`GonioBuildOptions`];
+// `out` NULL or valid for writing a pointer.
+GonioStatus gonio_sampler_build_with(const struct GonioDiagram *diagram,
+                                     GonioMethod method,
+                                     GonioDomain domain,
+                                     const struct GonioBuildOptions *options,
+                                     struct GonioSampler **out);
 
 // Releases a sampler handle. NULL is accepted and ignored.
 //
@@ -291,6 +332,15 @@ GonioStatus gonio_invert(const struct GonioSampler *sampler,
 // # Safety
 // `sampler` must be NULL or a live handle; `min` and `max` NULL or valid for writing a double.
 GonioStatus gonio_sampler_ratio_bound(const struct GonioSampler *sampler, double *min, double *max);
+
+// The power of the sampler's target: the integral over its domain of the intensity that
+// `target_pdf` normalises, in lumens for photometric files (candela × sr). For the HDS map it is
+// the power of the diagram as completed for its tables; it equals [`gonio_diagram_flux`] when
+// the completion adds nothing.
+//
+// # Safety
+// `sampler` must be NULL or a live handle; `power` NULL or valid for writing a double.
+GonioStatus gonio_sampler_target_power(const struct GonioSampler *sampler, double *power);
 
 // Samples `n` points of the square given as interleaved pairs `u[2i], u[2i+1]` (double):
 // directions into `directions[3i..3i+3]`, densities (per sr) into `pdfs[i]`.

@@ -27,11 +27,10 @@
 //!   in lumens for photometric files (candela × sr).
 #![warn(missing_docs)]
 
-use gonio::baselines::Method;
 use gonio::mapping::SphereLayout;
 use gonio::photometry::{self, DirTiltResolver, FileFormat, NoTiltFiles, Photometry};
-use gonio::sampler::{Sample, Vec3};
-use gonio::{Diagram, Domain, HemisphereMap, InvertError, Sampler, SphereMap};
+use gonio::sampler::{BuildOptions, Method, Sample, Vec3};
+use gonio::{Diagram, Domain, InvertError, Sampler};
 use std::cell::RefCell;
 use std::ffi::{c_char, CStr, CString};
 use std::io::Read;
@@ -109,6 +108,30 @@ pub struct GonioSample {
     pub direction: [f64; 3],
     /// Density of the sampler at `direction`, per steradian (equal to `gonio_pdf` there).
     pub pdf: f64,
+}
+
+/// A layout of the HDS map on the sphere: one of the `GONIO_SPHERE_LAYOUT_*` constants.
+pub type GonioSphereLayout = i32;
+/// Two hemisphere maps side by side on the square, split by power (the default).
+pub const GONIO_SPHERE_LAYOUT_SPLIT: GonioSphereLayout = 0;
+/// One map with the whole-sphere Lambert lift.
+pub const GONIO_SPHERE_LAYOUT_LAMBERT: GonioSphereLayout = 1;
+
+/// Options of [`gonio_sampler_build_with`]; each method reads those that apply to it. Fill it
+/// with [`gonio_build_options_default`], then change fields. (The struct may gain fields in later
+/// versions; always start from the defaults.)
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GonioBuildOptions {
+    /// HDS: the requested relative accuracy of the pdf/target bound, in (0, 1); 0 for none (the
+    /// default). Validated; see `BuildOptions::tolerance` in the library for what it achieves.
+    pub tolerance: f64,
+    /// Piecewise-constant: pixels per side of the image (default 0 = the library's default).
+    pub resolution: usize,
+    /// Rejection: seed of the proposal stream (default 0).
+    pub seed: u64,
+    /// HDS on the sphere: a `GONIO_SPHERE_LAYOUT_*` constant (default split).
+    pub sphere_layout: GonioSphereLayout,
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -618,12 +641,13 @@ pub unsafe extern "C" fn gonio_diagram_domain(
 // ---------------------------------------------------------------------------------------------
 // Building.
 
+/// The CLI's policy: photometric files always get the sphere, a JSON diagram
+/// [`Domain::for_diagram`].
 fn auto_domain(d: &GonioDiagram) -> Domain {
-    let theta_max = d.diagram.theta().last().copied().unwrap_or(0.0);
-    if d.photometry.is_some() || theta_max > std::f64::consts::FRAC_PI_2 {
+    if d.photometry.is_some() {
         Domain::Sphere
     } else {
-        Domain::Hemisphere
+        Domain::for_diagram(&d.diagram)
     }
 }
 
@@ -647,26 +671,71 @@ fn method_of(method: GonioMethod) -> Result<Method, Failure> {
     }
 }
 
-fn build(d: &GonioDiagram, method: Method, domain: Domain) -> Result<Box<dyn Sampler>, String> {
-    match method {
-        Method::Hds => match domain {
-            Domain::Hemisphere => HemisphereMap::new(&d.diagram)
-                .map(|m| Box::new(m) as Box<dyn Sampler>)
-                .map_err(|e| e.to_string()),
-            Domain::Sphere => SphereMap::with_layout(&d.diagram, SphereLayout::Split)
-                .map(|m| Box::new(m) as Box<dyn Sampler>)
-                .map_err(|e| e.to_string()),
-        },
-        m => m
-            .build_baseline(&d.diagram, domain)
-            .map_err(|e| e.to_string()),
+fn domain_of(d: &GonioDiagram, domain: GonioDomain) -> Result<Domain, Failure> {
+    match domain {
+        GONIO_DOMAIN_AUTO => Ok(auto_domain(d)),
+        GONIO_DOMAIN_HEMISPHERE => Ok(Domain::Hemisphere),
+        GONIO_DOMAIN_SPHERE => Ok(Domain::Sphere),
+        other => Err(Failure::invalid(format!(
+            "unknown domain {other}; expected GONIO_DOMAIN_AUTO, _HEMISPHERE or _SPHERE"
+        ))),
+    }
+}
+
+fn options_of(o: &GonioBuildOptions) -> Result<BuildOptions, Failure> {
+    let mut b = BuildOptions::default();
+    if o.tolerance != 0.0 {
+        b = b.tolerance(Some(o.tolerance));
+    }
+    if o.resolution != 0 {
+        b = b.resolution(o.resolution);
+    }
+    b = b.seed(o.seed);
+    b = b.sphere_layout(match o.sphere_layout {
+        GONIO_SPHERE_LAYOUT_SPLIT => SphereLayout::Split,
+        GONIO_SPHERE_LAYOUT_LAMBERT => SphereLayout::Lambert,
+        other => {
+            return Err(Failure::invalid(format!(
+                "unknown sphere layout {other}; expected GONIO_SPHERE_LAYOUT_SPLIT or _LAMBERT"
+            )))
+        }
+    });
+    Ok(b)
+}
+
+/// Builds through the library's factory, with the CLI's message on failure.
+fn build(
+    diagram: *const GonioDiagram,
+    method: GonioMethod,
+    domain: GonioDomain,
+    options: &BuildOptions,
+    out: *mut *mut GonioSampler,
+) -> Result<(), Failure> {
+    check_out(out, "out")?;
+    // SAFETY: the caller passes NULL or a live handle (the exported functions' contract).
+    let d = unsafe { r(diagram, "diagram")? };
+    let m = method_of(method)?;
+    let dom = domain_of(d, domain)?;
+    let s = m.build_with(&d.diagram, dom, options).map_err(|e| {
+        Failure::new(
+            GONIO_ERR_BUILD,
+            format!("{}: cannot build the {m} sampler: {e}", d.name),
+        )
+    })?;
+    // SAFETY: `out` was checked above.
+    unsafe {
+        w(
+            out,
+            Box::into_raw(Box::new(GonioSampler { inner: s })),
+            "out",
+        )
     }
 }
 
 /// Builds a sampler of `method` (a `GONIO_METHOD_*` constant) on `domain` (a `GONIO_DOMAIN_*`
-/// constant; [`GONIO_DOMAIN_AUTO`] for the diagram's own policy) with default options. On
-/// success `*out` receives a new handle that the caller releases with [`gonio_sampler_free`]; it
-/// does not borrow `diagram`.
+/// constant; [`GONIO_DOMAIN_AUTO`] for the diagram's own policy) with default options, through
+/// the library's factory `Method::build`. On success `*out` receives a new handle that the caller
+/// releases with [`gonio_sampler_free`]; it does not borrow `diagram`.
 ///
 /// # Safety
 /// `diagram` must be NULL or a live handle; `out` NULL or valid for writing a pointer.
@@ -677,31 +746,52 @@ pub unsafe extern "C" fn gonio_sampler_build(
     domain: GonioDomain,
     out: *mut *mut GonioSampler,
 ) -> GonioStatus {
+    guard(|| build(diagram, method, domain, &BuildOptions::default(), out))
+}
+
+/// Writes the default options into `*options`.
+///
+/// # Safety
+/// `options` must be NULL or valid for writing a [`GonioBuildOptions`].
+#[no_mangle]
+pub unsafe extern "C" fn gonio_build_options_default(
+    options: *mut GonioBuildOptions,
+) -> GonioStatus {
     guard(|| {
-        check_out(out, "out")?;
-        let d = r(diagram, "diagram")?;
-        let m = method_of(method)?;
-        let dom = match domain {
-            GONIO_DOMAIN_AUTO => auto_domain(d),
-            GONIO_DOMAIN_HEMISPHERE => Domain::Hemisphere,
-            GONIO_DOMAIN_SPHERE => Domain::Sphere,
-            other => {
-                return Err(Failure::invalid(format!(
-                    "unknown domain {other}; expected GONIO_DOMAIN_AUTO, _HEMISPHERE or _SPHERE"
-                )))
-            }
+        let d = BuildOptions::default();
+        let layout = match d.sphere_layout {
+            SphereLayout::Lambert => GONIO_SPHERE_LAYOUT_LAMBERT,
+            _ => GONIO_SPHERE_LAYOUT_SPLIT,
         };
-        let s = build(d, m, dom).map_err(|e| {
-            Failure::new(
-                GONIO_ERR_BUILD,
-                format!("{}: cannot build the {m} sampler: {e}", d.name),
-            )
-        })?;
         w(
-            out,
-            Box::into_raw(Box::new(GonioSampler { inner: s })),
-            "out",
+            options,
+            GonioBuildOptions {
+                tolerance: d.tolerance.unwrap_or(0.0),
+                resolution: 0,
+                seed: d.seed,
+                sphere_layout: layout,
+            },
+            "options",
         )
+    })
+}
+
+/// As [`gonio_sampler_build`] with `options` (through the factory's `Method::build_with`).
+///
+/// # Safety
+/// `diagram` must be NULL or a live handle; `options` NULL or a valid [`GonioBuildOptions`];
+/// `out` NULL or valid for writing a pointer.
+#[no_mangle]
+pub unsafe extern "C" fn gonio_sampler_build_with(
+    diagram: *const GonioDiagram,
+    method: GonioMethod,
+    domain: GonioDomain,
+    options: *const GonioBuildOptions,
+    out: *mut *mut GonioSampler,
+) -> GonioStatus {
+    guard(|| {
+        let o = options_of(r(options, "options")?)?;
+        build(diagram, method, domain, &o, out)
     })
 }
 
@@ -882,7 +972,7 @@ pub unsafe extern "C" fn gonio_sampler_ratio_bound(
         let s = r(sampler, "sampler")?;
         check_out(min, "min")?;
         check_out(max, "max")?;
-        let (lo, hi) = ratio_bound(s.inner.as_ref()).ok_or_else(|| {
+        let (lo, hi) = s.inner.ratio_bound().ok_or_else(|| {
             Failure::new(
                 GONIO_ERR_UNSUPPORTED,
                 format!("the {} sampler states no ratio bound", s.inner.name()),
@@ -893,10 +983,22 @@ pub unsafe extern "C" fn gonio_sampler_ratio_bound(
     })
 }
 
-/// The bound of pdf / target of a sampler, where the method has one.
-fn ratio_bound(s: &dyn Sampler) -> Option<(f64, f64)> {
-    let _ = s;
-    None
+/// The power of the sampler's target: the integral over its domain of the intensity that
+/// `target_pdf` normalises, in lumens for photometric files (candela × sr). For the HDS map it is
+/// the power of the diagram as completed for its tables; it equals [`gonio_diagram_flux`] when
+/// the completion adds nothing.
+///
+/// # Safety
+/// `sampler` must be NULL or a live handle; `power` NULL or valid for writing a double.
+#[no_mangle]
+pub unsafe extern "C" fn gonio_sampler_target_power(
+    sampler: *const GonioSampler,
+    power: *mut f64,
+) -> GonioStatus {
+    guard(|| {
+        let s = r(sampler, "sampler")?;
+        w(power, s.inner.target_power(), "power")
+    })
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -79,7 +79,77 @@ fn reads_builds_samples_and_inverts() {
     assert!(t > 0.0);
     let m = unsafe { CStr::from_ptr(gonio_sampler_method(s)) };
     assert_eq!(m.to_str().unwrap(), "hds");
+    // The HDS map states its guaranteed pdf/target range, and the target's power is the flux.
+    let (mut lo, mut hi, mut power) = (0.0, 0.0, 0.0);
+    assert_eq!(
+        unsafe { gonio_sampler_ratio_bound(s, &mut lo, &mut hi) },
+        GONIO_OK
+    );
+    assert!(
+        lo > 0.0 && lo <= 1.0 && hi >= 1.0 && hi.is_finite(),
+        "[{lo}, {hi}]"
+    );
+    let ratio = pdf / t;
+    assert!(
+        ratio >= lo * (1.0 - 1e-12) && ratio <= hi * (1.0 + 1e-12),
+        "{ratio} outside [{lo}, {hi}]"
+    );
+    assert_eq!(
+        unsafe { gonio_sampler_target_power(s, &mut power) },
+        GONIO_OK
+    );
+    assert!((power - want).abs() <= 1e-9 * want, "{power} vs {want}");
     unsafe { gonio_sampler_free(s) };
+}
+
+#[test]
+fn options_reach_the_factory() {
+    let (_, d) = read_ies(IES, c"down.ies");
+    let mut o = GonioBuildOptions {
+        tolerance: 1.0,
+        resolution: 1,
+        seed: 1,
+        sphere_layout: 9,
+    };
+    assert_eq!(unsafe { gonio_build_options_default(&mut o) }, GONIO_OK);
+    assert_eq!(o.tolerance, 0.0);
+    assert_eq!(o.sphere_layout, GONIO_SPHERE_LAYOUT_SPLIT);
+    let mut s = null_mut();
+    // A resolution the piecewise-constant method refuses shows that the option arrives.
+    o.resolution = usize::MAX;
+    let st = unsafe { gonio_sampler_build_with(d, GONIO_METHOD_PIECEWISE_CONSTANT, 0, &o, &mut s) };
+    assert_eq!(st, GONIO_ERR_BUILD, "{}", last_error());
+    assert!(last_error().contains("resolution"), "{}", last_error());
+    o.resolution = 0;
+    o.tolerance = 2.0;
+    let st = unsafe { gonio_sampler_build_with(d, GONIO_METHOD_HDS, 0, &o, &mut s) };
+    assert_eq!(st, GONIO_ERR_BUILD);
+    o.tolerance = 0.0;
+    o.sphere_layout = 5;
+    let st = unsafe { gonio_sampler_build_with(d, GONIO_METHOD_HDS, 0, &o, &mut s) };
+    assert_eq!(st, GONIO_ERR_INVALID_ARGUMENT);
+    // The Lambert layout needs a diagram on both sides of the horizon: refused, so it arrived.
+    o.sphere_layout = GONIO_SPHERE_LAYOUT_LAMBERT;
+    let st = unsafe { gonio_sampler_build_with(d, GONIO_METHOD_HDS, 0, &o, &mut s) };
+    assert_eq!(st, GONIO_ERR_BUILD);
+    assert!(last_error().contains("Lambert"), "{}", last_error());
+    o.sphere_layout = GONIO_SPHERE_LAYOUT_SPLIT;
+    let st = unsafe { gonio_sampler_build_with(d, GONIO_METHOD_HDS, 0, &o, &mut s) };
+    assert_eq!(st, GONIO_OK, "{}", last_error());
+    let st = unsafe { gonio_sampler_build_with(d, GONIO_METHOD_HDS, 0, null(), &mut s) };
+    assert_eq!(st, GONIO_ERR_NULL_POINTER);
+    // Uniform states no bound.
+    let u = build(d, GONIO_METHOD_UNIFORM);
+    let (mut lo, mut hi) = (0.0, 0.0);
+    assert_eq!(
+        unsafe { gonio_sampler_ratio_bound(u, &mut lo, &mut hi) },
+        GONIO_ERR_UNSUPPORTED
+    );
+    unsafe {
+        gonio_sampler_free(u);
+        gonio_sampler_free(s);
+        gonio_diagram_free(d);
+    }
 }
 
 #[test]
