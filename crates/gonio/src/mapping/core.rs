@@ -13,6 +13,8 @@ use crate::diagram::{segment, Diagram};
 use crate::sampler::Vec3;
 use std::f64::consts::{PI, TAU};
 
+mod lanes;
+
 /// Azimuth φ ∈ [0, 2π) of a direction, as [`crate::sampler::spherical`] computes it, without the polar angle.
 #[inline]
 fn azimuth(d: Vec3) -> f64 {
