@@ -10,12 +10,12 @@ cd "$(dirname "$0")/.."
 corpus="${GONIO_CORPUS:-../shared/data/photometry}"
 if [ ! -d "$corpus/ies" ] || [ ! -d "$corpus/ldt" ]; then
   echo "test-c: SKIPPED: corpus not found at $corpus (set GONIO_CORPUS)"
-  exit 0
+  exit 77
 fi
 for tool in cc c++; do
   if ! command -v "$tool" >/dev/null; then
     echo "test-c: SKIPPED: no $tool on this machine"
-    exit 0
+    exit 77
   fi
 done
 

@@ -6,6 +6,7 @@
 //!   [`domain`] chooses;
 //! * [`build_hds`] builds the HDS map with its concrete type, for `info` and `check`.
 
+use crate::input::{read_regular, tame, TiltFiles, MAX_INPUT_BYTES};
 use anyhow::Context;
 use gonio::baselines::Method;
 use gonio::mapping::SphereLayout;
@@ -145,8 +146,9 @@ pub fn load(name: &str) -> anyhow::Result<Loaded> {
     })
 }
 
+/// Reads an input file: a regular file of at most [`MAX_INPUT_BYTES`] (see [`crate::input`]).
 fn read_file(name: &str) -> anyhow::Result<Vec<u8>> {
-    std::fs::read(name).map_err(|e| anyhow::anyhow!("cannot read {name}: {e}"))
+    read_regular(Path::new(name), name, MAX_INPUT_BYTES)
 }
 
 /// Parses the native JSON form, turning library errors into CLI errors that name the file.
@@ -160,14 +162,14 @@ pub fn diagram_from_json(name: &str, text: &str) -> anyhow::Result<Diagram> {
             file: name.to_string(),
             line,
             column,
-            message: strip_serde_location(&message).to_string(),
+            message: tame(strip_serde_location(&message)),
         }
         .into(),
         gonio::Error::Parse(p) => LocatedError {
             file: name.to_string(),
             line: p.line,
             column: p.column,
-            message: p.message,
+            message: tame(&p.message),
         }
         .into(),
         other => anyhow::anyhow!("{name}: invalid diagram: {other}"),
@@ -186,7 +188,7 @@ fn load_photometry(
     name: &str,
     kind: InputKind,
 ) -> anyhow::Result<(gonio::photometry::Photometry, Diagram)> {
-    use gonio::photometry::{read, DirTiltResolver, FileFormat};
+    use gonio::photometry::{read, FileFormat};
     let bytes = read_file(name)?;
     let format = if kind == InputKind::Ies {
         FileFormat::Ies
@@ -197,11 +199,11 @@ fn load_photometry(
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
         _ => PathBuf::from("."),
     };
-    let p = read(&bytes, format, &DirTiltResolver::new(dir)).map_err(|e| LocatedError {
+    let p = read(&bytes, format, &TiltFiles::new(dir)).map_err(|e| LocatedError {
         file: name.to_string(),
         line: e.line,
         column: e.column,
-        message: e.message,
+        message: tame(&e.message),
     })?;
     let d = p
         .to_diagram()
