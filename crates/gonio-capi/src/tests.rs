@@ -169,11 +169,14 @@ fn batches_agree_with_single_points_in_every_layout() {
     for i in 0..n {
         let mut one = GonioSample::default();
         unsafe { gonio_sample(s, uv[2 * i], uv[2 * i + 1], &mut one) };
-        assert_eq!(
-            one.direction,
-            [dirs[3 * i], dirs[3 * i + 1], dirs[3 * i + 2]]
-        );
-        assert_eq!(one.pdf, pdfs[i]);
+        // The library's batch path may use SIMD and FMA: equal up to round-off, not bit for bit.
+        for c in 0..3 {
+            assert!(
+                (one.direction[c] - dirs[3 * i + c]).abs() <= 1e-14,
+                "point {i}"
+            );
+        }
+        assert!((one.pdf - pdfs[i]).abs() <= 1e-13 * pdfs[i], "point {i}");
     }
     // SoA, f64.
     let (u, v): (Vec<f64>, Vec<f64>) = (0..n).map(|i| (uv[2 * i], uv[2 * i + 1])).unzip();
@@ -243,8 +246,9 @@ fn batches_agree_with_single_points_in_every_layout() {
                 &mut one,
             )
         };
-        assert_eq!(df[3 * i + 2], one.direction[2] as f32);
-        assert_eq!(pf[i], one.pdf as f32);
+        // The f64 result rounded (up to the batch path's own round-off).
+        assert!((f64::from(df[3 * i + 2]) - one.direction[2]).abs() <= 1e-7);
+        assert!((f64::from(pf[i]) - one.pdf).abs() <= 1e-6 * one.pdf);
     }
     let mut tf = vec![0f32; n];
     assert_eq!(
