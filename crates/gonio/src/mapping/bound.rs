@@ -69,6 +69,15 @@ pub(crate) fn density_ratio_range(diagram: &Diagram, x: &[f64]) -> (f64, f64) {
     for j in 0..n - 1 {
         let (t0, t1, x0, x1) = (theta[j], theta[j + 1], x[j], x[j + 1]);
         let (h, dx) = (t1 - t0, x1 - x0);
+        if !(dx > 0.0 && h > 0.0) {
+            // A segment thinner than double precision resolves on the disk carries no map mass
+            // (its probability is below 1e-15): no ratio to bound there.
+            continue;
+        }
+        // Round-off of x_j, x_{j+1} (a few ulps each) is a relative error of ~ulp/Δx in s: thin
+        // segments (zero guard parallels, §MAPPING "completion") widen the bound by that much.
+        let seg_margin = 8.0 * f64::EPSILON * x1.max(1.0) / dx;
+        let (lo_before, hi_before) = (lo, hi);
         let s = |t: f64| ((parallel_radius(t) - x0) / dx).clamp(0.0, 1.0);
         let tt = |t: f64| ((t - t0) / h).clamp(0.0, 1.0);
         let slope_cap = |t: f64| FRAC_1_SQRT_2 * (0.5 * t).cos() * h / dx;
@@ -124,6 +133,12 @@ pub(crate) fn density_ratio_range(diagram: &Diagram, x: &[f64]) -> (f64, f64) {
             };
             // likewise g(θ; ρ) ≥ g(θ; 0) = (1 − s)/(1 − t) ≥ x′(θ_{j+1})Δθ/Δx.
             lo = lo.min((1.0 / supremum(g, slope, t0, t1)).max(slope_cap(t1)));
+        }
+        if lo < lo_before {
+            lo *= 1.0 - seg_margin.min(0.5);
+        }
+        if hi > hi_before {
+            hi *= 1.0 + seg_margin;
         }
     }
     (lo * (1.0 - MARGIN), hi * (1.0 + MARGIN))

@@ -22,6 +22,7 @@ pub mod lift;
 pub mod radial;
 mod sphere;
 
+pub use complete::Completion;
 pub use hemisphere::HemisphereMap;
 pub use sphere::{SphereLayout, SphereMap};
 

@@ -13,7 +13,7 @@
 //! In both, every sample's pdf is D/(2T) with T the total disk power of the map(s), so at every node
 //! the pdf is the node value times one constant.
 
-use super::complete::{complete, hemisphere_part, with_horizon_node, FarEnd};
+use super::complete::{complete, hemisphere_part, with_horizon_node, Completion};
 use super::core::HdsCore;
 use crate::diagram::{Diagram, DiagramError};
 use crate::sampler::{spherical, Domain, InvertError, Point2, Sample, Sampler, Vec3};
@@ -63,6 +63,16 @@ pub struct SphereMap {
     inv_2t: f64,
     inv_target_total: f64,
     ratio_bound: (f64, f64),
+    scale: f64,
+    completions: Vec<Completion>,
+    /// The measured θ range of the data (radians): the target's support.
+    measured: (f64, f64),
+}
+
+/// The measured θ range of a diagram (radians).
+fn measured(d: &Diagram) -> (f64, f64) {
+    let t = d.theta();
+    (t[0], t[t.len() - 1])
 }
 
 fn mirror(d: Vec3) -> Vec3 {
@@ -79,41 +89,58 @@ impl SphereMap {
     /// Builds the map with the default [`SphereLayout::Split`] layout.
     ///
     /// Each hemisphere that the diagram reaches into is completed as in
-    /// [`crate::HemisphereMap`] (pole: mean of the nearest parallel; horizon: the diagram's node at
-    /// 90°, inserted by linear interpolation in θ if the diagram crosses 90° without one, or zeros if
-    /// the diagram ends before it).
+    /// [`crate::HemisphereMap`]: zero outside the measured θ range, with zero guard parallels (see
+    /// [`SphereMap::completions`]); the horizon is the diagram's node at 90°, inserted by linear
+    /// interpolation in θ if the diagram crosses 90° without one.
     pub fn new(diagram: &Diagram) -> Result<Self, DiagramError> {
         Self::with_layout(diagram, SphereLayout::Split)
     }
 
     /// Builds the map with the chosen layout. [`SphereLayout::Lambert`] needs a diagram that
-    /// reaches into both hemispheres; its missing poles get the mean of the nearest parallel.
+    /// reaches into both hemispheres; outside the measured range it is completed with zero, as the
+    /// split layout.
     pub fn with_layout(diagram: &Diagram, layout: SphereLayout) -> Result<Self, DiagramError> {
         match layout {
             SphereLayout::Split => {
-                let d = with_horizon_node(diagram);
-                let build = |upper: bool| -> Result<Option<HdsCore>, DiagramError> {
-                    match hemisphere_part(&d, upper) {
-                        Some(part) => Ok(Some(HdsCore::build(complete(
-                            &part,
-                            FRAC_PI_2,
-                            FarEnd::Zero,
-                        )?))),
-                        None => Ok(None),
+                let scale = diagram.max_value();
+                let d = with_horizon_node(diagram)?;
+                let mut completions = Vec::new();
+                let mut build = |upper: bool| -> Result<Option<HdsCore>, DiagramError> {
+                    // No part: the data does not reach into this hemisphere (it ends at the
+                    // horizon) or measures only zeros there; nothing is completed.
+                    let Some(part) = hemisphere_part(&d, upper) else {
+                        return Ok(None);
+                    };
+                    let c = complete(&part, FRAC_PI_2, !upper, scale)?;
+                    match HdsCore::build(c.diagram) {
+                        Ok(core) => {
+                            completions.extend(c.completions);
+                            Ok(Some(core))
+                        }
+                        // Light below double precision's resolution on this side only: < 1e-15
+                        // of the total, dropped (the other side carries the power).
+                        Err(DiagramError::UnresolvedLight) => Ok(None),
+                        Err(e) => Err(e),
                     }
                 };
                 let (upper, lower) = (build(true)?, build(false)?);
+                completions.sort_by(|a, b| a.theta_from_deg.total_cmp(&b.theta_from_deg));
                 let t = |c: &Option<HdsCore>| c.as_ref().map_or(0.0, |c| c.total());
-                let z = |c: &Option<HdsCore>| c.as_ref().map_or(0.0, |c| c.target_total());
-                let range = |c: &Option<HdsCore>| c.as_ref().map_or((1.0, 1.0), |c| c.db_range());
+                let range = |c: &Option<HdsCore>| c.as_ref().map(|c| c.db_range());
                 let (tu, tl) = (t(&upper), t(&lower));
                 if !(tu + tl > 0.0) {
-                    return Err(DiagramError::ZeroPower);
+                    return Err(DiagramError::UnresolvedLight);
                 }
                 let total = tu + tl;
-                let target_total = z(&upper) + z(&lower);
-                let (ru, rl) = (range(&upper), range(&lower));
-                let scale = target_total / (2.0 * total);
+                // The target is the data (zero outside its measured range), normalised by the
+                // data's integral; the cores' own (completed) totals include the guard bands.
+                let target_total = diagram.normalised_integral();
+                let (lo, hi) = match (range(&upper), range(&lower)) {
+                    (Some(a), Some(b)) => (a.0.min(b.0), a.1.max(b.1)),
+                    (Some(a), None) | (None, Some(a)) => a,
+                    (None, None) => (1.0, 1.0),
+                };
+                let ratio_scale = target_total / (2.0 * total);
                 Ok(SphereMap {
                     layout: Layout::Split {
                         upper,
@@ -122,7 +149,10 @@ impl SphereMap {
                     },
                     inv_2t: 0.5 / total,
                     inv_target_total: 1.0 / target_total,
-                    ratio_bound: (ru.0.min(rl.0) * scale, ru.1.max(rl.1) * scale),
+                    ratio_bound: (lo * ratio_scale, hi * ratio_scale),
+                    scale,
+                    completions,
+                    measured: measured(diagram),
                 })
             }
             SphereLayout::Lambert => {
@@ -132,17 +162,39 @@ impl SphereMap {
                         "the Lambert sphere layout needs a diagram that spans the horizon".into(),
                     ));
                 }
-                let core = HdsCore::build(complete(diagram, PI, FarEnd::Mean)?);
-                let scale = core.target_total() / (2.0 * core.total());
+                let c = complete(diagram, PI, false, diagram.max_value())?;
+                let core = HdsCore::build(c.diagram)?;
+                let target_total = diagram.normalised_integral();
+                let ratio_scale = target_total / (2.0 * core.total());
                 let (lo, hi) = core.db_range();
                 Ok(SphereMap {
                     inv_2t: 0.5 / core.total(),
-                    inv_target_total: 1.0 / core.target_total(),
-                    ratio_bound: (lo * scale, hi * scale),
+                    inv_target_total: 1.0 / target_total,
+                    ratio_bound: (lo * ratio_scale, hi * ratio_scale),
                     layout: Layout::Lambert(Box::new(core)),
+                    scale: c.scale,
+                    completions: c.completions,
+                    measured: measured(diagram),
                 })
             }
         }
+    }
+
+    /// The zones the data does not cover, completed with zero light (each is a warning for the
+    /// user), in θ order; empty when the diagram spans θ = 0° … 180°.
+    pub fn completions(&self) -> &[Completion] {
+        &self.completions
+    }
+
+    /// The data's largest value: the completed diagrams of the hemisphere maps hold the data divided
+    /// by it.
+    pub fn value_scale(&self) -> f64 {
+        self.scale
+    }
+
+    /// [`SphereMap::target_power`] divided by [`SphereMap::value_scale`]: always finite.
+    pub fn normalised_target_power(&self) -> f64 {
+        1.0 / self.inv_target_total
     }
 
     /// The intermediate points of the forward map at `u` (see [`super::Stages`]): those of the
@@ -215,13 +267,65 @@ impl SphereMap {
         }
     }
 
-    /// ∫ over the sphere of the completed diagram interpolated bilinearly in (θ, φ), in diagram units
-    /// × sr (lumens for a diagram in candela).
+    /// The data's integral: ∫ over the sphere of the diagram as given, interpolated bilinearly in
+    /// (θ, φ) and zero outside its measured θ range, in diagram units × sr (lumens for a diagram in
+    /// candela). The map's own power (the completed diagram's, [`SphereMap::map_power`]) equals it
+    /// to ~2e-7 relative (zero guard bands, docs/MAPPING.md "Completion"). `+inf` only if the power
+    /// exceeds `f64::MAX`.
     pub fn target_power(&self) -> f64 {
-        1.0 / self.inv_target_total
+        self.scale / self.inv_target_total
+    }
+
+    /// The power of the completed diagram(s) the map samples (data plus the zero guard bands), in
+    /// diagram units × sr.
+    pub fn map_power(&self) -> f64 {
+        self.scale * self.normalised_map_power()
+    }
+
+    fn normalised_map_power(&self) -> f64 {
+        let z = |c: &Option<HdsCore>| c.as_ref().map_or(0.0, |c| c.target_total());
+        match &self.layout {
+            Layout::Split { upper, lower, .. } => z(upper) + z(lower),
+            Layout::Lambert(c) => c.target_total(),
+        }
+    }
+
+    /// [`SphereMap::map_power`] / [`SphereMap::target_power`], computed without overflow:
+    /// 1 + (the guard bands' share), within 1e-6 of 1.
+    pub fn power_ratio(&self) -> f64 {
+        self.normalised_map_power() * self.inv_target_total
+    }
+
+    /// The probability that a sample lies outside the measured θ range (in the zero guard bands),
+    /// computed exactly from the tables; at most ~2e-7 by construction (docs/MAPPING.md).
+    pub fn probability_outside_measured(&self) -> f64 {
+        let (lo, hi) = self.measured;
+        let half = FRAC_PI_2;
+        let outside = match &self.layout {
+            Layout::Split { upper, lower, .. } => {
+                upper
+                    .as_ref()
+                    .map_or(0.0, |c| c.power_outside(lo, hi.min(half)))
+                    + lower.as_ref().map_or(0.0, |c| {
+                        c.power_outside((PI - hi).max(0.0), (PI - lo.max(half)).max(0.0))
+                    })
+            }
+            Layout::Lambert(c) => c.power_outside(lo, hi),
+        };
+        outside * 2.0 * self.inv_2t
+    }
+
+    /// The measured θ range [θ_0, θ_{N−1}] of the data, in radians: the support of the target; the
+    /// map puts at most ~2e-7 of its probability outside it.
+    pub fn measured_theta(&self) -> (f64, f64) {
+        self.measured
     }
 
     fn target_value(&self, d: Vec3) -> f64 {
+        let (t, _) = spherical(d);
+        if !(t >= self.measured.0 && t <= self.measured.1) {
+            return 0.0;
+        }
         match &self.layout {
             Layout::Split { upper, lower, .. } => {
                 let (core, dir) = if lower_side(d, upper.is_some()) {
@@ -310,7 +414,13 @@ impl Sampler for SphereMap {
                 if lower_side(d, upper.is_some()) {
                     let l = lower.as_ref().ok_or(InvertError::OutsideDomain)?;
                     let w = l.invert(mirror(d));
-                    Ok([w[0] * p_lower, w[1]])
+                    let mut u0 = w[0] * p_lower;
+                    if upper.is_some() && u0 >= *p_lower {
+                        // Rounding must not carry a lower-map point across the seam u = P_lower,
+                        // which `sample` would send to the upper map (the rim of the other side).
+                        u0 = p_lower.next_down();
+                    }
+                    Ok([u0, w[1]])
                 } else {
                     let up = upper.as_ref().ok_or(InvertError::OutsideDomain)?;
                     let w = up.invert(d);
