@@ -17,6 +17,7 @@ use rand_xoshiro::Xoshiro256PlusPlus;
 use std::f64::consts::FRAC_PI_2;
 
 /// The map the domain policy picks: hemisphere when the diagram lies in θ ≤ 90°, else sphere.
+#[allow(clippy::large_enum_variant)]
 enum Map {
     H(HemisphereMap),
     S(SphereMap),

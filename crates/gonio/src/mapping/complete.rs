@@ -68,6 +68,18 @@ pub(crate) struct Completed {
     pub(crate) completions: Vec<Completion>,
 }
 
+/// The largest f64 below `x`, for finite x > 0 (`f64::next_down` needs Rust 1.86; MSRV 1.80).
+pub(crate) fn next_down(x: f64) -> f64 {
+    debug_assert!(x > 0.0 && x.is_finite());
+    f64::from_bits(x.to_bits() - 1)
+}
+
+/// The smallest f64 above `x`, for finite x ≥ +0.
+fn next_up(x: f64) -> f64 {
+    debug_assert!(x >= 0.0 && x.is_finite());
+    f64::from_bits(x.abs().to_bits() + 1)
+}
+
 /// The θ of the guard parallel next to the measured edge `edge`, on the side of `toward` (the pole
 /// or the far end of the domain), `width` the width of the adjacent measured cell; `None` when the
 /// band would reach `toward` itself (the edge is then within a few ulps of it, or the band fills
@@ -79,14 +91,14 @@ fn guard(edge: f64, toward: f64, width: f64) -> Option<f64> {
         if g < edge {
             g
         } else {
-            edge.next_down()
+            next_down(edge)
         }
     } else {
         let g = edge + step;
         if g > edge {
             g
         } else {
-            edge.next_up()
+            next_up(edge)
         }
     };
     let strictly_between = if toward < edge {
@@ -143,7 +155,7 @@ pub(crate) fn complete(
     }
     let new_n = n + head.len();
     let new_m = m + usize::from(diagram.phi()[0] > 0.0);
-    if new_n.checked_mul(new_m).is_none_or(|c| c > MAX_NODES) {
+    if new_n.checked_mul(new_m).map_or(true, |c| c > MAX_NODES) {
         return Err(DiagramError::TooLarge {
             parallels: new_n,
             meridians: new_m,
@@ -263,7 +275,7 @@ pub(crate) fn with_horizon_node(diagram: &Diagram) -> Result<Diagram, DiagramErr
     }
     let m = diagram.n_meridians();
     // The size cap counts the added parallel (checked before allocating).
-    if (n + 1).checked_mul(m).is_none_or(|c| c > MAX_NODES) {
+    if (n + 1).checked_mul(m).map_or(true, |c| c > MAX_NODES) {
         return Err(DiagramError::TooLarge {
             parallels: n + 1,
             meridians: m,

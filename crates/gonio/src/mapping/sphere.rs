@@ -418,7 +418,7 @@ impl Sampler for SphereMap {
                     if upper.is_some() && u0 >= *p_lower {
                         // Rounding must not carry a lower-map point across the seam u = P_lower,
                         // which `sample` would send to the upper map (the rim of the other side).
-                        u0 = p_lower.next_down();
+                        u0 = super::complete::next_down(*p_lower);
                     }
                     Ok([u0, w[1]])
                 } else {
