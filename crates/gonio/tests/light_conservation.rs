@@ -509,3 +509,34 @@ fn json_try(theta: &[f64], rows: &[Vec<f64>]) -> Result<Diagram, DiagramError> {
         .collect();
     Diagram::from_degrees(theta, &phi, rows)
 }
+
+/// The table of docs/MAPPING.md ("Completion"): every JSON case of the issue, measured.
+/// `cargo test -p gonio --test light_conservation -- --nocapture report`
+#[test]
+fn report() {
+    let cases: Vec<(&[f64], Vec<f64>)> = vec![
+        (
+            &[0.0, 30.0, 60.0, 90.00000000000001],
+            vec![1.0, 2.0, 1.0, 0.5],
+        ),
+        (&[0.0, 30.0, 60.0, 120.0], vec![1.0; 4]),
+        (&[0.0, 30.0, 60.0, 90.001], vec![1.0; 4]),
+        (&[0.0, 45.0, 90.0, 95.0], vec![0.0, 0.0, 1.0, 1.0]),
+        (&[89.0, 90.0], vec![1.0; 2]),
+        (&[30.0, 60.0, 90.0], vec![1.0; 3]),
+        (&[60.0, 120.0, 180.0], vec![1.0; 3]),
+        (&[10.0, 20.0], vec![3.0, 1.0]),
+    ];
+    for (theta, row) in cases {
+        let d = json(theta, &[row.clone(), row.clone()]);
+        let map = Map::of(&d);
+        let (lo, hi) = map.bound();
+        println!(
+            "| `{theta:?}` values `{row:?}` | {:.2e} | 1 + {:.2e} | [{lo:.4}, {hi:.4}] | {} |",
+            map.outside(),
+            map.power_ratio() - 1.0,
+            map.completions()
+        );
+        assert!(map.outside() <= 1e-6 && (map.power_ratio() - 1.0).abs() <= 1e-6);
+    }
+}

@@ -39,14 +39,20 @@ pub struct Completion {
     pub guard_deg: Option<f64>,
 }
 
+/// Degrees for a message: rounded to 1e-9° (radians → degrees round-off hidden).
+fn show_deg(d: f64) -> f64 {
+    (d * 1e9).round() / 1e9
+}
+
 impl std::fmt::Display for Completion {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
             "no data for θ in [{}°, {}°]: completed with zero intensity",
-            self.theta_from_deg, self.theta_to_deg
+            show_deg(self.theta_from_deg),
+            show_deg(self.theta_to_deg)
         )?;
-        if let Some(g) = self.guard_deg {
+        if let Some(g) = self.guard_deg.map(show_deg) {
             write!(
                 f,
                 " (a zero guard parallel at θ = {g}° holds the step to zero; at most ~{:.0e} of the light lies outside the measured range)",
