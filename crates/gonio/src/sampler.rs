@@ -141,6 +141,34 @@ pub trait Sampler: Send + Sync {
             *o = self.sample(p);
         }
     }
+
+    /// [`Sampler::pdf`] of every direction of `dirs` into the same position of `out`; allocates
+    /// nothing. The HDS maps override it with their SIMD batch path ([`crate::mapping::batch`]).
+    ///
+    /// # Panics
+    /// If the two slices differ in length.
+    fn pdf_batch(&self, dirs: &[Vec3], out: &mut [f64]) {
+        assert_eq!(dirs.len(), out.len(), "pdf_batch: slices differ in length");
+        for (o, &d) in out.iter_mut().zip(dirs) {
+            *o = self.pdf(d);
+        }
+    }
+
+    /// [`Sampler::invert`] of every direction of `dirs` into the same position of `out`;
+    /// allocates nothing. The HDS maps override it with their SIMD batch path.
+    ///
+    /// # Panics
+    /// If the two slices differ in length.
+    fn invert_batch(&self, dirs: &[Vec3], out: &mut [Result<Point2, InvertError>]) {
+        assert_eq!(
+            dirs.len(),
+            out.len(),
+            "invert_batch: slices differ in length"
+        );
+        for (o, &d) in out.iter_mut().zip(dirs) {
+            *o = self.invert(d);
+        }
+    }
 }
 
 /// Points per rayon task in the parallel batch functions.
@@ -162,7 +190,7 @@ pub fn sample_batch_par<S: Sampler + ?Sized>(sampler: &S, u: &[Point2], out: &mu
         .for_each(|(o, p)| sampler.sample_batch(p, o));
 }
 
-/// [`Sampler::pdf`] for every direction, on all rayon threads.
+/// [`Sampler::pdf_batch`] for every direction, on all rayon threads.
 ///
 /// # Panics
 /// If the two slices differ in length.
@@ -174,11 +202,26 @@ pub fn pdf_batch_par<S: Sampler + ?Sized>(sampler: &S, dirs: &[Vec3], out: &mut 
     );
     out.par_chunks_mut(PAR_CHUNK)
         .zip(dirs.par_chunks(PAR_CHUNK))
-        .for_each(|(o, d)| {
-            for (o, d) in o.iter_mut().zip(d) {
-                *o = sampler.pdf(*d);
-            }
-        });
+        .for_each(|(o, d)| sampler.pdf_batch(d, o));
+}
+
+/// [`Sampler::invert_batch`] on all rayon threads (the result does not depend on their number).
+///
+/// # Panics
+/// If the two slices differ in length.
+pub fn invert_batch_par<S: Sampler + ?Sized>(
+    sampler: &S,
+    dirs: &[Vec3],
+    out: &mut [Result<Point2, InvertError>],
+) {
+    assert_eq!(
+        dirs.len(),
+        out.len(),
+        "invert_batch_par: slices differ in length"
+    );
+    out.par_chunks_mut(PAR_CHUNK)
+        .zip(dirs.par_chunks(PAR_CHUNK))
+        .for_each(|(o, d)| sampler.invert_batch(d, o));
 }
 
 /// Polar angle θ (radians from +z) and azimuth φ in [0, 2π) (radians from +x toward +y) of a unit

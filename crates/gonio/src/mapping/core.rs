@@ -14,6 +14,8 @@ use crate::diagram::{segment, Diagram, DiagramError};
 use crate::sampler::Vec3;
 use std::f64::consts::{PI, TAU};
 
+mod lanes;
+
 /// Azimuth φ ∈ [0, 2π) of a direction, as [`crate::sampler::spherical`] computes it, without the
 /// polar angle: 0 at the poles (x = y = 0, any signs of zero).
 #[inline]

@@ -71,6 +71,16 @@ impl HemisphereMap {
         })
     }
 
+    /// The map's tables (for the batch paths).
+    pub(crate) fn core(&self) -> &HdsCore {
+        &self.core
+    }
+
+    /// 1/(2T): the pdf per unit of disk density.
+    pub(crate) fn inv_2t(&self) -> f64 {
+        self.inv_2t
+    }
+
     /// The completed diagram the map was built from, its values divided by the data's largest value
     /// ([`HemisphereMap::value_scale`]); see the type's documentation.
     pub fn diagram(&self) -> &Diagram {
@@ -201,5 +211,14 @@ impl Sampler for HemisphereMap {
     }
     fn memory_bytes(&self) -> usize {
         self.core.memory_bytes()
+    }
+    fn sample_batch(&self, u: &[Point2], out: &mut [Sample]) {
+        super::batch::sample_batch_aos(self, u, out)
+    }
+    fn pdf_batch(&self, dirs: &[Vec3], out: &mut [f64]) {
+        super::batch::pdf_batch_aos(self, dirs, out)
+    }
+    fn invert_batch(&self, dirs: &[Vec3], out: &mut [Result<Point2, InvertError>]) {
+        super::batch::invert_batch_aos(self, dirs, out)
     }
 }

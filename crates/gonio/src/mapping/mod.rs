@@ -13,6 +13,7 @@
 //! guaranteed pdf/target range at build time.
 
 pub mod angular;
+pub mod batch;
 mod bound;
 mod complete;
 pub mod concentric;
@@ -20,6 +21,7 @@ mod core;
 mod hemisphere;
 pub mod lift;
 pub mod radial;
+pub mod simd;
 mod sphere;
 
 pub use complete::Completion;

@@ -41,6 +41,16 @@ enum Layout {
     Lambert(Box<HdsCore>),
 }
 
+/// Borrowed view of a [`SphereMap`]'s maps, for the batch paths.
+pub(crate) enum CoresRef<'a> {
+    Split {
+        upper: Option<&'a HdsCore>,
+        lower: Option<&'a HdsCore>,
+        p_lower: f64,
+    },
+    Lambert(&'a HdsCore),
+}
+
 /// The HDS map from the unit square onto the whole sphere. Directions are in the diagram's frame
 /// (θ from +z). A diagram that covers only θ ∈ [0°, 90°] or [90°, 180°] gives zero density on the
 /// other hemisphere, which is never sampled.
@@ -242,6 +252,27 @@ impl SphereMap {
             direction: [0.0, 0.0, 1.0],
             lower: false,
         }
+    }
+
+    /// The maps of the layout (for the batch paths).
+    pub(crate) fn cores(&self) -> CoresRef<'_> {
+        match &self.layout {
+            Layout::Split {
+                upper,
+                lower,
+                p_lower,
+            } => CoresRef::Split {
+                upper: upper.as_ref(),
+                lower: lower.as_ref(),
+                p_lower: *p_lower,
+            },
+            Layout::Lambert(c) => CoresRef::Lambert(c),
+        }
+    }
+
+    /// 1/(2T): the pdf per unit of disk density.
+    pub(crate) fn inv_2t(&self) -> f64 {
+        self.inv_2t
     }
 
     /// The layout in use.
@@ -450,5 +481,14 @@ impl Sampler for SphereMap {
             }
             Layout::Lambert(c) => c.memory_bytes(),
         }
+    }
+    fn sample_batch(&self, u: &[Point2], out: &mut [Sample]) {
+        super::batch::sample_batch_aos(self, u, out)
+    }
+    fn pdf_batch(&self, dirs: &[Vec3], out: &mut [f64]) {
+        super::batch::pdf_batch_aos(self, dirs, out)
+    }
+    fn invert_batch(&self, dirs: &[Vec3], out: &mut [Result<Point2, InvertError>]) {
+        super::batch::invert_batch_aos(self, dirs, out)
     }
 }
