@@ -212,8 +212,10 @@ impl HdsCore {
             oy[l] = s * sp;
             oz[l] = T::ONE - r2;
             if ox[l] == T::ZERO && oy[l] == T::ZERO {
-                // The pole: `density` reads meridian 0 there (parallel 0, φ = 0).
-                od[l] = c::<T>(self.d[0]).max(T::ZERO);
+                // A pole: `density` reads meridian 0 there (φ = 0): parallel 0 at the north
+                // pole, the last parallel at the south pole (the rim of the Lambert disk).
+                let j = if oz[l] > T::ZERO { 0 } else { n - 1 };
+                od[l] = c::<T>(self.d[j]).max(T::ZERO);
             }
         }
     }
