@@ -12,6 +12,7 @@ use gonio::mapping::SphereLayout;
 use gonio::{Diagram, Domain, HemisphereMap, Sampler, SphereMap};
 use std::fmt;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
 /// The input name that loads [`gonio::synthetic::example_luminaire`] instead of a file.
@@ -244,6 +245,13 @@ impl Hds {
             Hds::Sphere(m) => m.ratio_bound(),
         }
     }
+    /// What refinement to `--tolerance` asked, reached and cost (`None` without a tolerance).
+    pub fn refinement(&self) -> Option<&gonio::mapping::Refinement> {
+        match self {
+            Hds::Hemisphere(m) => m.refinement(),
+            Hds::Sphere(m) => m.refinement(),
+        }
+    }
     /// The data's integral over the domain (zero outside its measured range), in diagram units ×
     /// sr (lumens for candela): the map's target power.
     pub fn target_power(&self) -> f64 {
@@ -253,10 +261,10 @@ impl Hds {
         }
     }
     /// The power of the completed diagram the map samples (data plus zero guard bands).
-    pub fn map_power(&self) -> f64 {
+    pub fn completed_power(&self) -> f64 {
         match self {
-            Hds::Hemisphere(m) => m.map_power(),
-            Hds::Sphere(m) => m.map_power(),
+            Hds::Hemisphere(m) => m.completed_power(),
+            Hds::Sphere(m) => m.completed_power(),
         }
     }
     /// Map power / data power (1 + the zero guard bands' share).
@@ -317,16 +325,38 @@ impl Hds {
     }
 }
 
-/// Builds the HDS map for `loaded` on [`domain`], and the time the build took.
+/// The global `--tolerance` (bits of an `f64`; NaN = none): the HDS map is refined to it.
+static TOLERANCE: AtomicU64 = AtomicU64::new(NO_TOLERANCE);
+const NO_TOLERANCE: u64 = 0x7ff8_0000_0000_0000;
+
+/// Sets the tolerance every HDS map of this run is refined to (the global `--tolerance`).
+pub fn set_tolerance(tolerance: Option<f64>) {
+    TOLERANCE.store(
+        tolerance.map_or(NO_TOLERANCE, f64::to_bits),
+        Ordering::Relaxed,
+    );
+}
+
+/// The tolerance set by [`set_tolerance`], if any.
+pub fn tolerance() -> Option<f64> {
+    let t = f64::from_bits(TOLERANCE.load(Ordering::Relaxed));
+    (!t.is_nan()).then_some(t)
+}
+
+/// Builds the HDS map for `loaded` on [`domain`] (refined to [`tolerance`] when one is set, with a
+/// warning on stderr when it was not reached), and the time the build took.
 pub fn build_hds(loaded: &Loaded) -> anyhow::Result<(Hds, Duration)> {
     let start = Instant::now();
-    let map = match domain(loaded) {
-        Domain::Hemisphere => Hds::Hemisphere(HemisphereMap::new(&loaded.diagram)?),
-        Domain::Sphere => Hds::Sphere(SphereMap::with_layout(
-            &loaded.diagram,
-            SphereLayout::Split,
-        )?),
+    let d = &loaded.diagram;
+    let map = match (domain(loaded), tolerance()) {
+        (Domain::Hemisphere, None) => Hds::Hemisphere(HemisphereMap::new(d)?),
+        (Domain::Hemisphere, Some(t)) => Hds::Hemisphere(HemisphereMap::with_tolerance(d, t)?),
+        (Domain::Sphere, None) => Hds::Sphere(SphereMap::with_layout(d, SphereLayout::Split)?),
+        (Domain::Sphere, Some(t)) => Hds::Sphere(SphereMap::with_tolerance(d, t)?),
     };
+    if let Some(w) = map.refinement().and_then(|r| r.warning()) {
+        eprintln!("gonio: warning: {}: {w}", loaded.name);
+    }
     Ok((map, start.elapsed()))
 }
 

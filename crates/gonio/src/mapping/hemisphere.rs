@@ -3,6 +3,7 @@
 
 use super::complete::{complete, Completion};
 use super::core::HdsCore;
+use super::refine::{refine, valid_tolerance, RefineLimits, Refinement};
 use crate::diagram::{Diagram, DiagramError};
 use crate::sampler::{spherical, Domain, InvertError, Point2, Sample, Sampler, Vec3};
 use std::f64::consts::FRAC_PI_2;
@@ -44,6 +45,7 @@ pub struct HemisphereMap {
     measured: (f64, f64),
     /// The data's integral in units of its largest value.
     data_total: f64,
+    refinement: Option<Refinement>,
 }
 
 impl HemisphereMap {
@@ -51,6 +53,21 @@ impl HemisphereMap {
     pub fn new(diagram: &Diagram) -> Result<Self, DiagramError> {
         let completed = complete(diagram, FRAC_PI_2, false, diagram.max_value())?;
         let core = HdsCore::build(completed.diagram)?;
+        Ok(Self::assemble(
+            diagram,
+            core,
+            completed.scale,
+            completed.completions,
+        ))
+    }
+
+    /// The map of `core`, built from the completion of `diagram` (the data).
+    fn assemble(
+        diagram: &Diagram,
+        core: HdsCore,
+        scale: f64,
+        completions: Vec<Completion>,
+    ) -> Self {
         let theta = diagram.theta();
         let measured = (theta[0], theta[theta.len() - 1]);
         // The target is the data: normalised by the data's integral (in units of its largest
@@ -58,17 +75,68 @@ impl HemisphereMap {
         let data_total = diagram.normalised_integral();
         let inv_2t = 0.5 / core.total();
         let (lo, hi) = core.db_range();
-        let scale = data_total * inv_2t;
-        Ok(HemisphereMap {
+        let ratio_scale = data_total * inv_2t;
+        HemisphereMap {
             inv_target_total: 1.0 / data_total,
-            ratio_bound: (lo * scale, hi * scale),
+            ratio_bound: (lo * ratio_scale, hi * ratio_scale),
             inv_2t,
             core,
-            scale: completed.scale,
-            completions: completed.completions,
+            scale,
+            completions,
             measured,
             data_total,
-        })
+            refinement: None,
+        }
+    }
+
+    /// Builds the map refined to `tolerance` (issue 14, [`super::refine`]): parallels whose values
+    /// come from the target's own (θ, φ)-bilinear interpolant are inserted where needed, until
+    /// [`HemisphereMap::ratio_bound`] lies within [1 − tolerance, 1 + tolerance] wherever the target
+    /// is positive. Input nodes keep their values, zero regions stay zero, the target is unchanged,
+    /// and the map is still exact and bijective with a closed-form inverse.
+    ///
+    /// With the default [`RefineLimits`] every hemisphere diagram reaches any tolerance ≥ 1e-4;
+    /// whether it was reached, the bound reached and the cost are in
+    /// [`HemisphereMap::refinement`] (check [`Refinement::reached`], or show
+    /// [`Refinement::warning`]). `tolerance` must be finite and > 0.
+    pub fn with_tolerance(diagram: &Diagram, tolerance: f64) -> Result<Self, DiagramError> {
+        Self::with_refinement(diagram, tolerance, &RefineLimits::default())
+    }
+
+    /// As [`HemisphereMap::with_tolerance`], with explicit limits on the refinement's growth.
+    pub fn with_refinement(
+        diagram: &Diagram,
+        tolerance: f64,
+        limits: &RefineLimits,
+    ) -> Result<Self, DiagramError> {
+        if !valid_tolerance(tolerance) {
+            return Err(DiagramError::Domain(format!(
+                "the tolerance must be a finite number > 0, got {tolerance}"
+            )));
+        }
+        let start = std::time::Instant::now();
+        let c = complete(diagram, FRAC_PI_2, false, diagram.max_value())?;
+        let completed = c.diagram;
+        let parallels_before = completed.n_parallels();
+        let memory_before = HdsCore::table_bytes(&completed);
+        let mut r = refine(&[&completed], tolerance, limits);
+        let core = HdsCore::build_with_range(r.diagrams.remove(0), r.ranges[0])?;
+        let mut map = Self::assemble(diagram, core, c.scale, c.completions);
+        let bound = map.ratio_bound;
+        let reached = bound.0 >= 1.0 - tolerance && bound.1 <= 1.0 + tolerance;
+        map.refinement = Some(Refinement {
+            tolerance,
+            bound,
+            reached,
+            stop: if reached { None } else { r.stop },
+            parallels_before,
+            parallels_after: map.diagram().n_parallels(),
+            meridians_added: 0,
+            memory_before,
+            memory_after: map.memory_bytes(),
+            build_seconds: start.elapsed().as_secs_f64(),
+        });
+        Ok(map)
     }
 
     /// The map's tables (for the batch paths).
@@ -79,6 +147,31 @@ impl HemisphereMap {
     /// 1/(2T): the pdf per unit of disk density.
     pub(crate) fn inv_2t(&self) -> f64 {
         self.inv_2t
+    }
+
+    /// What refinement to a tolerance asked, reached and cost; `None` for a map built without a
+    /// tolerance ([`HemisphereMap::new`]).
+    pub fn refinement(&self) -> Option<&Refinement> {
+        self.refinement.as_ref()
+    }
+
+    /// The map's own intensity at `direction`: the disk density D(ω), i.e. `pdf(ω) ·`
+    /// [`HemisphereMap::map_power`], in the diagram's units (candela for a diagram in candela).
+    ///
+    /// It equals the diagram's value at every node of the map's grid (the input's nodes and those
+    /// refinement added) and lies within [`HemisphereMap::ratio_bound`] (up to the normalisation
+    /// `map_power / target_power`) of the (θ, φ)-interpolated diagram elsewhere. A renderer that
+    /// emits this intensity and samples with this map gets the constant weight
+    /// `map_intensity / pdf = map_power` for every sample: no variance from the emission at all.
+    /// See `docs/MAPPING.md` for when to prefer it to the interpolated diagram.
+    pub fn map_intensity(&self, direction: Vec3) -> f64 {
+        self.pdf(direction) * self.map_power()
+    }
+
+    /// The map's own flux: ∫ [`HemisphereMap::map_intensity`] dω = 2T, in diagram units × sr (lumens
+    /// for candela). It differs from [`HemisphereMap::target_power`] by a factor within the bound.
+    pub fn map_power(&self) -> f64 {
+        self.scale / self.inv_2t
     }
 
     /// The completed diagram the map was built from, its values divided by the data's largest value
@@ -113,7 +206,7 @@ impl HemisphereMap {
 
     /// The data's integral: ∫ over the hemisphere of the diagram as given, interpolated bilinearly in
     /// (θ, φ) and zero outside its measured θ range, in diagram units × sr (lumens for a diagram in
-    /// candela). The map's own power (that of the completed diagram, [`HemisphereMap::map_power`])
+    /// candela). The completed diagram's power ([`HemisphereMap::completed_power`])
     /// equals it to ~2e-7 relative. `+inf` only if the power exceeds `f64::MAX` (see
     /// [`HemisphereMap::normalised_target_power`]).
     pub fn target_power(&self) -> f64 {
@@ -127,7 +220,7 @@ impl HemisphereMap {
 
     /// The power of the completed diagram the map samples (data plus the zero guard bands), in
     /// diagram units × sr: [`HemisphereMap::target_power`] × (1 + at most ~2e-7).
-    pub fn map_power(&self) -> f64 {
+    pub fn completed_power(&self) -> f64 {
         self.core.target_total() * self.scale
     }
 
@@ -137,7 +230,7 @@ impl HemisphereMap {
         self.core.power_outside(self.measured.0, self.measured.1) / self.core.total()
     }
 
-    /// [`HemisphereMap::map_power`] / [`HemisphereMap::target_power`], computed without overflow:
+    /// [`HemisphereMap::completed_power`] / [`HemisphereMap::target_power`], computed without overflow:
     /// 1 + (the guard bands' share), within 1e-6 of 1.
     pub fn power_ratio(&self) -> f64 {
         self.core.target_total() / self.data_total
@@ -205,6 +298,9 @@ impl Sampler for HemisphereMap {
     }
     fn ratio_bound(&self) -> Option<(f64, f64)> {
         Some(HemisphereMap::ratio_bound(self))
+    }
+    fn refinement(&self) -> Option<&Refinement> {
+        HemisphereMap::refinement(self)
     }
     fn stages(&self, u: Point2) -> Option<super::Stages> {
         Some(HemisphereMap::stages(self, u))

@@ -21,11 +21,13 @@ mod core;
 mod hemisphere;
 pub mod lift;
 pub mod radial;
+pub mod refine;
 pub mod simd;
 mod sphere;
 
 pub use complete::Completion;
 pub use hemisphere::HemisphereMap;
+pub use refine::{RefineLimits, RefineStop, Refinement};
 pub use sphere::{SphereLayout, SphereMap};
 
 /// The intermediate points of one forward evaluation F(u) = M_E(M_D(M_C(M_B(u)))), in polar

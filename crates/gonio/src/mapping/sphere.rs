@@ -15,6 +15,7 @@
 
 use super::complete::{complete, hemisphere_part, with_horizon_node, Completion};
 use super::core::HdsCore;
+use super::refine::{refine, valid_tolerance, RefineLimits, Refinement};
 use crate::diagram::{Diagram, DiagramError};
 use crate::sampler::{spherical, Domain, InvertError, Point2, Sample, Sampler, Vec3};
 use std::f64::consts::{FRAC_PI_2, PI};
@@ -77,6 +78,7 @@ pub struct SphereMap {
     completions: Vec<Completion>,
     /// The measured θ range of the data (radians): the target's support.
     measured: (f64, f64),
+    refinement: Option<Refinement>,
 }
 
 /// The measured θ range of a diagram (radians).
@@ -110,31 +112,122 @@ impl SphereMap {
     /// reaches into both hemispheres; outside the measured range it is completed with zero, as the
     /// split layout.
     pub fn with_layout(diagram: &Diagram, layout: SphereLayout) -> Result<Self, DiagramError> {
-        match layout {
+        Self::build(diagram, layout, None)
+    }
+
+    /// Builds the map with the default split layout, refined to `tolerance` (see
+    /// [`crate::HemisphereMap::with_tolerance`] and [`super::refine`]): `ratio_bound` within
+    /// [1 − tolerance, 1 + tolerance] wherever the target is positive, reached or not as
+    /// [`SphereMap::refinement`] says. Both hemisphere maps are refined under one normalisation.
+    pub fn with_tolerance(diagram: &Diagram, tolerance: f64) -> Result<Self, DiagramError> {
+        Self::with_refinement(
+            diagram,
+            SphereLayout::Split,
+            tolerance,
+            &RefineLimits::default(),
+        )
+    }
+
+    /// Builds the map with the chosen layout, refined to `tolerance` under `limits`. On the
+    /// [`SphereLayout::Lambert`] layout a target that is zero at θ = 180° cannot be bounded from
+    /// below ([`super::RefineStop::FarPoleZero`]); the split layout can always be refined.
+    pub fn with_refinement(
+        diagram: &Diagram,
+        layout: SphereLayout,
+        tolerance: f64,
+        limits: &RefineLimits,
+    ) -> Result<Self, DiagramError> {
+        if !valid_tolerance(tolerance) {
+            return Err(DiagramError::Domain(format!(
+                "the tolerance must be a finite number > 0, got {tolerance}"
+            )));
+        }
+        Self::build(diagram, layout, Some((tolerance, limits)))
+    }
+
+    fn build(
+        diagram: &Diagram,
+        layout: SphereLayout,
+        tolerance: Option<(f64, &RefineLimits)>,
+    ) -> Result<Self, DiagramError> {
+        let start = std::time::Instant::now();
+        // The completed diagram(s); refined when a tolerance is asked.
+        let scale = diagram.max_value();
+        let mut completions = Vec::new();
+        let completed: Vec<Option<Diagram>> = match layout {
             SphereLayout::Split => {
-                let scale = diagram.max_value();
                 let d = with_horizon_node(diagram)?;
-                let mut completions = Vec::new();
-                let mut build = |upper: bool| -> Result<Option<HdsCore>, DiagramError> {
+                let mut part = |upper: bool| -> Result<Option<Diagram>, DiagramError> {
                     // No part: the data does not reach into this hemisphere (it ends at the
                     // horizon) or measures only zeros there; nothing is completed.
-                    let Some(part) = hemisphere_part(&d, upper) else {
+                    let Some(p) = hemisphere_part(&d, upper) else {
                         return Ok(None);
                     };
-                    let c = complete(&part, FRAC_PI_2, !upper, scale)?;
-                    match HdsCore::build(c.diagram) {
-                        Ok(core) => {
-                            completions.extend(c.completions);
-                            Ok(Some(core))
-                        }
-                        // Light below double precision's resolution on this side only: < 1e-15
-                        // of the total, dropped (the other side carries the power).
-                        Err(DiagramError::UnresolvedLight) => Ok(None),
-                        Err(e) => Err(e),
-                    }
+                    let c = complete(&p, FRAC_PI_2, !upper, scale)?;
+                    completions.extend(c.completions);
+                    Ok(Some(c.diagram))
                 };
-                let (upper, lower) = (build(true)?, build(false)?);
-                completions.sort_by(|a, b| a.theta_from_deg.total_cmp(&b.theta_from_deg));
+                vec![part(true)?, part(false)?]
+            }
+            SphereLayout::Lambert => {
+                let theta = diagram.theta();
+                if !(theta[0] < FRAC_PI_2 && theta[theta.len() - 1] > FRAC_PI_2) {
+                    return Err(DiagramError::Domain(
+                        "the Lambert sphere layout needs a diagram that spans the horizon".into(),
+                    ));
+                }
+                let c = complete(diagram, PI, false, scale)?;
+                completions.extend(c.completions);
+                vec![Some(c.diagram)]
+            }
+        };
+        completions.sort_by(|a, b| a.theta_from_deg.total_cmp(&b.theta_from_deg));
+        // Light below double precision's resolution on one side only (< 1e-15 of the total) is
+        // dropped there; the other side carries the power.
+        let split = layout == SphereLayout::Split;
+        let keep = |r: Result<HdsCore, DiagramError>| -> Result<Option<HdsCore>, DiagramError> {
+            match r {
+                Ok(c) => Ok(Some(c)),
+                Err(DiagramError::UnresolvedLight) if split => Ok(None),
+                Err(e) => Err(e),
+            }
+        };
+        let mut cores: Vec<Option<HdsCore>> = Vec::with_capacity(2);
+        let mut info = None;
+        match tolerance {
+            None => {
+                for c in completed {
+                    cores.push(match c {
+                        Some(d) => keep(HdsCore::build(d))?,
+                        None => None,
+                    });
+                }
+            }
+            Some((tol, limits)) => {
+                let present: Vec<&Diagram> = completed.iter().flatten().collect();
+                let parallels_before = present.iter().map(|d| d.n_parallels()).sum::<usize>();
+                let memory_before = present.iter().map(|d| HdsCore::table_bytes(d)).sum();
+                let r = refine(&present, tol, limits);
+                let mut refined = r.diagrams.into_iter().zip(r.ranges);
+                for c in &completed {
+                    cores.push(match c {
+                        Some(_) => {
+                            let (d, range) = refined.next().expect("one refined diagram per part");
+                            keep(HdsCore::build_with_range(d, range))?
+                        }
+                        None => None,
+                    });
+                }
+                info = Some((tol, r.stop, parallels_before, memory_before));
+            }
+        }
+        // The target is the data (zero outside its measured range), normalised by the data's
+        // integral; the cores' own (completed) totals include the guard bands.
+        let target_total = diagram.normalised_integral();
+        let mut map = match layout {
+            SphereLayout::Split => {
+                let lower = cores.pop().flatten();
+                let upper = cores.pop().flatten();
                 let t = |c: &Option<HdsCore>| c.as_ref().map_or(0.0, |c| c.total());
                 let range = |c: &Option<HdsCore>| c.as_ref().map(|c| c.db_range());
                 let (tu, tl) = (t(&upper), t(&lower));
@@ -142,16 +235,13 @@ impl SphereMap {
                     return Err(DiagramError::UnresolvedLight);
                 }
                 let total = tu + tl;
-                // The target is the data (zero outside its measured range), normalised by the
-                // data's integral; the cores' own (completed) totals include the guard bands.
-                let target_total = diagram.normalised_integral();
                 let (lo, hi) = match (range(&upper), range(&lower)) {
                     (Some(a), Some(b)) => (a.0.min(b.0), a.1.max(b.1)),
                     (Some(a), None) | (None, Some(a)) => a,
                     (None, None) => (1.0, 1.0),
                 };
                 let ratio_scale = target_total / (2.0 * total);
-                Ok(SphereMap {
+                SphereMap {
                     layout: Layout::Split {
                         upper,
                         lower,
@@ -163,31 +253,74 @@ impl SphereMap {
                     scale,
                     completions,
                     measured: measured(diagram),
-                })
+                    refinement: None,
+                }
             }
             SphereLayout::Lambert => {
-                let theta = diagram.theta();
-                if !(theta[0] < FRAC_PI_2 && theta[theta.len() - 1] > FRAC_PI_2) {
-                    return Err(DiagramError::Domain(
-                        "the Lambert sphere layout needs a diagram that spans the horizon".into(),
-                    ));
-                }
-                let c = complete(diagram, PI, false, diagram.max_value())?;
-                let core = HdsCore::build(c.diagram)?;
-                let target_total = diagram.normalised_integral();
+                let core = cores
+                    .pop()
+                    .flatten()
+                    .expect("the Lambert layout has one map");
                 let ratio_scale = target_total / (2.0 * core.total());
                 let (lo, hi) = core.db_range();
-                Ok(SphereMap {
+                SphereMap {
                     inv_2t: 0.5 / core.total(),
                     inv_target_total: 1.0 / target_total,
                     ratio_bound: (lo * ratio_scale, hi * ratio_scale),
                     layout: Layout::Lambert(Box::new(core)),
-                    scale: c.scale,
-                    completions: c.completions,
+                    scale,
+                    completions,
                     measured: measured(diagram),
-                })
+                    refinement: None,
+                }
             }
+        };
+        if let Some((tolerance, stop, parallels_before, memory_before)) = info {
+            let bound = map.ratio_bound;
+            let reached = bound.0 >= 1.0 - tolerance && bound.1 <= 1.0 + tolerance;
+            map.refinement = Some(Refinement {
+                tolerance,
+                bound,
+                reached,
+                stop: if reached { None } else { stop },
+                parallels_before,
+                parallels_after: map.map_cores().map(|c| c.diagram().n_parallels()).sum(),
+                meridians_added: 0,
+                memory_before,
+                memory_after: map.memory_bytes(),
+                build_seconds: start.elapsed().as_secs_f64(),
+            });
         }
+        Ok(map)
+    }
+
+    /// The hemisphere maps (split layout) or the one Lambert map.
+    fn map_cores(&self) -> impl Iterator<Item = &HdsCore> {
+        let (a, b): (Option<&HdsCore>, Option<&HdsCore>) = match &self.layout {
+            Layout::Split { upper, lower, .. } => (upper.as_ref(), lower.as_ref()),
+            Layout::Lambert(c) => (Some(c), None),
+        };
+        a.into_iter().chain(b)
+    }
+
+    /// What refinement to a tolerance asked, reached and cost; `None` for a map built without a
+    /// tolerance.
+    pub fn refinement(&self) -> Option<&Refinement> {
+        self.refinement.as_ref()
+    }
+
+    /// The map's own intensity at `direction`: `pdf(ω) ·` [`SphereMap::map_power`], the disk density
+    /// D of the map that serves ω, in the diagram's units (candela for a diagram in candela). Exact
+    /// at every node of the maps' grids, within the bound elsewhere, and `map_intensity / pdf` is the
+    /// same constant for every sample (see [`crate::HemisphereMap::map_intensity`]).
+    pub fn map_intensity(&self, direction: Vec3) -> f64 {
+        self.pdf(direction) * self.map_power()
+    }
+
+    /// The map's own flux ∫ [`SphereMap::map_intensity`] dω, in diagram units × sr; it differs from
+    /// [`SphereMap::target_power`] by a factor within the bound.
+    pub fn map_power(&self) -> f64 {
+        self.scale / self.inv_2t
     }
 
     /// The zones the data does not cover, completed with zero light (each is a warning for the
@@ -300,7 +433,7 @@ impl SphereMap {
 
     /// The data's integral: ∫ over the sphere of the diagram as given, interpolated bilinearly in
     /// (θ, φ) and zero outside its measured θ range, in diagram units × sr (lumens for a diagram in
-    /// candela). The map's own power (the completed diagram's, [`SphereMap::map_power`]) equals it
+    /// candela). The completed diagram's power ([`SphereMap::completed_power`]) equals it
     /// to ~2e-7 relative (zero guard bands, docs/MAPPING.md "Completion"). `+inf` only if the power
     /// exceeds `f64::MAX`.
     pub fn target_power(&self) -> f64 {
@@ -309,7 +442,7 @@ impl SphereMap {
 
     /// The power of the completed diagram(s) the map samples (data plus the zero guard bands), in
     /// diagram units × sr.
-    pub fn map_power(&self) -> f64 {
+    pub fn completed_power(&self) -> f64 {
         self.scale * self.normalised_map_power()
     }
 
@@ -321,7 +454,7 @@ impl SphereMap {
         }
     }
 
-    /// [`SphereMap::map_power`] / [`SphereMap::target_power`], computed without overflow:
+    /// [`SphereMap::completed_power`] / [`SphereMap::target_power`], computed without overflow:
     /// 1 + (the guard bands' share), within 1e-6 of 1.
     pub fn power_ratio(&self) -> f64 {
         self.normalised_map_power() * self.inv_target_total
@@ -469,6 +602,9 @@ impl Sampler for SphereMap {
     }
     fn ratio_bound(&self) -> Option<(f64, f64)> {
         Some(SphereMap::ratio_bound(self))
+    }
+    fn refinement(&self) -> Option<&Refinement> {
+        SphereMap::refinement(self)
     }
     fn stages(&self, u: Point2) -> Option<super::Stages> {
         Some(SphereMap::stages(self, u))
