@@ -233,12 +233,18 @@ pub fn tolerance() -> Option<f64> {
 
 /// The sampler of `method` for `loaded`, built by the library's factory ([`Method::build_with`])
 /// on the domain [`domain`] chooses, with the global `--tolerance` (which only the HDS map reads;
-/// a warning goes to stderr when refinement did not reach it).
+/// a warning goes to stderr when refinement did not reach it). Every zone the sampler completed
+/// with zero light ([`Sampler::completions`]) is a warning on stderr too.
 pub fn build_sampler(method: Method, loaded: &Loaded) -> anyhow::Result<Box<dyn Sampler>> {
-    Ok(build_sampler_timed(method, loaded)?.0)
+    let (sampler, _) = build_sampler_timed(method, loaded)?;
+    for c in sampler.completions() {
+        eprintln!("gonio: warning: {}: {c}", loaded.name);
+    }
+    Ok(sampler)
 }
 
-/// [`build_sampler`] and the wall-clock time the build took.
+/// [`build_sampler`] and the wall-clock time the build took, without the completion warnings
+/// (`gonio info` lists them in its report).
 pub fn build_sampler_timed(
     method: Method,
     loaded: &Loaded,

@@ -200,7 +200,7 @@ def test_bad_arguments_raise():
         gonio.Diagram([0, 10, 20], [0, 90], [[1, 1, 1]])
     with pytest.raises(gonio.DiagramError):
         gonio.Diagram([0, 10], [0], [[1, -1]])
-    with pytest.raises(gonio.DiagramError, match="zero total power"):
+    with pytest.raises(gonio.DiagramError, match="carries no light"):
         gonio.Diagram([0, 10], [0], [[0, 0]])
     with pytest.raises(TypeError):
         gonio.Sampler("not a diagram")

@@ -22,7 +22,8 @@ pub fn run(a: &CheckArgs) -> anyhow::Result<bool> {
     let sampler = build_sampler(a.method, &loaded)?;
     let refinement = sampler.refinement().cloned();
     // A method with a guaranteed bound (the HDS map) claims it; the flux check integrates the power
-    // of the target the sampler normalises.
+    // of the target the sampler normalises: the DATA's power for every method (the HDS map's target
+    // is the data, zero outside its measured range), so a map that invents or drops light fails it.
     opts.ratio.claimed_bound = sampler.ratio_bound();
     opts.flux_total = sampler.target_power();
     // The round trip also runs on the preimages of the diagram's cell boundaries.

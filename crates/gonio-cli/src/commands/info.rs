@@ -52,8 +52,22 @@ impl Grid {
 pub struct MapInfo {
     /// `hemisphere` or `sphere`.
     pub domain: &'static str,
-    /// ∫ of the (completed) diagram over the domain, in diagram units × sr (lumens for candela).
+    /// The data's integral over the domain (zero outside its measured θ range), in diagram units ×
+    /// sr (lumens for candela): the map's target power. `null` in JSON only if it exceeds f64
+    /// (see `normalised_target_power` × `value_scale`).
     pub target_power: f64,
+    /// The power of the completed diagram the map samples (data plus zero guard bands).
+    pub completed_power: f64,
+    /// completed_power / target_power, computed without overflow (within 1e-6 of 1).
+    pub power_ratio: f64,
+    /// The target power divided by the data's largest value (always finite).
+    pub normalised_target_power: f64,
+    /// The data's largest value.
+    pub value_scale: f64,
+    /// Probability of a sample outside the data's measured θ range (exact, ≤ ~2e-7).
+    pub probability_outside_measured: f64,
+    /// Zones without data that the map completed with zero light (warnings).
+    pub completions: Vec<String>,
     /// Bytes of the map's tables ([`Sampler::memory_bytes`]).
     pub memory_bytes: usize,
     /// The paper's count of precomputed floats, M·N + 2M + 2, on the map's grid.
@@ -244,6 +258,16 @@ pub fn collect(loaded: &Loaded) -> anyhow::Result<Info> {
     let any = sampler.as_any();
     let hemisphere = any.and_then(|a| a.downcast_ref::<HemisphereMap>());
     let sphere = any.and_then(|a| a.downcast_ref::<SphereMap>());
+    // The target and completion figures of issue 9, which only the two maps report.
+    macro_rules! map_only {
+        ($f:ident) => {
+            match (hemisphere, sphere) {
+                (Some(m), _) => m.$f(),
+                (_, Some(m)) => m.$f(),
+                _ => anyhow::bail!("{}: the HDS sampler is neither map", loaded.name),
+            }
+        };
+    }
     let paper = match hemisphere {
         Some(m) => m.paper_table_floats(),
         None => gonio::mapping::paper_table_floats(&loaded.diagram),
@@ -268,6 +292,16 @@ pub fn collect(loaded: &Loaded) -> anyhow::Result<Info> {
                 Domain::Sphere => "sphere",
             },
             target_power: sampler.target_power(),
+            completed_power: map_only!(completed_power),
+            power_ratio: map_only!(power_ratio),
+            normalised_target_power: map_only!(normalised_target_power),
+            value_scale: map_only!(value_scale),
+            probability_outside_measured: map_only!(probability_outside_measured),
+            completions: sampler
+                .completions()
+                .iter()
+                .map(|c| c.to_string())
+                .collect(),
             memory_bytes: sampler.memory_bytes(),
             paper_table_floats: paper,
             build_time_ms: took.as_secs_f64() * 1e3,
@@ -308,11 +342,27 @@ fn human(i: &Info) -> String {
     );
     let m = &i.map;
     let _ = writeln!(s, "domain           {}", m.domain);
+    let power = |p: f64, normalised: f64| {
+        if p.is_finite() {
+            format!("{p}")
+        } else {
+            format!("{normalised} × {} (beyond f64)", m.value_scale)
+        }
+    };
     let _ = writeln!(
         s,
-        "total power      {} {power_unit} (map target), diagram integral {} {power_unit}",
-        m.target_power, i.diagram_integral
+        "total power      {} {power_unit} (map target = data), diagram integral {} {power_unit}",
+        power(m.target_power, m.normalised_target_power),
+        power(i.diagram_integral, m.normalised_target_power)
     );
+    let _ = writeln!(
+        s,
+        "outside data     probability {:e} outside the measured θ range; map power / data = {}",
+        m.probability_outside_measured, m.power_ratio
+    );
+    for c in &m.completions {
+        let _ = writeln!(s, "  {}: warning: {c}", i.input);
+    }
     let _ = writeln!(
         s,
         "table memory     {} bytes (paper's M·N+2M+2 = {} floats = {} bytes as f32)",

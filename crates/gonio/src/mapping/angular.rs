@@ -186,7 +186,6 @@ impl Angular {
         self.kappa
     }
     /// Sector widths β_i.
-    #[cfg(test)]
     pub(crate) fn beta(&self) -> &[f64] {
         &self.beta
     }

@@ -1,15 +1,16 @@
 //! The precomputed tables of §4 and the composed map F = M_E ∘ M_D ∘ M_C ∘ M_B on one disk.
 //!
-//! `HdsCore` works on a *completed* grid: θ_0 = 0 (the pole), θ_{N−1} = θ_max (π/2 for a hemisphere,
-//! π for the whole-sphere Lambert lift), φ_0 = 0. The public samplers in this module complete a user's
-//! diagram first (ALGORITHM §10 A15) and then build a core.
+//! `HdsCore` works on a *completed* grid: θ_0 = 0 (the pole), φ_0 = 0, and θ_{N−1} anywhere up to
+//! π/2 for a hemisphere (π for the whole-sphere Lambert lift): the map covers the zone
+//! [0, θ_{N−1}], whose disk has radius x_{N−1} = √2 sin(θ_{N−1}/2). The public samplers in this
+//! module complete a user's diagram first (ALGORITHM §10 A15) and then build a core.
 
 use super::angular::Angular;
 use super::bound::density_ratio_range;
 use super::concentric::{disk_to_square, square_to_disk};
 use super::lift::{disk_to_sphere, parallel_radius, sphere_to_disk_azimuth, sphere_to_disk_radius};
 use super::radial::Radial;
-use crate::diagram::Diagram;
+use crate::diagram::{Diagram, DiagramError};
 use crate::sampler::Vec3;
 use std::f64::consts::PI;
 
@@ -34,8 +35,10 @@ pub(crate) struct HdsCore {
 }
 
 impl HdsCore {
-    /// Builds the tables from a completed diagram (θ_0 = 0, θ_{N−1} = θ_max, φ_0 = 0, N ≥ 2).
-    pub(crate) fn build(diagram: Diagram) -> Self {
+    /// Builds the tables from a completed diagram (θ_0 = 0, φ_0 = 0, N ≥ 2), values normalised
+    /// (largest 1, see `complete`). Refuses a diagram whose light the disk cannot resolve (every
+    /// cell with light thinner than an ulp of x): [`DiagramError::UnresolvedLight`].
+    pub(crate) fn build(diagram: Diagram) -> Result<Self, DiagramError> {
         let x = parallel_radii(diagram.theta());
         let db_range = density_ratio_range(&diagram, &x);
         Self::build_with_range(diagram, db_range)
@@ -43,21 +46,47 @@ impl HdsCore {
 
     /// As [`HdsCore::build`], with the guaranteed range of D/B already known (refinement computes
     /// it cell by cell on the way).
-    pub(crate) fn build_with_range(diagram: Diagram, db_range: (f64, f64)) -> Self {
+    pub(crate) fn build_with_range(
+        diagram: Diagram,
+        db_range: (f64, f64),
+    ) -> Result<Self, DiagramError> {
         let n = diagram.n_parallels();
         debug_assert!(n >= 2 && diagram.theta()[0] == 0.0 && diagram.phi()[0] == 0.0);
         let x = parallel_radii(diagram.theta());
         let radial = Radial::build(x, diagram.values().to_vec());
         let (angular, total) = Angular::build(diagram.phi(), |i| radial.meridian_mass(i));
+        if !(total > 0.0 && total.is_finite()) {
+            return Err(DiagramError::UnresolvedLight);
+        }
         let target_total = diagram.integral();
-        HdsCore {
+        Ok(HdsCore {
             angular,
             radial,
             total,
             diagram,
             target_total,
             db_range,
+        })
+    }
+
+    /// ∫ D dA over the cells of the completed grid that lie outside θ ∈ [`lo`, `hi`] (radians,
+    /// the measured range; completion puts nodes exactly at its ends): the map's power there,
+    /// exactly, in the units of [`HdsCore::total`].
+    pub(crate) fn power_outside(&self, lo: f64, hi: f64) -> f64 {
+        let theta = self.diagram.theta();
+        let beta = self.angular.beta();
+        let mut p = 0.0;
+        for j in 0..theta.len() - 1 {
+            if theta[j] >= lo && theta[j + 1] <= hi {
+                continue;
+            }
+            for (i, b) in beta.iter().enumerate() {
+                let i1 = self.angular.next(i);
+                let du = |r: usize| self.radial.segment_mass_of(r, j);
+                p += b * (du(i) + du(i1)) / 4.0;
+            }
         }
+        p
     }
 
     /// T = ∫_disk D dA.
@@ -117,7 +146,13 @@ impl HdsCore {
         let (i, eps, phi) = self.angular.forward(phib); // M_C
         let i1 = self.angular.next(i);
         let (xr, dens) = self.radial.forward(rb, i, i1, eps); // M_D
-        (disk_to_sphere(xr, phi), dens) // M_E
+        let dir = disk_to_sphere(xr, phi); // M_E
+        if dir[0] == 0.0 && dir[1] == 0.0 {
+            // The pole: every meridian meets there, and `density` reads meridian 0 (φ = 0);
+            // the sample carries that same value, so sample() and pdf() agree at (±0, ±0, 1).
+            return (dir, self.density(dir));
+        }
+        (dir, dens)
     }
 
     /// The disk density D at a direction (bilinear in (x, φ)), the numerator of the pdf.
@@ -163,7 +198,7 @@ pub(crate) fn parallel_radii(theta: &[f64]) -> Vec<f64> {
 mod tests {
     use super::*;
     use crate::mapping::angular::solve_wedge;
-    use crate::mapping::complete::{complete, FarEnd};
+    use crate::mapping::complete::complete;
     use rand::{Rng, SeedableRng};
     use rand_xoshiro::Xoshiro256PlusPlus;
     use std::f64::consts::TAU;
@@ -198,7 +233,12 @@ mod tests {
         let mut values = values;
         values[0][0] += 1.0;
         let d = Diagram::from_degrees(&theta, &phi, &values).unwrap();
-        HdsCore::build(complete(&d, PI / 2.0, FarEnd::Zero).unwrap())
+        HdsCore::build(
+            complete(&d, PI / 2.0, false, d.max_value())
+                .unwrap()
+                .diagram,
+        )
+        .unwrap()
     }
 
     /// §4.4 and §12: Σγ^i = 2π and the star domain has the area π of the B-disk.

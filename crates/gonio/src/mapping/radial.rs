@@ -223,6 +223,12 @@ impl Radial {
         self.u[i * self.n + self.n - 1]
     }
 
+    /// U(i, j + 1) − U(i, j): the radial mass of meridian `i` between parallels `j` and `j + 1`.
+    #[inline]
+    pub(crate) fn segment_mass_of(&self, i: usize, j: usize) -> f64 {
+        self.u[i * self.n + j + 1] - self.u[i * self.n + j]
+    }
+
     /// Bytes of the tables' contents (f64 and u32 entries).
     pub(crate) fn table_bytes(&self) -> usize {
         8 * (self.x.len() + self.d.len() + self.u.len() + self.inv_dx.len())
@@ -312,6 +318,10 @@ impl Radial {
     #[inline]
     pub(crate) fn density(&self, xr: f64, i: usize, i1: usize, eps: f64) -> f64 {
         let n = self.n;
+        if xr > self.x[n - 1] * (1.0 + 1e-12) {
+            // Beyond the zone the map covers (a diagram ending before θ_max): no light.
+            return 0.0;
+        }
         let j = self.segment_of(xr);
         let t = ((xr - self.x[j]) * self.inv_dx[j]).clamp(0.0, 1.0);
         let row = |r: usize| {

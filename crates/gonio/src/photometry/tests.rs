@@ -311,18 +311,26 @@ fn vertical_ranges() {
     assert_eq!(th, vec![0.0, 45.0, 90.0]);
     let (_, _, th) = range("0 90 180", "1 1 1");
     assert_eq!(th, vec![0.0, 90.0, 180.0]);
-    // 0–60: zero row added at γ = 90 (warning)
+    // 0–60: nothing added (the map completes with zero, issue 9), a warning names the rule
     let (p, d, th) = range("0 30 60", "3 2 1");
-    assert_eq!(th, vec![90.0, 120.0, 150.0, 180.0]);
-    assert_eq!(d.values(), &[0.0, 1.0, 2.0, 3.0]);
-    assert!(has_warning(&p, "zero intensity is added at γ = 90°"));
-    // 100–170: zero rows at 90 and 180
+    assert_eq!(th, vec![120.0, 150.0, 180.0]);
+    assert_eq!(d.values(), &[1.0, 2.0, 3.0]);
+    assert!(has_warning(&p, "do not span 0–90°"));
+    assert!(has_warning(
+        &p,
+        "no light is assumed outside the measured range"
+    ));
     let (_, d, th) = range("100 170", "2 1");
-    assert_eq!(th, vec![0.0, 10.0, 80.0, 90.0]);
-    assert_eq!(d.values(), &[0.0, 1.0, 2.0, 0.0]);
-    // 20–120: zero rows at 0 and 180
+    assert_eq!(th, vec![10.0, 80.0]);
+    assert_eq!(d.values(), &[1.0, 2.0]);
     let (_, _, th) = range("20 120", "1 1");
-    assert_eq!(th, vec![0.0, 60.0, 160.0, 180.0]);
+    assert_eq!(th, vec![60.0, 160.0]);
+    // ends within 1e-6° of 0, 90, 180 are there (no warning)
+    let (p, _, th) = range("0 45 90.0000001", "1 1 1");
+    assert_eq!(th, vec![90.0, 135.0, 180.0]);
+    assert!(!has_warning(&p, "do not span"));
+    let (_, _, th) = range("89.9999999 135 179.9999999", "1 1 1");
+    assert_eq!(th, vec![0.0, 45.0, 90.0]);
     // a single vertical angle is an error
     let e = ies(&ies_c("0", "0", "1")).unwrap_err();
     assert!(e.message.contains("two vertical angles"), "{e}");
