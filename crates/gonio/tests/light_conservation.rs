@@ -540,3 +540,127 @@ fn report() {
         assert!(map.outside() <= 1e-6 && (map.power_ratio() - 1.0).abs() <= 1e-6);
     }
 }
+
+/// Issue 11 (Mitsuba's chi-square harness on the corpus): the edge of the unit square (u or v
+/// exactly 0 or 1, which a float32 generator gives about once in 2²⁴ draws) must map to the edge
+/// of the lit zone, not into an unlit zone at the end of the map. Before the fix the radial search
+/// ended on the last segment, one without light, and the sample landed on the parallel before the
+/// end of the map (θ = 95° for a downlight dark from 90° to 115°), where the density is zero all
+/// around it: 7 corpus files had one such sample in Mitsuba's 10⁶ (seed 1) and its harness could
+/// not accept them. Checked on the scalar path and the SoA batch paths (f64 and f32).
+#[test]
+fn the_square_edge_maps_to_the_end_of_the_lit_zone() {
+    use gonio::mapping::batch::sample_soa_par;
+    // (diagram, the end of its lit zone in θ on the side of the map that ends unlit, which side)
+    let hemi = json(
+        &[0.0, 20.0, 40.0, 60.0, 70.0, 80.0, 90.0],
+        &[
+            vec![5.0, 4.0, 2.0, 0.0, 0.0, 0.0, 0.0],
+            vec![6.0, 3.0, 1.0, 0.0, 0.0, 0.0, 0.0],
+        ],
+    );
+    // A downlight as the corpus's: dark from the horizon to 115° (θ from +z, light below).
+    let down = json(
+        &[90.0, 95.0, 100.0, 105.0, 110.0, 115.0, 120.0, 150.0, 180.0],
+        &[
+            vec![0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.1, 500.0, 900.0],
+            vec![0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.3, 400.0, 900.0],
+        ],
+    );
+    // Lit above and below, dark in between (the two-lamp direct/indirect file's shape).
+    let both = json(
+        &[0.0, 40.0, 80.0, 90.0, 100.0, 120.0, 140.0, 180.0],
+        &[
+            vec![8.0, 6.0, 1.0, 0.0, 0.0, 0.0, 3.0, 7.0],
+            vec![8.0, 5.0, 2.0, 0.0, 0.0, 0.0, 2.0, 7.0],
+        ],
+    );
+    let deg = std::f64::consts::PI / 180.0;
+    let cases: Vec<(&str, Map, Vec<(f64, f64)>)> = vec![
+        ("hemisphere dark beyond 60°", Map::of(&hemi), vec![(0.0, 60.0)]),
+        (
+            "downlight dark in 90°–115°",
+            Map::S(SphereMap::new(&down).unwrap()),
+            vec![(115.0, 180.0)],
+        ),
+        (
+            "lit above and below, dark in 90°–120°",
+            Map::S(SphereMap::new(&both).unwrap()),
+            vec![(0.0, 90.0), (120.0, 180.0)],
+        ),
+    ];
+    let mut edge = Vec::new();
+    for k in 0..=64 {
+        let t = k as f64 / 64.0;
+        edge.extend([[0.0, t], [1.0, t], [t, 0.0], [t, 1.0]]);
+    }
+    for (what, map, lit) in cases {
+        let s = map.sampler();
+        let inside = |dir: [f64; 3]| {
+            let (t, _) = spherical(dir);
+            lit.iter()
+                .any(|&(a, b)| t >= a * deg - 1e-9 && t <= b * deg + 1e-9)
+        };
+        for &u in &edge {
+            let smp = s.sample(u);
+            let (t, _) = spherical(smp.direction);
+            assert!(
+                inside(smp.direction),
+                "{what}: u {u:?} lands at θ = {}° outside the lit zone",
+                t / deg
+            );
+            // Agreement relative to the density, or absolute 1e-12 /sr: at the end of the lit zone
+            // the density is zero but for round-off (both sides see ~1e-16 there).
+            let p = s.pdf(smp.direction);
+            assert!(
+                (p - smp.pdf).abs() <= 1e-9 * p.max(smp.pdf) + 1e-12,
+                "{what}: u {u:?}: sample pdf {} vs pdf() {p}",
+                smp.pdf
+            );
+            let w = s.invert(smp.direction).unwrap();
+            // The square's edge maps back to the square's edge (the concentric map's corners and
+            // the wrap of v are the same point).
+            let on_edge = |a: f64| a <= 1e-9 || a >= 1.0 - 1e-9;
+            assert!(
+                on_edge(w[0]) || on_edge(w[1]),
+                "{what}: u {u:?} -> {:?} -> {w:?}",
+                smp.direction
+            );
+        }
+        // The batch paths (the SoA lanes, f64 and f32) take the same decision.
+        let (us, vs): (Vec<f64>, Vec<f64>) = edge.iter().map(|u| (u[0], u[1])).unzip();
+        let n = us.len();
+        let mut o = [vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]];
+        let mut o32 = [vec![0f32; n], vec![0f32; n], vec![0f32; n], vec![0f32; n]];
+        let (u32s, v32s): (Vec<f32>, Vec<f32>) =
+            edge.iter().map(|u| (u[0] as f32, u[1] as f32)).unzip();
+        {
+            let [x, y, z, p] = &mut o;
+            let [x32, y32, z32, p32] = &mut o32;
+            match &map {
+                Map::H(m) => {
+                    sample_soa_par(m, &us, &vs, [x, y, z], p);
+                    sample_soa_par(m, &u32s, &v32s, [x32, y32, z32], p32);
+                }
+                Map::S(m) => {
+                    sample_soa_par(m, &us, &vs, [x, y, z], p);
+                    sample_soa_par(m, &u32s, &v32s, [x32, y32, z32], p32);
+                }
+            }
+        }
+        for k in 0..n {
+            let d = [o[0][k], o[1][k], o[2][k]];
+            assert!(inside(d), "{what}: batch f64, u {:?} lands at {d:?}", edge[k]);
+            // f32: within f32 round-off of the lit zone (1e-5 rad ≈ 6e-4°).
+            let d32 = [o32[0][k] as f64, o32[1][k] as f64, o32[2][k] as f64];
+            let (t, _) = spherical(d32);
+            assert!(
+                lit.iter()
+                    .any(|&(a, b)| t >= a * deg - 1e-5 && t <= b * deg + 1e-5),
+                "{what}: batch f32, u {:?} lands at θ = {}°",
+                edge[k],
+                t / deg
+            );
+        }
+    }
+}

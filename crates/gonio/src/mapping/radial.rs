@@ -283,6 +283,14 @@ impl Radial {
         while j + 2 < n && ut(j + 1) <= w {
             j += 1;
         }
+        // The edge of the square (r_B = 1, w = Ũ_{N−1}) where the last segments carry no mass (an
+        // unlit zone at the end of the map): the search ends on a segment without light, and the
+        // sample would land inside that zone, with zero density all around it. Step back to the
+        // last segment with mass: the sample is then the end of the lit zone (the same B-radius,
+        // so the inverse still round-trips). Elsewhere segment j always has mass.
+        while j > 0 && ut(j + 1) <= ut(j) {
+            j -= 1;
+        }
         let d0 = (1.0 - eps) * da[j] + eps * db[j];
         let d1 = (1.0 - eps) * da[j + 1] + eps * db[j + 1];
         let (x0, x1) = (self.x[j], self.x[j + 1]);

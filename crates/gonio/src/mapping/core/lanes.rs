@@ -193,6 +193,10 @@ impl HdsCore {
             while j + 2 < n && ut(j + 1) <= w {
                 j += 1;
             }
+            // The square's edge before an unlit zone at the end of the map (as Radial::forward).
+            while j > 0 && ut(j + 1) <= ut(j) {
+                j -= 1;
+            }
             let (da, db) = (
                 &self.radial.d[i * n..i * n + n],
                 &self.radial.d[i1 * n..i1 * n + n],
