@@ -88,15 +88,20 @@ impl Drop for Output {
     }
 }
 
-/// Appends the numbers of one CSV row, comma-separated, in Rust's shortest round-trip form (the
-/// text reads back to the same `f64`), and a newline.
+/// Appends the numbers of one CSV row, comma-separated, in the shortest round-trip form (the
+/// text reads back to the same `f64`; exponent form for extreme magnitudes,
+/// [`gonio::decimal::shortest`]), and a newline.
 pub fn push_csv_row(buf: &mut Vec<u8>, values: &[f64]) {
     for (k, v) in values.iter().enumerate() {
         if k > 0 {
             buf.push(b',');
         }
-        // Writing into a Vec cannot fail.
-        let _ = write!(buf, "{v}");
+        if *v == 0.0 || (1e-5..1e16).contains(&v.abs()) || !v.is_finite() {
+            // Writing into a Vec cannot fail.
+            let _ = write!(buf, "{v}");
+        } else {
+            let _ = write!(buf, "{v:e}");
+        }
     }
     buf.push(b'\n');
 }

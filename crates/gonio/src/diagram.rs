@@ -56,7 +56,7 @@ pub enum DiagramError {
         value: f64,
     },
     /// An angle lies outside its range (θ in [0°, 180°], φ in [0°, 360°)).
-    #[error("{axis} angle #{index} = {value_deg}° is outside {range}")]
+    #[error("{axis} angle #{index} = {}° is outside {range}", crate::decimal::shortest(*value_deg))]
     AngleOutOfRange {
         /// `"theta"` or `"phi"`.
         axis: &'static str,
@@ -68,7 +68,11 @@ pub enum DiagramError {
         range: &'static str,
     },
     /// Angles are not strictly increasing (unsorted or duplicated).
-    #[error("{axis} angles must be strictly increasing, but #{index} = {value_deg}° follows {previous_deg}°")]
+    #[error(
+        "{axis} angles must be strictly increasing (also in radians, as stored), but #{index} = {}° follows {}°",
+        crate::decimal::shortest(*value_deg),
+        crate::decimal::shortest(*previous_deg)
+    )]
     NotIncreasing {
         /// `"theta"` or `"phi"`.
         axis: &'static str,
@@ -90,7 +94,10 @@ pub enum DiagramError {
         found: usize,
     },
     /// A value is NaN, infinite or negative.
-    #[error("values[{meridian}][{parallel}] = {value} is not a finite non-negative number")]
+    #[error(
+        "values[{meridian}][{parallel}] = {} is not a finite non-negative number",
+        crate::decimal::shortest(*value)
+    )]
     BadValue {
         /// Meridian index i.
         meridian: usize,
@@ -262,7 +269,20 @@ impl Diagram {
             .map(|t| if deg(*t) > PI { PI } else { deg(*t) })
             .collect();
         let phi = phi_deg.iter().map(|p| deg(*p)).collect();
-        Self::new(theta, phi, values.concat())
+        // Messages name the angles as given (5e-324° and 0° differ in degrees but not in
+        // radians).
+        Self::new(theta, phi, values.concat()).map_err(|e| match e {
+            DiagramError::NotIncreasing { axis, index, .. } if index > 0 => {
+                let given = if axis == "theta" { theta_deg } else { phi_deg };
+                DiagramError::NotIncreasing {
+                    axis,
+                    index,
+                    value_deg: given[index],
+                    previous_deg: given[index - 1],
+                }
+            }
+            other => other,
+        })
     }
 
     /// Parses the native JSON form (see [`DiagramJson`]).
@@ -278,8 +298,17 @@ impl Diagram {
     /// The native JSON form (angles in degrees).
     pub fn to_json(&self) -> DiagramJson {
         DiagramJson {
-            theta_deg: self.theta.iter().map(|t| t.to_degrees()).collect(),
-            phi_deg: self.phi.iter().map(|p| p.to_degrees()).collect(),
+            // The shortest degrees that read back to the stored radians (55, not 54.99…986).
+            theta_deg: self
+                .theta
+                .iter()
+                .map(|&t| crate::decimal::degrees(t))
+                .collect(),
+            phi_deg: self
+                .phi
+                .iter()
+                .map(|&p| crate::decimal::degrees(p))
+                .collect(),
             values: self
                 .values
                 .chunks(self.theta.len())

@@ -35,6 +35,7 @@ fn input<'a>(
         samples: 3000,
         seed: 1,
         photometric,
+        hv_photometry: None,
     }
 }
 

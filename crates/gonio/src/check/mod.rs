@@ -51,7 +51,10 @@ mod roundtrip;
 #[cfg(test)]
 mod tests;
 
-pub use battery::{run_battery, run_battery_with_progress, BatteryOptions, ItemSummary, Report};
+pub use battery::{
+    chi_square_two_stage, run_battery, run_battery_with_progress, BatteryOptions, ConfirmOptions,
+    ItemSummary, Report,
+};
 pub use chi2::{
     chi_square_points, chi_square_test, pooled_chi_square, ChiSquareOptions, ChiSquareReport,
     PooledChiSquare,

@@ -336,14 +336,17 @@ pub(crate) fn read_ies(
     }
     let tilt_angle_deg = 0.0;
     if let Some(t) = tilt.table() {
+        // The file's factor is kept, 0 included: replacing it would change the light. A factor
+        // of 0 leaves no light, which `to_diagram` refuses (zero total power).
         let f = t.factor_at(tilt_angle_deg);
-        if f > 0.0 {
-            scale *= f;
-        } else {
+        scale *= f;
+        if f == 0.0 {
             warnings.push(Warning {
                 line: tilt_line_no,
                 column: tilt_col,
-                message: format!("TILT factor at 0° is {f}, not positive; 1 used"),
+                message: "TILT factor at 0° is 0: at this tilt the luminaire emits no light \
+                          (every intensity is 0)"
+                    .into(),
             });
         }
     }
