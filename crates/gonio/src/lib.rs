@@ -36,16 +36,17 @@ pub mod decimal;
 pub mod diagram;
 pub mod error;
 pub mod mapping;
+pub mod method;
 pub mod photometry;
 pub mod sampler;
 pub mod sequence;
 pub mod synthetic;
 
-pub use baselines::Method;
 pub use check::{run_battery, BatteryOptions, Report};
 pub use diagram::{Diagram, DiagramError};
 pub use error::Error;
 pub use mapping::{HemisphereMap, SphereLayout, SphereMap};
+pub use method::{BuildError, BuildOptions, Method};
 pub use photometry::{FileFormat, Photometry};
 pub use sampler::{Domain, InvertError, Point2, Sample, Sampler, Vec3};
 pub use sequence::{Sequence, SequenceKind};

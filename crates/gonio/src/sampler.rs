@@ -5,6 +5,7 @@
 //! Directions are unit vectors `[x, y, z]` in the sampler's frame; densities are **per steradian**
 //! with respect to solid angle; points of the unit square are `[u, v]` with 0 ≤ u, v ≤ 1.
 
+pub use crate::method::{BuildError, BuildOptions, Method};
 use rayon::prelude::*;
 
 /// A unit direction `[x, y, z]`.
@@ -38,6 +39,27 @@ impl Domain {
             Domain::Sphere => 4.0 * std::f64::consts::PI,
         }
     }
+    /// The domain policy of the library: [`Domain::Hemisphere`] when the diagram lies within
+    /// θ ≤ 90° (its last parallel is at most π/2), [`Domain::Sphere`] otherwise.
+    ///
+    /// (Callers that know more may choose otherwise: the CLI gives photometric files the whole
+    /// sphere always, since a luminaire's file covers the sphere even when it lists only its lower
+    /// half.)
+    ///
+    /// ```
+    /// use gonio::{Diagram, Domain};
+    /// let hemi = Diagram::from_degrees(&[0.0, 90.0], &[0.0], &[vec![1.0, 0.0]]).unwrap();
+    /// assert_eq!(Domain::for_diagram(&hemi), Domain::Hemisphere);
+    /// let down = Diagram::from_degrees(&[90.0, 180.0], &[0.0], &[vec![0.0, 1.0]]).unwrap();
+    /// assert_eq!(Domain::for_diagram(&down), Domain::Sphere);
+    /// ```
+    pub fn for_diagram(diagram: &crate::diagram::Diagram) -> Domain {
+        match diagram.theta().last() {
+            Some(&t) if t <= std::f64::consts::FRAC_PI_2 => Domain::Hemisphere,
+            _ => Domain::Sphere,
+        }
+    }
+
     /// Whether the unit direction `d` lies in the domain.
     pub fn contains(self, d: Vec3) -> bool {
         match self {
@@ -87,6 +109,32 @@ pub trait Sampler: Send + Sync {
     fn target_pdf(&self, direction: Vec3) -> f64;
     /// Bytes held by the sampler's precomputed tables.
     fn memory_bytes(&self) -> usize;
+
+    /// The power of the target: the integral over the domain of the un-normalised density that
+    /// [`Sampler::target_pdf`] normalises (the diagram interpolated bilinearly in (θ, φ)), in the
+    /// diagram's units × sr (lumens for a diagram in candela). `target_pdf` = that density / this.
+    ///
+    /// Every sampler of the library returns it; the default, for samplers that do not know it, is
+    /// NaN. (The HDS map integrates the diagram as completed for its tables, see
+    /// [`crate::HemisphereMap`]; it equals [`crate::Diagram::integral`] of the raw diagram when the
+    /// completion adds nothing.)
+    fn target_power(&self) -> f64 {
+        f64::NAN
+    }
+
+    /// A guaranteed range (min, max) of `pdf / target_pdf` over every direction where the target
+    /// is positive, computed at build time, for methods that have one (the HDS map); `None` (the
+    /// default) where the method promises no bound.
+    fn ratio_bound(&self) -> Option<(f64, f64)> {
+        None
+    }
+
+    /// The intermediate points of the forward map at `u` (for the warp plot and tests), for
+    /// methods built from stages (the HDS map); `None` (the default) otherwise.
+    fn stages(&self, u: Point2) -> Option<crate::mapping::Stages> {
+        let _ = u;
+        None
+    }
 
     /// Samples every point of `u` into the same position of `out`; allocates nothing.
     ///

@@ -1,7 +1,7 @@
 //! Marginal–conditional inversion of the bilinear-in-(θ, φ) target itself, with the sin θ factor:
 //! the continuous analogue of Mitsuba 3's `Marginal2D` whose density is exactly the target.
 
-use super::{build_cdf, clamp_unit, invert_cdf, BaselineError, Target};
+use super::{build_cdf, clamp_unit, invert_cdf, BuildError, Target};
 use crate::diagram::{cell_weights, segment, Diagram};
 use crate::sampler::{
     direction, normalize, spherical, Domain, InvertError, Point2, Sample, Sampler, Vec3,
@@ -57,9 +57,9 @@ impl Bilinear {
     /// A bilinear sampler of the target of `diagram` over `domain`.
     ///
     /// # Errors
-    /// [`BaselineError::NotHemisphere`] if `domain` is the hemisphere and the diagram passes θ = 90°;
-    /// [`BaselineError::NoPower`] if the interpolated diagram integrates to 0.
-    pub fn new(diagram: &Diagram, domain: Domain) -> Result<Self, BaselineError> {
+    /// [`BuildError::NotHemisphere`] if `domain` is the hemisphere and the diagram passes θ = 90°;
+    /// [`BuildError::NoPower`] if the interpolated diagram integrates to 0.
+    pub fn new(diagram: &Diagram, domain: Domain) -> Result<Self, BuildError> {
         let target = Target::new(diagram, domain)?;
         let (m, n) = (diagram.n_meridians(), diagram.n_parallels());
         let th = diagram.theta();
@@ -79,7 +79,7 @@ impl Bilinear {
         let mut sector_cdf = vec![0.0; m + 1];
         let (total, sector_last) = build_cdf(&masses, &mut sector_cdf);
         if !(total > 0.0 && total.is_finite()) {
-            return Err(BaselineError::NoPower { integral: total });
+            return Err(BuildError::NoPower { integral: total });
         }
         Ok(Self {
             target,
@@ -309,6 +309,9 @@ impl Sampler for Bilinear {
     }
     fn target_pdf(&self, direction: Vec3) -> f64 {
         self.target.pdf(direction)
+    }
+    fn target_power(&self) -> f64 {
+        self.target.integral
     }
     fn memory_bytes(&self) -> usize {
         self.target.diagram_bytes()

@@ -14,7 +14,7 @@
 //! ([`Diagram::interpolate`]) divided by its integral over the sphere ([`Diagram::integral`]),
 //! per steradian, and 0 outside the domain. On [`Domain::Hemisphere`] the diagram must lie within
 //! θ ≤ 90° (its parallels may not pass π/2); on [`Domain::Sphere`] it may cover any θ range and is 0
-//! outside it. Constructors validate and return a [`BaselineError`]; after construction, sampling
+//! outside it. Constructors validate and return a [`BuildError`]; after construction, sampling
 //! cannot fail or panic for any point of the closed unit square.
 //!
 //! The formulas, costs and weaknesses of each method are collected in `docs/BASELINES.md`.
@@ -32,138 +32,15 @@ pub use piecewise_constant::{
 pub use rejection::{Rejection, MAX_TV_ERROR, MIN_ACCEPTANCE};
 pub use uniform::Uniform;
 
-use crate::diagram::{Diagram, DiagramError};
-use crate::sampler::{normalize, spherical, Domain, Sampler, Vec3};
+pub use crate::method::{BuildError, Method, ParseMethodError};
+
+/// The error type of the baseline constructors: the library's one [`BuildError`] (the old name,
+/// kept so that existing code compiles).
+pub type BaselineError = BuildError;
+
+use crate::diagram::Diagram;
+use crate::sampler::{normalize, spherical, Domain, Vec3};
 use std::f64::consts::FRAC_PI_2;
-use std::fmt;
-use std::str::FromStr;
-
-/// Why a baseline sampler could not be built.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum BaselineError {
-    /// The diagram itself is invalid.
-    #[error(transparent)]
-    Diagram(#[from] DiagramError),
-    /// A hemisphere sampler was given a diagram whose parallels pass θ = 90°.
-    #[error("the hemisphere domain needs θ ≤ 90°, but the diagram's last parallel is at {theta_max_deg}°; use the sphere domain")]
-    NotHemisphere {
-        /// The diagram's last parallel, in degrees.
-        theta_max_deg: f64,
-    },
-    /// The bilinear interpolant of the diagram integrates to zero (or to a non-finite number), e.g.
-    /// a single parallel, so there is no density to sample.
-    #[error("the interpolated diagram has no positive finite power to sample (integral = {integral} sr·unit)")]
-    NoPower {
-        /// [`Diagram::integral`] of the diagram.
-        integral: f64,
-    },
-    /// The piecewise-constant image resolution is outside the accepted range.
-    #[error("image resolution {resolution} is outside 1..={max}")]
-    Resolution {
-        /// The requested number of pixels per side.
-        resolution: usize,
-        /// The largest accepted resolution.
-        max: usize,
-    },
-    /// Every pixel of the piecewise-constant image came out 0: the diagram's power lies between the
-    /// pixel sample points. A higher resolution resolves it.
-    #[error("every pixel of the {resolution}×{resolution} image is 0: the diagram is narrower than the pixels; raise the resolution")]
-    EmptyImage {
-        /// Pixels per side of the image.
-        resolution: usize,
-    },
-    /// Rejection sampling would accept too rarely: mean target / max target is below
-    /// [`MIN_ACCEPTANCE`].
-    #[error(
-        "rejection sampling would accept only a fraction {rate:e} of proposals (minimum {min:e})"
-    )]
-    AcceptanceTooLow {
-        /// The exact acceptance rate.
-        rate: f64,
-        /// The smallest accepted rate, [`MIN_ACCEPTANCE`].
-        min: f64,
-    },
-    /// [`Method::Hds`] is not a baseline; build it with [`crate::mapping`].
-    #[error("method `{0}` is not a baseline")]
-    NotABaseline(Method),
-}
-
-/// The sampling methods the project compares, as the CLI's `--method` spells them.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Method {
-    /// `hds`: the Havran–Dmitriev–Seidel mapping ([`crate::mapping`]), not built here.
-    Hds,
-    /// `piecewise-constant`: [`PiecewiseConstant`], a pixel image over an equal-area map.
-    PiecewiseConstant,
-    /// `bilinear`: [`Bilinear`], marginal–conditional inversion of the bilinear target.
-    Bilinear,
-    /// `rejection`: [`Rejection`], uniform proposals accepted against the maximum.
-    Rejection,
-    /// `uniform`: [`Uniform`], uniform directions that ignore the diagram.
-    Uniform,
-}
-
-impl Method {
-    /// Every method, in the order the CLI lists them.
-    pub const ALL: [Method; 5] = [
-        Method::Hds,
-        Method::PiecewiseConstant,
-        Method::Bilinear,
-        Method::Rejection,
-        Method::Uniform,
-    ];
-
-    /// The method's name as `--method` spells it (also what [`Sampler::name`] returns).
-    pub fn as_str(self) -> &'static str {
-        match self {
-            Method::Hds => "hds",
-            Method::PiecewiseConstant => "piecewise-constant",
-            Method::Bilinear => "bilinear",
-            Method::Rejection => "rejection",
-            Method::Uniform => "uniform",
-        }
-    }
-
-    /// Builds the baseline sampler of this method with its default options.
-    ///
-    /// [`Method::Hds`] gives [`BaselineError::NotABaseline`]: the caller builds the mapping.
-    pub fn build_baseline(
-        self,
-        diagram: &Diagram,
-        domain: Domain,
-    ) -> Result<Box<dyn Sampler>, BaselineError> {
-        Ok(match self {
-            Method::Hds => return Err(BaselineError::NotABaseline(self)),
-            Method::PiecewiseConstant => Box::new(PiecewiseConstant::new(diagram, domain)?),
-            Method::Bilinear => Box::new(Bilinear::new(diagram, domain)?),
-            Method::Rejection => Box::new(Rejection::new(diagram, domain)?),
-            Method::Uniform => Box::new(Uniform::new(diagram, domain)?),
-        })
-    }
-}
-
-impl fmt::Display for Method {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.as_str())
-    }
-}
-
-/// A method name that is none of `hds|piecewise-constant|bilinear|rejection|uniform`.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error(
-    "unknown method `{0}`; expected one of hds, piecewise-constant, bilinear, rejection, uniform"
-)]
-pub struct ParseMethodError(pub String);
-
-impl FromStr for Method {
-    type Err = ParseMethodError;
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        Method::ALL
-            .into_iter()
-            .find(|m| m.as_str() == s)
-            .ok_or_else(|| ParseMethodError(s.to_owned()))
-    }
-}
 
 /// The normalised target density shared by every baseline: the diagram interpolated bilinearly in
 /// (θ, φ), divided by its integral, per steradian, 0 outside the domain.
@@ -179,16 +56,16 @@ pub(crate) struct Target {
 
 impl Target {
     /// Validates the diagram against the domain and that it has power to sample.
-    pub(crate) fn new(diagram: &Diagram, domain: Domain) -> Result<Self, BaselineError> {
+    pub(crate) fn new(diagram: &Diagram, domain: Domain) -> Result<Self, BuildError> {
         let theta_max = *diagram.theta().last().expect("a diagram has parallels");
         if domain == Domain::Hemisphere && theta_max > FRAC_PI_2 {
-            return Err(BaselineError::NotHemisphere {
+            return Err(BuildError::NotHemisphere {
                 theta_max_deg: theta_max.to_degrees(),
             });
         }
         let integral = diagram.integral();
         if !(integral.is_finite() && integral > 0.0 && (1.0 / integral).is_finite()) {
-            return Err(BaselineError::NoPower { integral });
+            return Err(BuildError::NoPower { integral });
         }
         Ok(Self {
             diagram: diagram.clone(),
@@ -282,18 +159,6 @@ pub(crate) fn build_cdf(weights: &[f64], cdf: &mut [f64]) -> (f64, usize) {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn method_names_round_trip() {
-        for m in Method::ALL {
-            assert_eq!(m.to_string().parse::<Method>(), Ok(m));
-        }
-        assert!("HDS".parse::<Method>().is_err());
-        assert_eq!(
-            "piecewise-constant".parse::<Method>(),
-            Ok(Method::PiecewiseConstant)
-        );
-    }
 
     #[test]
     fn cdf_inversion_skips_empty_cells() {

@@ -5,7 +5,7 @@ use super::equal_area::{
     equal_area_hemisphere_to_square, equal_area_sphere_to_square, equal_area_square_to_hemisphere,
     equal_area_square_to_sphere,
 };
-use super::{build_cdf, clamp_unit, invert_cdf, BaselineError, Target};
+use super::{build_cdf, clamp_unit, invert_cdf, BuildError, Target};
 use crate::diagram::Diagram;
 use crate::sampler::{normalize, spherical, Domain, InvertError, Point2, Sample, Sampler, Vec3};
 use rayon::prelude::*;
@@ -69,7 +69,7 @@ impl PiecewiseConstant {
     ///
     /// # Errors
     /// As [`PiecewiseConstant::with_resolution`].
-    pub fn new(diagram: &Diagram, domain: Domain) -> Result<Self, BaselineError> {
+    pub fn new(diagram: &Diagram, domain: Domain) -> Result<Self, BuildError> {
         Self::with_resolution(diagram, domain, DEFAULT_RESOLUTION)
     }
 
@@ -77,17 +77,17 @@ impl PiecewiseConstant {
     /// R² · S² target evaluations (run on the rayon threads).
     ///
     /// # Errors
-    /// [`BaselineError::NotHemisphere`], [`BaselineError::NoPower`] as for every baseline;
-    /// [`BaselineError::Resolution`] unless 1 ≤ `resolution` ≤ [`MAX_RESOLUTION`];
-    /// [`BaselineError::EmptyImage`] if every pixel averages to 0.
+    /// [`BuildError::NotHemisphere`], [`BuildError::NoPower`] as for every baseline;
+    /// [`BuildError::Resolution`] unless 1 ≤ `resolution` ≤ [`MAX_RESOLUTION`];
+    /// [`BuildError::EmptyImage`] if every pixel averages to 0.
     pub fn with_resolution(
         diagram: &Diagram,
         domain: Domain,
         resolution: usize,
-    ) -> Result<Self, BaselineError> {
+    ) -> Result<Self, BuildError> {
         let target = Target::new(diagram, domain)?;
         if !(1..=MAX_RESOLUTION).contains(&resolution) {
-            return Err(BaselineError::Resolution {
+            return Err(BuildError::Resolution {
                 resolution,
                 max: MAX_RESOLUTION,
             });
@@ -127,7 +127,7 @@ impl PiecewiseConstant {
         let mut marginal = vec![0.0; n + 1];
         let (total, marginal_last) = build_cdf(&row_sums, &mut marginal);
         if total <= 0.0 {
-            return Err(BaselineError::EmptyImage { resolution });
+            return Err(BuildError::EmptyImage { resolution });
         }
         // f / (Σf / R²) is the density on the unit square; the map divides it by its area A.
         let scale = (n * n) as f64 / (total * domain.solid_angle());
@@ -274,6 +274,9 @@ impl Sampler for PiecewiseConstant {
     }
     fn target_pdf(&self, direction: Vec3) -> f64 {
         self.target.pdf(direction)
+    }
+    fn target_power(&self) -> f64 {
+        self.target.integral
     }
     fn memory_bytes(&self) -> usize {
         std::mem::size_of::<f64>() * (self.pdf.len() + self.marginal.len() + self.conditional.len())

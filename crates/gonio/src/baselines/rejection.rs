@@ -1,7 +1,7 @@
 //! Rejection sampling against the maximum of the target.
 
 use super::uniform::square_to_uniform;
-use super::{clamp_unit, BaselineError, Target};
+use super::{clamp_unit, BuildError, Target};
 use crate::diagram::Diagram;
 use crate::sampler::{direction, spherical, Domain, InvertError, Point2, Sample, Sampler, Vec3};
 use rand::{Rng, SeedableRng};
@@ -39,20 +39,32 @@ pub struct Rejection {
     max_value: f64,
     max_trials: u64,
     fallback: Sample,
+    /// Mixed into the hash of `u` that seeds the proposals (0: the historical stream).
+    seed: u64,
 }
 
 impl Rejection {
     /// A rejection sampler of the target of `diagram` over `domain`.
     ///
     /// # Errors
-    /// [`BaselineError::NotHemisphere`], [`BaselineError::NoPower`] as for every baseline;
-    /// [`BaselineError::AcceptanceTooLow`] if mean target / max target < [`MIN_ACCEPTANCE`].
-    pub fn new(diagram: &Diagram, domain: Domain) -> Result<Self, BaselineError> {
+    /// [`BuildError::NotHemisphere`], [`BuildError::NoPower`] as for every baseline;
+    /// [`BuildError::AcceptanceTooLow`] if mean target / max target < [`MIN_ACCEPTANCE`].
+    pub fn new(diagram: &Diagram, domain: Domain) -> Result<Self, BuildError> {
+        Self::with_seed(diagram, domain, 0)
+    }
+
+    /// As [`Rejection::new`], with `seed` mixed into the hash of each point `u` that seeds its
+    /// proposals: another seed gives another pseudo-random stream for the same points. Seed 0 is the stream
+    /// of [`Rejection::new`].
+    ///
+    /// # Errors
+    /// As [`Rejection::new`].
+    pub fn with_seed(diagram: &Diagram, domain: Domain, seed: u64) -> Result<Self, BuildError> {
         let target = Target::new(diagram, domain)?;
         let max_value = diagram.max_value();
         let rate = target.integral / (domain.solid_angle() * max_value);
         if rate < MIN_ACCEPTANCE {
-            return Err(BaselineError::AcceptanceTooLow {
+            return Err(BuildError::AcceptanceTooLow {
                 rate,
                 min: MIN_ACCEPTANCE,
             });
@@ -81,6 +93,7 @@ impl Rejection {
             max_value,
             max_trials,
             fallback,
+            seed,
         })
     }
 
@@ -114,7 +127,7 @@ impl Sampler for Rejection {
     }
     fn sample(&self, u: Point2) -> Sample {
         let (a, b) = (clamp_unit(u[0]).to_bits(), clamp_unit(u[1]).to_bits());
-        let seed = splitmix64(splitmix64(a ^ 0x9e37_79b9_7f4a_7c15) ^ b);
+        let seed = splitmix64(splitmix64(a ^ 0x9e37_79b9_7f4a_7c15 ^ self.seed) ^ b);
         let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
         let domain = self.target.domain;
         for _ in 0..self.max_trials {
@@ -139,6 +152,9 @@ impl Sampler for Rejection {
     }
     fn target_pdf(&self, direction: Vec3) -> f64 {
         self.target.pdf(direction)
+    }
+    fn target_power(&self) -> f64 {
+        self.target.integral
     }
     fn memory_bytes(&self) -> usize {
         self.target.diagram_bytes()

@@ -1,6 +1,6 @@
 //! Uniform directions on the domain: the baseline that ignores the diagram.
 
-use super::{clamp_unit, BaselineError, Target};
+use super::{clamp_unit, BuildError, Target};
 use crate::diagram::Diagram;
 use crate::sampler::{normalize, Domain, InvertError, Point2, Sample, Sampler, Vec3};
 use std::f64::consts::TAU;
@@ -26,9 +26,9 @@ impl Uniform {
     /// A uniform sampler over `domain` for the target of `diagram`.
     ///
     /// # Errors
-    /// [`BaselineError::NotHemisphere`] if `domain` is the hemisphere and the diagram passes θ = 90°;
-    /// [`BaselineError::NoPower`] if the interpolated diagram integrates to 0.
-    pub fn new(diagram: &Diagram, domain: Domain) -> Result<Self, BaselineError> {
+    /// [`BuildError::NotHemisphere`] if `domain` is the hemisphere and the diagram passes θ = 90°;
+    /// [`BuildError::NoPower`] if the interpolated diagram integrates to 0.
+    pub fn new(diagram: &Diagram, domain: Domain) -> Result<Self, BuildError> {
         Ok(Self {
             target: Target::new(diagram, domain)?,
             pdf: 1.0 / domain.solid_angle(),
@@ -89,6 +89,9 @@ impl Sampler for Uniform {
     }
     fn target_pdf(&self, direction: Vec3) -> f64 {
         self.target.pdf(direction)
+    }
+    fn target_power(&self) -> f64 {
+        self.target.integral
     }
     fn memory_bytes(&self) -> usize {
         0

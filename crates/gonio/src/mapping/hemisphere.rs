@@ -126,6 +126,15 @@ impl Sampler for HemisphereMap {
         let (t, p) = spherical(direction);
         self.core.diagram().interpolate(t, p) * self.inv_target_total
     }
+    fn target_power(&self) -> f64 {
+        HemisphereMap::target_power(self)
+    }
+    fn ratio_bound(&self) -> Option<(f64, f64)> {
+        Some(HemisphereMap::ratio_bound(self))
+    }
+    fn stages(&self, u: Point2) -> Option<super::Stages> {
+        Some(HemisphereMap::stages(self, u))
+    }
     fn memory_bytes(&self) -> usize {
         self.core.memory_bytes()
     }

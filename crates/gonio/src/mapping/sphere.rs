@@ -324,6 +324,15 @@ impl Sampler for SphereMap {
     fn target_pdf(&self, d: Vec3) -> f64 {
         self.target_value(d) * self.inv_target_total
     }
+    fn target_power(&self) -> f64 {
+        SphereMap::target_power(self)
+    }
+    fn ratio_bound(&self) -> Option<(f64, f64)> {
+        Some(SphereMap::ratio_bound(self))
+    }
+    fn stages(&self, u: Point2) -> Option<super::Stages> {
+        Some(SphereMap::stages(self, u))
+    }
     fn memory_bytes(&self) -> usize {
         match &self.layout {
             Layout::Split { upper, lower, .. } => {
