@@ -113,3 +113,19 @@ pub fn print(text: &str) -> anyhow::Result<()> {
     out.flush()?;
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::push_csv_row;
+
+    #[test]
+    fn huge_and_tiny_numbers_in_exponent_form() {
+        let mut buf = Vec::new();
+        push_csv_row(&mut buf, &[1e308, f64::MAX, 5e-324, 0.25, 0.0, -3.0, 1e-7]);
+        let text = String::from_utf8(buf).unwrap();
+        assert_eq!(text, "1e308,1.7976931348623157e308,5e-324,0.25,0,-3,1e-7\n");
+        for (field, v) in text.trim().split(',').zip([1e308, f64::MAX, 5e-324]) {
+            assert_eq!(field.parse::<f64>().unwrap(), v);
+        }
+    }
+}

@@ -33,6 +33,28 @@ fn plane(input: &PlotInput, phi: f64, thetas: &[f64]) -> (Vec<f64>, Vec<f64>) {
     (right, left)
 }
 
+/// The two curves drawn, as (right side, left side) values at the polar angles `thetas`: the C0–C180
+/// and C90–C270 planes of the diagram, or for a type A/B file its measured planes H = 0° (V = ±a)
+/// and V = 0° (H = ±a), a = 180° − θ the angle from the beam axis.
+pub(super) fn curves(input: &PlotInput, thetas: &[f64]) -> [(Vec<f64>, Vec<f64>); 2] {
+    match input.hv_photometry {
+        Some(p) => {
+            let a = |t: f64| 180.0 - t.to_degrees();
+            let side = |f: &dyn Fn(f64) -> f64| -> (Vec<f64>, Vec<f64>) {
+                (
+                    thetas.iter().map(|&t| f(a(t))).collect(),
+                    thetas.iter().map(|&t| f(-a(t))).collect(),
+                )
+            };
+            [
+                side(&|v| p.intensity_hv(0.0, v)),
+                side(&|h| p.intensity_hv(h, 0.0)),
+            ]
+        }
+        None => [0.0, FRAC_PI_2].map(|phi| plane(input, phi, thetas)),
+    }
+}
+
 pub fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, input: &PlotInput) -> Result<()>
 where
     DB::ErrorType: 'static,
@@ -49,23 +71,7 @@ where
     thetas.sort_by(f64::total_cmp);
     thetas.dedup_by(|a, b| (*a - *b).abs() < 1e-12);
 
-    let planes = match input.hv_photometry {
-        // Angle from the beam axis a = 180° − θ on each side.
-        Some(p) => {
-            let curve = |f: &dyn Fn(f64) -> f64| -> (Vec<f64>, Vec<f64>) {
-                let a = |t: f64| 180.0 - t.to_degrees();
-                (
-                    thetas.iter().map(|&t| f(a(t))).collect(),
-                    thetas.iter().map(|&t| f(-a(t))).collect(),
-                )
-            };
-            [
-                curve(&|v| p.intensity_hv(0.0, v)),
-                curve(&|h| p.intensity_hv(h, 0.0)),
-            ]
-        }
-        None => [0.0, FRAC_PI_2].map(|phi| plane(input, phi, &thetas)),
-    };
+    let planes = curves(input, &thetas);
     let imax = planes
         .iter()
         .flat_map(|(r, l)| r.iter().chain(l))

@@ -1,6 +1,6 @@
 //! The whole battery: every check on one sampler, one report.
 
-use super::chi2::{chi_square_points, chi_square_test_with_progress};
+use super::chi2::{bin_integrals, chi_square_points_with, chi_square_test_with_progress};
 use super::density::pdf_consistency_with_progress;
 use super::flux::flux_estimate_with_progress;
 use super::roundtrip::round_trip_with_progress;
@@ -352,18 +352,67 @@ pub fn chi_square_two_stage(
     sampler: &dyn Sampler,
     opts: &BatteryOptions,
 ) -> (ChiSquareReport, Option<ChiSquareReport>) {
-    chi_square_two_stage_with_progress(sampler, opts, &|_| {})
+    let integrals = bin_integrals(sampler, &opts.chi_square);
+    chi_square_two_stage_with(sampler, opts, &integrals, &|_| {})
 }
 
-fn chi_square_two_stage_with_progress(
+/// [`chi_square_two_stage`] with the bin integrals computed beforehand
+/// ([`super::bin_integrals`] with `opts.chi_square`): both stages share them, and so can many
+/// seeds of the same sampler.
+pub fn chi_square_two_stage_with_integrals(
+    sampler: &dyn Sampler,
+    opts: &BatteryOptions,
+    integrals: &[f64],
+) -> (ChiSquareReport, Option<ChiSquareReport>) {
+    chi_square_two_stage_with(sampler, opts, integrals, &|_| {})
+}
+
+fn chi_square_two_stage_with(
+    sampler: &dyn Sampler,
+    opts: &BatteryOptions,
+    integrals: &[f64],
+    progress: &dyn Fn(f64),
+) -> (ChiSquareReport, Option<ChiSquareReport>) {
+    let first = chi_square_test_with_progress(sampler, &opts.chi_square, Some(integrals), progress);
+    if opts.confirm.enabled && chi_square_failed_by_chance(&first) {
+        let second = chi_square_test_with_progress(
+            sampler,
+            &opts.second_stage_chi_square(),
+            Some(integrals),
+            progress,
+        );
+        (second, Some(first))
+    } else {
+        (first, None)
+    }
+}
+
+/// The flux item as the battery runs it, in two stages like [`chi_square_two_stage`]: the
+/// estimate with `opts.flux`, and after a chance failure again on independent points with
+/// `confirm.samples_factor` times the samples at `confirm.flux_k_sigma`.
+pub fn flux_two_stage(
+    sampler: &dyn Sampler,
+    opts: &BatteryOptions,
+) -> (FluxReport, Option<FluxReport>) {
+    flux_two_stage_with_progress(sampler, opts, &|_| {})
+}
+
+fn flux_two_stage_with_progress(
     sampler: &dyn Sampler,
     opts: &BatteryOptions,
     progress: &dyn Fn(f64),
-) -> (ChiSquareReport, Option<ChiSquareReport>) {
-    let first = chi_square_test_with_progress(sampler, &opts.chi_square, progress);
-    if opts.confirm.enabled && chi_square_failed_by_chance(&first) {
-        let second =
-            chi_square_test_with_progress(sampler, &opts.second_stage_chi_square(), progress);
+) -> (FluxReport, Option<FluxReport>) {
+    let first = flux_estimate_with_progress(sampler, opts.flux_total, &opts.flux, progress);
+    if opts.confirm.enabled && flux_failed_by_chance(&first) {
+        let o = FluxOptions {
+            samples: opts
+                .flux
+                .samples
+                .saturating_mul(opts.confirm.samples_factor.max(1)),
+            seed: second_seed(opts.flux.seed),
+            k_sigma: opts.confirm.flux_k_sigma,
+        };
+        let second = flux_estimate_with_progress(sampler, opts.flux_total, &o, progress);
         (second, Some(first))
     } else {
         (first, None)
@@ -401,8 +450,10 @@ pub fn run_battery_with_progress(
 
     let s = stage(0);
     s(0.0);
+    // The bin integrals serve both stages and the QMC statistic.
+    let integrals = bin_integrals(sampler, &opts.chi_square);
     let (chi_square, chi_square_first_stage) =
-        chi_square_two_stage_with_progress(sampler, opts, &s);
+        chi_square_two_stage_with(sampler, opts, &integrals, &s);
 
     let s = stage(1);
     s(0.0);
@@ -410,7 +461,7 @@ pub fn run_battery_with_progress(
         let mut pts = vec![[0.0; 2]; opts.qmc_points];
         // Skip the corner point (0, 0), which maps onto a seam of many samplers.
         Sequence::from(Halton::with_skip(1)).fill_par(0, &mut pts);
-        let mut q = chi_square_points(sampler, &pts, &opts.chi_square);
+        let mut q = chi_square_points_with(sampler, &pts, &opts.chi_square, Some(&integrals));
         q.status = Status::Info;
         q
     });
@@ -429,20 +480,7 @@ pub fn run_battery_with_progress(
     let ratio = pdf_target_ratio(sampler, &opts.ratio);
     s(1.0);
     let s = stage(6);
-    let mut flux = flux_estimate_with_progress(sampler, opts.flux_total, &opts.flux, &s);
-    let mut flux_first_stage = None;
-    if opts.confirm.enabled && flux_failed_by_chance(&flux) {
-        let o = FluxOptions {
-            samples: opts
-                .flux
-                .samples
-                .saturating_mul(opts.confirm.samples_factor.max(1)),
-            seed: second_seed(opts.flux.seed),
-            k_sigma: opts.confirm.flux_k_sigma,
-        };
-        let second = flux_estimate_with_progress(sampler, opts.flux_total, &o, &s);
-        flux_first_stage = Some(std::mem::replace(&mut flux, second));
-    }
+    let (flux, flux_first_stage) = flux_two_stage_with_progress(sampler, opts, &s);
     progress("flux", 1.0);
 
     let mut report = Report {

@@ -239,12 +239,32 @@ pub struct ChiSquareReport {
 /// renormalisation, so a pdf that does not integrate to 1 fails), observed counts come from
 /// [`Sampler::sample_batch`] in parallel chunks.
 pub fn chi_square_test(sampler: &dyn Sampler, opts: &ChiSquareOptions) -> ChiSquareReport {
-    chi_square_test_with_progress(sampler, opts, &|_| {})
+    chi_square_test_with_progress(sampler, opts, None, &|_| {})
+}
+
+/// ∫pdf dω over every bin of `opts`' grid (flat, row-major in (z, φ)), by the adaptive quadrature
+/// of [`BinGrid::integrate`]: the expected counts per sample. It depends on the sampler and the
+/// grid only, so one computation serves every seed and both stages
+/// ([`chi_square_test_with_integrals`]).
+pub fn bin_integrals(sampler: &dyn Sampler, opts: &ChiSquareOptions) -> Vec<f64> {
+    opts.grid(sampler)
+        .integrate(opts.quad_nodes, |d| sampler.pdf(d))
+}
+
+/// [`chi_square_test`] with the bin integrals computed beforehand by [`bin_integrals`] for the
+/// same sampler and grid. A slice of the wrong length fails the test (it cannot be the grid's).
+pub fn chi_square_test_with_integrals(
+    sampler: &dyn Sampler,
+    opts: &ChiSquareOptions,
+    integrals: &[f64],
+) -> ChiSquareReport {
+    chi_square_test_with_progress(sampler, opts, Some(integrals), &|_| {})
 }
 
 pub(crate) fn chi_square_test_with_progress(
     sampler: &dyn Sampler,
     opts: &ChiSquareOptions,
+    integrals: Option<&[f64]>,
     progress: &dyn Fn(f64),
 ) -> ChiSquareReport {
     let grid = opts.grid(sampler);
@@ -254,7 +274,15 @@ pub(crate) fn chi_square_test_with_progress(
     for_each_sample_chunk(sampler, &seq, opts.samples, progress, |_, _, samples| {
         count(&grid, samples, &mut observed, &mut invalid)
     });
-    finish(sampler, opts, &grid, opts.samples, &observed, invalid)
+    finish(
+        sampler,
+        opts,
+        &grid,
+        opts.samples,
+        &observed,
+        invalid,
+        integrals,
+    )
 }
 
 /// The chi-square statistic of the given points (iid or not) against `sampler`'s pdf, on the bins
@@ -268,6 +296,15 @@ pub fn chi_square_points(
     points: &[Point2],
     opts: &ChiSquareOptions,
 ) -> ChiSquareReport {
+    chi_square_points_with(sampler, points, opts, None)
+}
+
+pub(crate) fn chi_square_points_with(
+    sampler: &dyn Sampler,
+    points: &[Point2],
+    opts: &ChiSquareOptions,
+    integrals: Option<&[f64]>,
+) -> ChiSquareReport {
     let grid = opts.grid(sampler);
     let mut observed = vec![0u64; grid.len()];
     let mut invalid = 0usize;
@@ -277,7 +314,15 @@ pub fn chi_square_points(
         crate::sampler::sample_batch_par(sampler, chunk, out);
         count(&grid, out, &mut observed, &mut invalid);
     }
-    finish(sampler, opts, &grid, points.len(), &observed, invalid)
+    finish(
+        sampler,
+        opts,
+        &grid,
+        points.len(),
+        &observed,
+        invalid,
+        integrals,
+    )
 }
 
 fn count(grid: &BinGrid, samples: &[Sample], observed: &mut [u64], invalid: &mut usize) {
@@ -296,8 +341,17 @@ fn finish(
     points: usize,
     observed: &[u64],
     invalid: usize,
+    integrals: Option<&[f64]>,
 ) -> ChiSquareReport {
-    let integrals = grid.integrate(opts.quad_nodes, |d| sampler.pdf(d));
+    let computed;
+    let integrals = match integrals {
+        Some(i) if i.len() == grid.len() => i,
+        Some(_) => &[f64::NAN][..],
+        None => {
+            computed = grid.integrate(opts.quad_nodes, |d| sampler.pdf(d));
+            &computed[..]
+        }
+    };
     let expected: Vec<f64> = integrals.iter().map(|&p| p * points as f64).collect();
     let tests = opts.tests.max(1);
     let threshold = sidak_threshold(opts.alpha, tests);
