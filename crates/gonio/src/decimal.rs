@@ -73,4 +73,18 @@ mod tests {
             assert!(shortest(v).len() <= 24, "{}", shortest(v));
         }
     }
+
+    #[test]
+    fn diagram_messages_name_extreme_numbers_briefly() {
+        // 5e-324° and 0° are distinct degrees but the same radians: the message says so with the
+        // numbers as given, not `#1 = 0° follows 0°`.
+        let e = crate::Diagram::from_degrees(&[0.0, 5e-324, 90.0], &[0.0], &[vec![1.0, 1.0, 1.0]])
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("#1 = 5e-324° follows 0°"), "{e}");
+        let e = crate::Diagram::from_degrees(&[0.0, 90.0], &[0.0], &[vec![1.0, -1e308]])
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("= -1e308 is not"), "{e}");
+    }
 }
