@@ -68,6 +68,10 @@ pub struct BenchArgs {
     /// Rayon worker threads (default: all cores).
     #[arg(long)]
     pub threads: Option<usize>,
+    /// Also measure the HDS map's SIMD structure-of-arrays batch paths (f64 and f32, one thread
+    /// and all threads, best of 5 wall-clock runs).
+    #[arg(long)]
+    pub soa: bool,
 }
 
 impl BenchArgs {

@@ -11,6 +11,8 @@
 
 use anyhow::{Context, Result};
 use gonio::baselines::{Method, Rejection};
+use gonio::mapping::batch::{invert_soa_par, pdf_soa_par, sample_soa_par, SoaSampler};
+use gonio::mapping::simd::{Backend, BatchFloat};
 use gonio::sampler::sample_batch_par;
 use gonio::sequence::Halton;
 use gonio::{Diagram, Domain, HemisphereMap, Point2, Sample, Sampler, SphereMap, Vec3};
@@ -94,13 +96,47 @@ pub struct BenchReport {
     pub machine: Machine,
     /// One entry per requested method, in the order given.
     pub methods: Vec<MethodBench>,
+    /// The HDS map's SIMD batch paths (`--soa`), absent otherwise.
+    pub soa: Option<SoaBench>,
+}
+
+/// Wall nanoseconds per point of the HDS map's structure-of-arrays batch paths
+/// (`gonio::mapping::batch`), best of 5 after a warm-up, over the uniform Halton points (forward)
+/// and the f64 directions they map to (pdf, inverse; rounded to f32 for the f32 paths).
+#[derive(Debug, Clone, Serialize)]
+pub struct SoaTimes {
+    /// `sample_soa_par` in f64 (directions and pdf).
+    pub forward_f64_ns: f64,
+    /// `pdf_soa_par` in f64.
+    pub pdf_f64_ns: f64,
+    /// `invert_soa_par` in f64.
+    pub inverse_f64_ns: f64,
+    /// `sample_soa_par` in f32.
+    pub forward_f32_ns: f64,
+    /// `pdf_soa_par` in f32.
+    pub pdf_f32_ns: f64,
+    /// `invert_soa_par` in f32.
+    pub inverse_f32_ns: f64,
+}
+
+/// The SoA measurements: in a one-thread pool and on all batch threads.
+#[derive(Debug, Clone, Serialize)]
+pub struct SoaBench {
+    /// The SIMD backend the CPU runs (`avx2+fma` or `portable`).
+    pub backend: String,
+    /// Threads of the `all` measurement.
+    pub threads: usize,
+    /// One thread.
+    pub one: SoaTimes,
+    /// All batch threads.
+    pub all: SoaTimes,
 }
 
 /// `gonio bench FILE [--json]`: loads the input, runs [`run_bench`] and prints the report (an aligned
 /// table, or one pretty-printed JSON object with `--json`).
 pub fn run(args: &crate::args::BenchArgs) -> Result<()> {
     let loaded = crate::load::load(&args.input)?;
-    let report = run_bench(
+    let mut report = run_bench(
         &loaded.diagram,
         loaded.domain(),
         &args.input,
@@ -108,6 +144,14 @@ pub fn run(args: &crate::args::BenchArgs) -> Result<()> {
         args.samples,
         args.threads,
     )?;
+    if args.soa {
+        report.soa = Some(run_soa_bench(
+            &loaded.diagram,
+            loaded.domain(),
+            args.samples,
+            args.threads,
+        )?);
+    }
     if args.json {
         println!("{}", serde_json::to_string_pretty(&report)?);
     } else {
@@ -210,7 +254,110 @@ pub fn run_bench(
             load_average,
         },
         methods: out,
+        soa: None,
     })
+}
+
+/// Measures the HDS map's SoA batch paths (see [`SoaBench`]) with `samples` points, the
+/// all-thread run on `threads` threads (all logical cores when `None`).
+pub fn run_soa_bench(
+    diagram: &Diagram,
+    domain: Domain,
+    samples: usize,
+    threads: Option<usize>,
+) -> Result<SoaBench> {
+    let samples = samples.max(1);
+    let threads = threads
+        .unwrap_or(std::thread::available_parallelism().map_or(1, |n| n.get()))
+        .max(1);
+    let pool = |t: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(t)
+            .build()
+            .context("building a thread pool")
+    };
+    let (one, all) = (pool(1)?, pool(threads)?);
+    let mut points = vec![[0.0; 2]; samples];
+    Halton::with_skip(1).fill(0, &mut points);
+    let u: Vec<f64> = points.iter().map(|p| p[0]).collect();
+    let v: Vec<f64> = points.iter().map(|p| p[1]).collect();
+    let times = |pool: &rayon::ThreadPool| -> Result<SoaTimes> {
+        Ok(if domain == Domain::Hemisphere {
+            let map = HemisphereMap::new(diagram)?;
+            pool.install(|| soa_times(&map, &u, &v))
+        } else {
+            let map = SphereMap::new(diagram)?;
+            pool.install(|| soa_times(&map, &u, &v))
+        })
+    };
+    Ok(SoaBench {
+        backend: Backend::detect().as_str().to_owned(),
+        threads,
+        one: times(&one)?,
+        all: times(&all)?,
+    })
+}
+
+/// Best of 5 wall nanoseconds per item of `f`, after one warm-up run.
+fn best_wall(items: usize, mut f: impl FnMut()) -> f64 {
+    f();
+    (0..5)
+        .map(|_| {
+            let t0 = Instant::now();
+            f();
+            t0.elapsed().as_nanos() as f64 / items as f64
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+fn soa_times<S: SoaSampler>(map: &S, u: &[f64], v: &[f64]) -> SoaTimes {
+    let (f64s, dirs) = soa_type(map, u.to_vec(), v.to_vec(), None);
+    let dirs32: Vec<Vec<f32>> = dirs
+        .iter()
+        .map(|c| c.iter().map(|&x| x as f32).collect())
+        .collect();
+    let u32s: Vec<f32> = u.iter().map(|&x| x as f32).collect();
+    let v32s: Vec<f32> = v.iter().map(|&x| x as f32).collect();
+    let (f32s, _) = soa_type(map, u32s, v32s, Some(dirs32));
+    SoaTimes {
+        forward_f64_ns: f64s[0],
+        pdf_f64_ns: f64s[1],
+        inverse_f64_ns: f64s[2],
+        forward_f32_ns: f32s[0],
+        pdf_f32_ns: f32s[1],
+        inverse_f32_ns: f32s[2],
+    }
+}
+
+/// Forward, pdf and inverse times in the element type T; pdf and inverse on `dirs` when given,
+/// else on the forward map's own directions (which are returned).
+fn soa_type<S: SoaSampler, T: BatchFloat>(
+    map: &S,
+    u: Vec<T>,
+    v: Vec<T>,
+    dirs: Option<Vec<Vec<T>>>,
+) -> ([f64; 3], Vec<Vec<T>>) {
+    let n = u.len();
+    let mut o = vec![vec![u[0]; n]; 4];
+    let forward = {
+        let [x, y, z, p] = &mut o[..] else {
+            unreachable!("four columns")
+        };
+        best_wall(n, || {
+            sample_soa_par(map, black_box(&u), &v, [&mut *x, &mut *y, &mut *z], &mut *p);
+        })
+    };
+    o.truncate(3);
+    let d = dirs.unwrap_or(o);
+    let mut pdf = vec![u[0]; n];
+    let pdf_ns = best_wall(n, || {
+        pdf_soa_par(map, [black_box(&d[0]), &d[1], &d[2]], &mut pdf)
+    });
+    let (mut wu, mut wv) = (vec![u[0]; n], vec![u[0]; n]);
+    let inverse = best_wall(n, || {
+        invert_soa_par(map, [black_box(&d[0]), &d[1], &d[2]], [&mut wu, &mut wv])
+    });
+    ([forward, pdf_ns, inverse], d)
 }
 
 impl MethodBench {
@@ -248,23 +395,17 @@ fn measure(
         black_box(&samples);
     });
     let dirs: Vec<Vec3> = samples.iter().map(|x| x.direction).collect();
+    let mut pdfs = vec![0.0; n];
     let pdf = per_item_cpu(REPEATS, n, || {
-        let mut acc = 0.0;
-        for &d in &dirs {
-            acc += s.pdf(black_box(d));
-        }
-        black_box(acc);
+        s.pdf_batch(black_box(&dirs), &mut pdfs);
+        black_box(&pdfs);
     });
     let has_inverse = s.invert(dirs[0]) != Err(gonio::InvertError::Unsupported);
+    let mut inverted = vec![Ok([0.0; 2]); n];
     let inverse = has_inverse.then(|| {
         per_item_cpu(REPEATS, n, || {
-            let mut acc = 0.0;
-            for &d in &dirs {
-                if let Ok(u) = s.invert(black_box(d)) {
-                    acc += u[0];
-                }
-            }
-            black_box(acc);
+            s.invert_batch(black_box(&dirs), &mut inverted);
+            black_box(&inverted);
         })
     });
     // The batch functions split the work into chunks of 4096 points: give them at least
@@ -481,6 +622,29 @@ impl fmt::Display for BenchReport {
             match r {
                 Ok(cells) => writeln!(f, "{}", line(cells))?,
                 Err((name, e)) => writeln!(f, "{name:<w$}  not built: {e}", w = widths[0])?,
+            }
+        }
+        if let Some(soa) = &self.soa {
+            writeln!(
+                f,
+                "hds SoA batch paths ({}), wall ns per point, best of 5:",
+                soa.backend
+            )?;
+            writeln!(
+                f,
+                "threads  forward f64  pdf f64  inverse f64  forward f32  pdf f32  inverse f32"
+            )?;
+            for (t, r) in [(1, &soa.one), (soa.threads, &soa.all)] {
+                writeln!(
+                    f,
+                    "{t:>7}  {:>11.1}  {:>7.1}  {:>11.1}  {:>11.1}  {:>7.1}  {:>11.1}",
+                    r.forward_f64_ns,
+                    r.pdf_f64_ns,
+                    r.inverse_f64_ns,
+                    r.forward_f32_ns,
+                    r.pdf_f32_ns,
+                    r.inverse_f32_ns
+                )?;
             }
         }
         Ok(())

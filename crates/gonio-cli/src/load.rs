@@ -12,6 +12,7 @@ use gonio::mapping::SphereLayout;
 use gonio::{Diagram, Domain, HemisphereMap, Sampler, SphereMap};
 use std::fmt;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
 /// The input name that loads [`gonio::synthetic::example_luminaire`] instead of a file.
@@ -477,6 +478,13 @@ impl Hds {
             Hds::Sphere(m) => m.ratio_bound(),
         }
     }
+    /// What refinement to `--tolerance` asked, reached and cost (`None` without a tolerance).
+    pub fn refinement(&self) -> Option<&gonio::mapping::Refinement> {
+        match self {
+            Hds::Hemisphere(m) => m.refinement(),
+            Hds::Sphere(m) => m.refinement(),
+        }
+    }
     /// ∫ of the (completed) diagram over the domain, in diagram units × sr (lumens for candela).
     pub fn target_power(&self) -> f64 {
         match self {
@@ -500,16 +508,38 @@ impl Hds {
     }
 }
 
-/// Builds the HDS map for `loaded` on [`domain`], and the time the build took.
+/// The global `--tolerance` (bits of an `f64`; NaN = none): the HDS map is refined to it.
+static TOLERANCE: AtomicU64 = AtomicU64::new(NO_TOLERANCE);
+const NO_TOLERANCE: u64 = 0x7ff8_0000_0000_0000;
+
+/// Sets the tolerance every HDS map of this run is refined to (the global `--tolerance`).
+pub fn set_tolerance(tolerance: Option<f64>) {
+    TOLERANCE.store(
+        tolerance.map_or(NO_TOLERANCE, f64::to_bits),
+        Ordering::Relaxed,
+    );
+}
+
+/// The tolerance set by [`set_tolerance`], if any.
+pub fn tolerance() -> Option<f64> {
+    let t = f64::from_bits(TOLERANCE.load(Ordering::Relaxed));
+    (!t.is_nan()).then_some(t)
+}
+
+/// Builds the HDS map for `loaded` on [`domain`] (refined to [`tolerance`] when one is set, with a
+/// warning on stderr when it was not reached), and the time the build took.
 pub fn build_hds(loaded: &Loaded) -> anyhow::Result<(Hds, Duration)> {
     let start = Instant::now();
-    let map = match domain(loaded) {
-        Domain::Hemisphere => Hds::Hemisphere(HemisphereMap::new(&loaded.diagram)?),
-        Domain::Sphere => Hds::Sphere(SphereMap::with_layout(
-            &loaded.diagram,
-            SphereLayout::Split,
-        )?),
+    let d = &loaded.diagram;
+    let map = match (domain(loaded), tolerance()) {
+        (Domain::Hemisphere, None) => Hds::Hemisphere(HemisphereMap::new(d)?),
+        (Domain::Hemisphere, Some(t)) => Hds::Hemisphere(HemisphereMap::with_tolerance(d, t)?),
+        (Domain::Sphere, None) => Hds::Sphere(SphereMap::with_layout(d, SphereLayout::Split)?),
+        (Domain::Sphere, Some(t)) => Hds::Sphere(SphereMap::with_tolerance(d, t)?),
     };
+    if let Some(w) = map.refinement().and_then(|r| r.warning()) {
+        eprintln!("gonio: warning: {}: {w}", loaded.name);
+    }
     Ok((map, start.elapsed()))
 }
 

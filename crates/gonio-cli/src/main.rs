@@ -30,6 +30,11 @@ struct Cli {
     /// Never show progress bars.
     #[arg(short, long, global = true)]
     quiet: bool,
+    /// Refine the HDS map until pdf / target is guaranteed within [1 − TOL, 1 + TOL] wherever the
+    /// target is positive (e.g. 0.01); default: the paper's map on the file's grid. Applies to
+    /// every command that builds the HDS map.
+    #[arg(long, global = true, value_name = "TOL", value_parser = parse_tolerance)]
+    tolerance: Option<f64>,
     #[command(subcommand)]
     command: Command,
 }
@@ -52,6 +57,16 @@ enum Command {
     Plot(PlotArgs),
     /// Measure speed and memory of the sampling methods.
     Bench(BenchArgs),
+}
+
+/// `--tolerance`: a number in (0, 1), as `BuildOptions::tolerance` takes it.
+fn parse_tolerance(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(t) if t > 0.0 && t < 1.0 => Ok(t),
+        _ => Err(format!(
+            "the tolerance must be a number in (0, 1), got `{s}`"
+        )),
+    }
 }
 
 /// Exit code of a usage error.
@@ -108,6 +123,7 @@ fn main() -> ExitCode {
         }
     };
     progress::set_quiet(cli.quiet);
+    load::set_tolerance(cli.tolerance);
 
     let result = match &cli.command {
         Command::Sample(a) => commands::sample::run(a).map(|()| true),

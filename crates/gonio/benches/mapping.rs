@@ -4,10 +4,13 @@
 //!
 //! Every method maps the same 4096 Halton points (and pdf/invert take the directions the method
 //! produced itself); throughput is reported per sample. Run with
-//! `cargo bench -p gonio --bench mapping` (add a filter such as `-- 181x361` to run a subset).
+//! `cargo bench -p gonio --bench mapping` (add a filter such as `-- 181x361` to run a subset;
+//! `-- soa` for the SIMD structure-of-arrays batch paths only).
 
 use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use gonio::baselines::Method;
+use gonio::mapping::batch::{sample_soa_par, SoaSampler};
+use gonio::mapping::simd::Backend;
 use gonio::sampler::sample_batch_par;
 use gonio::sequence::Halton;
 use gonio::synthetic::{random_hemisphere, Family};
@@ -105,5 +108,98 @@ fn batch(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, per_method, batch);
+/// The SoA batch paths of the HDS map (`mapping::batch`), f64 and f32, on every backend this CPU
+/// runs, one thread, per point over 4096 Halton points; and the f64 forward on 1 vs all threads.
+fn soa(c: &mut Criterion) {
+    let pts = points(BATCH);
+    let u: Vec<f64> = pts.iter().map(|p| p[0]).collect();
+    let v: Vec<f64> = pts.iter().map(|p| p[1]).collect();
+    let (u32s, v32s): (Vec<f32>, Vec<f32>) = (
+        u.iter().map(|&x| x as f32).collect(),
+        v.iter().map(|&x| x as f32).collect(),
+    );
+    for (n, m) in GRIDS {
+        let map = HemisphereMap::new(&random_hemisphere(Family::Lobes, n, m, false, 7)).unwrap();
+        let mut g = c.benchmark_group(format!("soa/{n}x{m}"));
+        g.sample_size(20)
+            .warm_up_time(Duration::from_millis(200))
+            .measurement_time(Duration::from_secs(1))
+            .throughput(Throughput::Elements(BATCH as u64));
+        for b in Backend::available() {
+            let mut o = vec![vec![0.0f64; BATCH]; 4];
+            let [x, y, z, p] = &mut o[..] else {
+                unreachable!()
+            };
+            g.bench_function(BenchmarkId::new("sample-f64", b.as_str()), |bch| {
+                bch.iter(|| map.sample_soa_with(b, black_box(&u), &v, [x, y, z], p))
+            });
+            let d = [o[0].clone(), o[1].clone(), o[2].clone()];
+            let mut pdf = vec![0.0f64; BATCH];
+            g.bench_function(BenchmarkId::new("pdf-f64", b.as_str()), |bch| {
+                bch.iter(|| map.pdf_soa_with(b, [black_box(&d[0]), &d[1], &d[2]], &mut pdf))
+            });
+            let (mut wu, mut wv) = (vec![0.0f64; BATCH], vec![0.0f64; BATCH]);
+            g.bench_function(BenchmarkId::new("invert-f64", b.as_str()), |bch| {
+                bch.iter(|| {
+                    map.invert_soa_with(b, [black_box(&d[0]), &d[1], &d[2]], [&mut wu, &mut wv])
+                })
+            });
+            let mut o = vec![vec![0.0f32; BATCH]; 4];
+            let [x, y, z, p] = &mut o[..] else {
+                unreachable!()
+            };
+            g.bench_function(BenchmarkId::new("sample-f32", b.as_str()), |bch| {
+                bch.iter(|| map.sample_soa_with(b, black_box(&u32s), &v32s, [x, y, z], p))
+            });
+            let d = [o[0].clone(), o[1].clone(), o[2].clone()];
+            let (mut wu, mut wv) = (vec![0.0f32; BATCH], vec![0.0f32; BATCH]);
+            g.bench_function(BenchmarkId::new("invert-f32", b.as_str()), |bch| {
+                bch.iter(|| {
+                    map.invert_soa_with(b, [black_box(&d[0]), &d[1], &d[2]], [&mut wu, &mut wv])
+                })
+            });
+        }
+        g.finish();
+    }
+    let count = 1 << 18;
+    let pts = points(count);
+    let u: Vec<f64> = pts.iter().map(|p| p[0]).collect();
+    let v: Vec<f64> = pts.iter().map(|p| p[1]).collect();
+    let map = HemisphereMap::new(&random_hemisphere(Family::Lobes, 181, 361, false, 7)).unwrap();
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let mut g = c.benchmark_group("soa-batch/181x361");
+    g.sample_size(10)
+        .warm_up_time(Duration::from_millis(200))
+        .measurement_time(Duration::from_secs(2))
+        .throughput(Throughput::Elements(count as u64));
+    let mut o = vec![vec![0.0f64; count]; 4];
+    let [x, y, z, p] = &mut o[..] else {
+        unreachable!()
+    };
+    for t in [1, threads] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(t)
+            .build()
+            .unwrap();
+        g.bench_function(
+            BenchmarkId::new("sample-f64", format!("{t}-threads")),
+            |b| {
+                b.iter(|| {
+                    pool.install(|| {
+                        sample_soa_par(
+                            &map,
+                            black_box(&u),
+                            &v,
+                            [&mut *x, &mut *y, &mut *z],
+                            &mut *p,
+                        )
+                    })
+                })
+            },
+        );
+    }
+    g.finish();
+}
+
+criterion_group!(benches, per_method, batch, soa);
 criterion_main!(benches);

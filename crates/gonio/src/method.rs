@@ -107,9 +107,20 @@ impl Method {
             });
         }
         Ok(match self {
-            Method::Hds => match domain {
-                Domain::Hemisphere => Box::new(HemisphereMap::new(diagram)?),
-                Domain::Sphere => Box::new(SphereMap::with_layout(diagram, options.sphere_layout)?),
+            Method::Hds => match (domain, options.tolerance) {
+                (Domain::Hemisphere, None) => Box::new(HemisphereMap::new(diagram)?),
+                (Domain::Hemisphere, Some(t)) => {
+                    Box::new(HemisphereMap::with_tolerance(diagram, t)?)
+                }
+                (Domain::Sphere, None) => {
+                    Box::new(SphereMap::with_layout(diagram, options.sphere_layout)?)
+                }
+                (Domain::Sphere, Some(t)) => Box::new(SphereMap::with_refinement(
+                    diagram,
+                    options.sphere_layout,
+                    t,
+                    &crate::mapping::RefineLimits::default(),
+                )?),
             },
             Method::PiecewiseConstant => Box::new(PiecewiseConstant::with_resolution(
                 diagram,
@@ -177,11 +188,11 @@ impl FromStr for Method {
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
 pub struct BuildOptions {
-    /// Requested relative accuracy of the HDS map: the guaranteed bound of pdf / target within
-    /// [1 − tol, 1 + tol]. Must lie in (0, 1) when given. **Accepted and validated, but not yet
-    /// acted upon**: the refinement that meets it is issue 14's work; until it lands the map is
-    /// built on the diagram's own grid whatever the tolerance (read the achieved range from
-    /// [`Sampler::ratio_bound`]). Default `None`.
+    /// Requested relative accuracy of the HDS map: refine it (`crate::mapping::refine`) until the
+    /// guaranteed bound of pdf / target lies within [1 − tol, 1 + tol] wherever the target is
+    /// positive. Must lie in (0, 1) when given. Whether it was reached, the bound reached and the
+    /// cost: [`Sampler::refinement`] (a growth limit can stop it early; the map is still exact).
+    /// Default `None`: the paper's map on the diagram's own grid.
     pub tolerance: Option<f64>,
     /// Pixels per side of the [`PiecewiseConstant`] image, 1..=[`MAX_RESOLUTION`](crate::baselines::MAX_RESOLUTION). Default
     /// [`DEFAULT_RESOLUTION`].

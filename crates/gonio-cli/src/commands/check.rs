@@ -20,8 +20,10 @@ pub fn run(a: &CheckArgs) -> anyhow::Result<bool> {
         opts.chi_square.samples = n;
         opts.flux.samples = n;
     }
+    let mut refinement = None;
     let sampler = if a.method == Method::Hds {
         let (hds, _) = build_hds(&loaded)?;
+        refinement = hds.refinement().cloned();
         // The map claims its guaranteed bound; the flux check integrates the diagram's power.
         opts.ratio.claimed_bound = Some(hds.ratio_bound());
         opts.flux_total = hds.target_power();
@@ -42,9 +44,39 @@ pub fn run(a: &CheckArgs) -> anyhow::Result<bool> {
     });
     drop(progress);
     let text = if a.json {
-        serde_json::to_string_pretty(&report)? + "\n"
+        let mut v = serde_json::to_value(&report)?;
+        if let (Some(r), Some(o)) = (&refinement, v.as_object_mut()) {
+            o.insert("tolerance".into(), r.tolerance.into());
+            o.insert(
+                "refinement".into(),
+                serde_json::json!({
+                    "reached": r.reached,
+                    "ratio_bound": [r.bound.0, r.bound.1],
+                    "parallels_before": r.parallels_before,
+                    "parallels_after": r.parallels_after,
+                    "meridians_added": r.meridians_added,
+                    "memory_bytes": r.memory_after,
+                    "build_time_ms": r.build_seconds * 1e3,
+                }),
+            );
+        }
+        serde_json::to_string_pretty(&v)? + "\n"
     } else {
-        let mut t = report.to_string();
+        let mut t = match &refinement {
+            Some(r) => format!(
+                "tolerance {} asked: pdf/target guaranteed within [{:.6}, {:.6}] ({}); {} → {} parallels, {} bytes, built in {:.3} ms\n",
+                r.tolerance,
+                r.bound.0,
+                r.bound.1,
+                if r.reached { "reached" } else { "NOT reached" },
+                r.parallels_before,
+                r.parallels_after,
+                r.memory_after,
+                r.build_seconds * 1e3
+            ),
+            None => String::new(),
+        };
+        t.push_str(&report.to_string());
         if !t.ends_with('\n') {
             t.push('\n');
         }

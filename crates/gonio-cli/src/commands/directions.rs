@@ -4,9 +4,8 @@ use crate::args::DirectionsArgs;
 use crate::csv_in::read_columns;
 use crate::load::{build_sampler, load};
 use crate::output::{push_csv_row, Output};
-use gonio::sampler::{normalize, pdf_batch_par};
+use gonio::sampler::{invert_batch_par, normalize, pdf_batch_par};
 use gonio::{InvertError, Vec3};
-use rayon::prelude::*;
 use std::io::Write;
 
 /// (1-based line, 1-based data row) of an input row.
@@ -69,8 +68,8 @@ pub fn run_invert(a: &DirectionsArgs) -> anyhow::Result<()> {
         );
     }
     let (dirs, locs) = read_directions(&a.directions)?;
-    let uv: Vec<Result<[f64; 2], InvertError>> =
-        dirs.par_iter().map(|&d| sampler.invert(d)).collect();
+    let mut uv: Vec<Result<[f64; 2], InvertError>> = vec![Ok([0.0; 2]); dirs.len()];
+    invert_batch_par(sampler.as_ref(), &dirs, &mut uv);
     let mut out = Output::create(a.output.as_deref())?;
     out.write_all(b"x,y,z,u,v\n")?;
     let (mut zero, mut outside) = (0usize, 0usize);

@@ -62,9 +62,46 @@ pub struct MapInfo {
     pub build_time_ms: f64,
     /// Guaranteed [min, max] of pdf / target_pdf.
     pub ratio_bound: [f64; 2],
+    /// `--tolerance` asked (absent: the map was not refined).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tolerance: Option<f64>,
+    /// What refinement to the tolerance reached and cost (absent without `--tolerance`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub refinement: Option<RefinementInfo>,
     /// Sphere (split layout): probability of the lower hemisphere; absent for the hemisphere.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub lower_probability: Option<f64>,
+}
+
+/// The cost and outcome of refinement to `--tolerance` ([`gonio::mapping::Refinement`]).
+#[derive(Debug, Clone, Serialize)]
+pub struct RefinementInfo {
+    /// Whether `ratio_bound` lies within [1 − tolerance, 1 + tolerance].
+    pub reached: bool,
+    /// Why refinement stopped early (absent when the tolerance was reached).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stopped: Option<String>,
+    /// Parallels of the completed grid(s) before and after refinement.
+    pub parallels_before: usize,
+    /// Parallels after refinement.
+    pub parallels_after: usize,
+    /// Meridians added (always 0: the φ direction needs none).
+    pub meridians_added: usize,
+    /// Bytes of the tables before refinement (`memory_bytes` is after).
+    pub memory_bytes_before: usize,
+}
+
+impl RefinementInfo {
+    fn of(r: &gonio::mapping::Refinement) -> Self {
+        RefinementInfo {
+            reached: r.reached,
+            stopped: r.stop.map(|s| s.to_string()),
+            parallels_before: r.parallels_before,
+            parallels_after: r.parallels_after,
+            meridians_added: r.meridians_added,
+            memory_bytes_before: r.memory_before,
+        }
+    }
 }
 
 /// A warning of a photometric reader.
@@ -232,6 +269,8 @@ pub fn collect(loaded: &Loaded) -> anyhow::Result<Info> {
             paper_table_floats: paper,
             build_time_ms: took.as_secs_f64() * 1e3,
             ratio_bound: [lo, hi],
+            tolerance: hds.refinement().map(|r| r.tolerance),
+            refinement: hds.refinement().map(RefinementInfo::of),
             lower_probability: match &hds {
                 Hds::Sphere(m) => m.lower_probability(),
                 Hds::Hemisphere(_) => None,
@@ -312,6 +351,25 @@ fn human(i: &Info) -> String {
         "pdf/target       within [{}, {}] (guaranteed)",
         m.ratio_bound[0], m.ratio_bound[1]
     );
+    if let (Some(t), Some(r)) = (m.tolerance, &m.refinement) {
+        let _ = writeln!(
+            s,
+            "tolerance        {t} asked: {}; {} parallels → {}, {} meridians added, {} → {} bytes",
+            if r.reached {
+                "reached".to_string()
+            } else {
+                format!(
+                    "NOT reached ({})",
+                    r.stopped.as_deref().unwrap_or("round-off")
+                )
+            },
+            r.parallels_before,
+            r.parallels_after,
+            r.meridians_added,
+            r.memory_bytes_before,
+            m.memory_bytes
+        );
+    }
     if let Some(p) = m.lower_probability {
         let _ = writeln!(s, "lower hemisphere probability {p}");
     }

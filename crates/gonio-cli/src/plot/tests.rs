@@ -299,13 +299,13 @@ fn run_draws_the_example_and_a_json_hemisphere() {
 #[test]
 fn polar_draws_type_b_in_its_h_and_v_planes() {
     use gonio::photometry::{read, FileFormat, NoTiltFiles, PhotometricType};
-    // Type B (photometric type 2), H in [-90, 90], V in [-90, 90]; I = 100 − |V| − 0.5 |H|.
+    // Type B (photometric type 2), H in [-90, 90], V in [-90, 90]; I = 200 − |V| − 0.5 |H| + 0.1 V.
     let v = [-90.0, -45.0, 0.0, 45.0, 90.0];
     let h = [-90.0, -30.0, 0.0, 30.0, 90.0];
     let mut values = String::new();
     for hh in h {
         for vv in v {
-            values += &format!("{} ", 100.0 - f64::abs(vv) - 0.5 * f64::abs(hh) + 0.1 * vv);
+            values += &format!("{} ", 200.0 - f64::abs(vv) - 0.5 * f64::abs(hh) + 0.1 * vv);
         }
         values.push('\n');
     }

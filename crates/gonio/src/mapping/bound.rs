@@ -33,7 +33,7 @@ use crate::diagram::Diagram;
 use std::f64::consts::FRAC_1_SQRT_2;
 
 const TOL: f64 = 1e-10;
-const MARGIN: f64 = 1e-12;
+pub(crate) const MARGIN: f64 = 1e-12;
 
 /// Largest value of `f` on [a, b], given `slope(lo, hi)` ≥ |f′| on [lo, hi]. On an interval of
 /// width w, f ≤ f(mid) + slope·w/2 (mean value theorem); intervals are split until that bound is
@@ -67,64 +67,83 @@ pub(crate) fn density_ratio_range(diagram: &Diagram, x: &[f64]) -> (f64, f64) {
     let theta = diagram.theta();
     let (mut lo, mut hi) = (1.0f64, 1.0f64);
     for j in 0..n - 1 {
-        let (t0, t1, x0, x1) = (theta[j], theta[j + 1], x[j], x[j + 1]);
-        let (h, dx) = (t1 - t0, x1 - x0);
-        let s = |t: f64| ((parallel_radius(t) - x0) / dx).clamp(0.0, 1.0);
-        let tt = |t: f64| ((t - t0) / h).clamp(0.0, 1.0);
-        let slope_cap = |t: f64| FRAC_1_SQRT_2 * (0.5 * t).cos() * h / dx;
-        let (mut rho_max, mut rho_min) = (1.0f64, 1.0f64);
-        let (mut a_zero, mut b_zero) = (false, false);
-        for i in 0..m {
-            let (a, b) = (diagram.value(i, j), diagram.value(i, j + 1));
-            match (a > 0.0, b > 0.0) {
-                (false, false) => {}
-                (false, true) => a_zero = true,
-                (true, false) => b_zero = true,
-                (true, true) => {
-                    rho_max = rho_max.max(b / a);
-                    rho_min = rho_min.min(b / a);
-                }
-            }
-        }
-        if a_zero {
-            hi = hi.max(slope_cap(t0));
-        }
-        if b_zero {
-            lo = lo.min(slope_cap(t1));
-        }
-        // s′ = x′(θ)/Δx is decreasing (x concave); t′ = 1/h.
-        let ds = |t: f64| FRAC_1_SQRT_2 * (0.5 * t).cos() / dx;
-        let dt = 1.0 / h;
-        if rho_max > 1.0 {
-            // g = N/Dn with N = 1 + s c, Dn = 1 + t c (both increasing); g′ = c (s′Dn − t′N)/Dn².
-            let c = rho_max - 1.0;
-            let g = |t: f64| (1.0 + s(t) * c) / (1.0 + tt(t) * c);
-            let slope = |a: f64, b: f64| {
-                let (n_lo, n_hi) = (1.0 + s(a) * c, 1.0 + s(b) * c);
-                let (d_lo, d_hi) = (1.0 + tt(a) * c, 1.0 + tt(b) * c);
-                let lo_num = ds(b) * d_lo - dt * n_hi;
-                let hi_num = ds(a) * d_hi - dt * n_lo;
-                c * lo_num.abs().max(hi_num.abs()) / (d_lo * d_lo)
-            };
-            // g(θ; ρ) ≤ g(θ; ∞) = s/t ≤ x′(θ_j)Δθ/Δx (fact 2): a closed-form cap that keeps the
-            // bound tight where the branch and bound would need ~log2(ρ) levels (ρ up to 1e20+).
-            hi = hi.max(supremum(g, slope, t0, t1).min(slope_cap(t0)));
-        }
-        if rho_min < 1.0 {
-            // minimise (1 − s c)/(1 − t c): maximise g = N/Dn, N = 1 − t c, Dn = 1 − s c (both
-            // decreasing, Dn ≥ ρ > 0); g′ = c (s′N − t′Dn)/Dn².
-            let c = 1.0 - rho_min;
-            let g = |t: f64| (1.0 - tt(t) * c) / (1.0 - s(t) * c);
-            let slope = |a: f64, b: f64| {
-                let (n_hi, n_lo) = (1.0 - tt(a) * c, 1.0 - tt(b) * c);
-                let (d_hi, d_lo) = (1.0 - s(a) * c, 1.0 - s(b) * c);
-                let lo_num = ds(b) * n_lo - dt * d_hi;
-                let hi_num = ds(a) * n_hi - dt * d_lo;
-                c * lo_num.abs().max(hi_num.abs()) / (d_lo * d_lo)
-            };
-            // likewise g(θ; ρ) ≥ g(θ; 0) = (1 − s)/(1 − t) ≥ x′(θ_{j+1})Δθ/Δx.
-            lo = lo.min((1.0 / supremum(g, slope, t0, t1)).max(slope_cap(t1)));
-        }
+        let rows = (0..m).map(|i| (diagram.value(i, j), diagram.value(i, j + 1)));
+        let (a, b) = segment_ratio_range(theta[j], theta[j + 1], x[j], x[j + 1], rows);
+        lo = lo.min(a);
+        hi = hi.max(b);
     }
     (lo * (1.0 - MARGIN), hi * (1.0 + MARGIN))
+}
+
+/// Guaranteed (min, max) of D/B over one parallel segment [θ0, θ1] (disk radii x0 < x1) and every
+/// meridian, given each meridian's (value at θ0, value at θ1); (1, 1) when the target is zero on
+/// the whole segment. Without the round-off margin (see [`MARGIN`]): the caller applies it once.
+pub(crate) fn segment_ratio_range(
+    t0: f64,
+    t1: f64,
+    x0: f64,
+    x1: f64,
+    rows: impl Iterator<Item = (f64, f64)>,
+) -> (f64, f64) {
+    let (mut lo, mut hi) = (1.0f64, 1.0f64);
+    let (h, dx) = (t1 - t0, x1 - x0);
+    let s = |t: f64| ((parallel_radius(t) - x0) / dx).clamp(0.0, 1.0);
+    let tt = |t: f64| ((t - t0) / h).clamp(0.0, 1.0);
+    let slope_cap = |t: f64| FRAC_1_SQRT_2 * (0.5 * t).cos() * h / dx;
+    let (mut rho_max, mut rho_min) = (1.0f64, 1.0f64);
+    let (mut a_zero, mut b_zero) = (false, false);
+    for (a, b) in rows {
+        match (a > 0.0, b > 0.0) {
+            (false, false) => {}
+            (false, true) => a_zero = true,
+            (true, false) => b_zero = true,
+            (true, true) => {
+                rho_max = rho_max.max(b / a);
+                rho_min = rho_min.min(b / a);
+            }
+        }
+    }
+    if a_zero {
+        hi = hi.max(slope_cap(t0));
+    }
+    if b_zero {
+        lo = lo.min(slope_cap(t1));
+    }
+    // s′ = x′(θ)/Δx is decreasing (x concave); t′ = 1/h.
+    let ds = |t: f64| FRAC_1_SQRT_2 * (0.5 * t).cos() / dx;
+    let dt = 1.0 / h;
+    if rho_max > 1.0 {
+        // g = N/Dn with N = 1 + s c, Dn = 1 + t c (both increasing); g′ = c (s′Dn − t′N)/Dn².
+        let c = rho_max - 1.0;
+        let g = |t: f64| (1.0 + s(t) * c) / (1.0 + tt(t) * c);
+        let slope = |a: f64, b: f64| {
+            let (n_lo, n_hi) = (1.0 + s(a) * c, 1.0 + s(b) * c);
+            let (d_lo, d_hi) = (1.0 + tt(a) * c, 1.0 + tt(b) * c);
+            let lo_num = ds(b) * d_lo - dt * n_hi;
+            let hi_num = ds(a) * d_hi - dt * n_lo;
+            c * lo_num.abs().max(hi_num.abs()) / (d_lo * d_lo)
+        };
+        // g(θ; ρ) ≤ g(θ; ∞) = s/t ≤ x′(θ_j)Δθ/Δx (fact 2): a closed-form cap that keeps the
+        // bound tight where the branch and bound would need ~log2(ρ) levels (ρ up to 1e20+).
+        hi = hi.max(supremum(g, slope, t0, t1).min(slope_cap(t0)));
+    }
+    if rho_min < 1.0 {
+        // minimise (1 − s c)/(1 − t c): maximise g = N/Dn, N = 1 − t c, Dn = 1 − s c (both
+        // decreasing, Dn ≥ ρ > 0); g′ = c (s′N − t′Dn)/Dn².
+        let c = 1.0 - rho_min;
+        let g = |t: f64| (1.0 - tt(t) * c) / (1.0 - s(t) * c);
+        let slope = |a: f64, b: f64| {
+            let (n_hi, n_lo) = (1.0 - tt(a) * c, 1.0 - tt(b) * c);
+            let (d_hi, d_lo) = (1.0 - s(a) * c, 1.0 - s(b) * c);
+            let lo_num = ds(b) * n_lo - dt * d_hi;
+            let hi_num = ds(a) * n_hi - dt * d_lo;
+            c * lo_num.abs().max(hi_num.abs()) / (d_lo * d_lo)
+        };
+        // likewise g(θ; ρ) ≥ g(θ; 0) = (1 − s)/(1 − t) ≥ x′(θ_{j+1})Δθ/Δx.
+        lo = lo.min((1.0 / supremum(g, slope, t0, t1)).max(slope_cap(t1)));
+    }
+    // s and t lose digits to cancellation in cells much narrower than their radius (refined cells):
+    // widen by a few units of round-off relative to the cell.
+    let eps = 4.0 * f64::EPSILON * (x1.abs() / dx + t1.abs() / h);
+    (lo * (1.0 - eps), hi * (1.0 + eps))
 }

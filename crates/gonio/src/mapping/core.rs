@@ -13,6 +13,8 @@ use crate::diagram::{segment, Diagram};
 use crate::sampler::Vec3;
 use std::f64::consts::{PI, TAU};
 
+mod lanes;
+
 /// Azimuth φ ∈ [0, 2π) of a direction, as [`crate::sampler::spherical`] computes it, without the polar angle.
 #[inline]
 fn azimuth(d: Vec3) -> f64 {
@@ -81,15 +83,18 @@ pub(crate) struct HdsCore {
 impl HdsCore {
     /// Builds the tables from a completed diagram (θ_0 = 0, θ_{N−1} = θ_max, φ_0 = 0, N ≥ 2).
     pub(crate) fn build(diagram: Diagram) -> Self {
+        let x = parallel_radii(diagram.theta());
+        let db_range = density_ratio_range(&diagram, &x);
+        Self::build_with_range(diagram, db_range)
+    }
+
+    /// As [`HdsCore::build`], with the guaranteed range of D/B already known (refinement computes
+    /// it cell by cell on the way).
+    pub(crate) fn build_with_range(diagram: Diagram, db_range: (f64, f64)) -> Self {
         let n = diagram.n_parallels();
         let m = diagram.n_meridians();
         debug_assert!(n >= 2 && diagram.theta()[0] == 0.0 && diagram.phi()[0] == 0.0);
-        let theta = diagram.theta();
-        let mut x: Vec<f64> = theta.iter().map(|&t| parallel_radius(t)).collect();
-        x[0] = 0.0;
-        if (theta[n - 1] - PI / 2.0).abs() < 1e-15 {
-            x[n - 1] = 1.0;
-        }
+        let x = parallel_radii(diagram.theta());
         let mut phi = diagram.phi().to_vec();
         phi.push(TAU);
         let beta: Vec<f64> = (0..m).map(|i| phi[i + 1] - phi[i]).collect();
@@ -151,7 +156,6 @@ impl HdsCore {
             }
         }
         let target_total = diagram.integral();
-        let db_range = density_ratio_range(&diagram, &x);
         HdsCore {
             n,
             m,
@@ -212,6 +216,16 @@ impl HdsCore {
             + self.cum.len())
             + 8 * self.inv_dx.len()
             + 4 * (self.wedge_guide.len() + self.radius_guide.len() + self.radial_guide.len())
+            + std::mem::size_of::<Self>()
+    }
+
+    /// [`HdsCore::memory_bytes`] of the core that [`HdsCore::build`] would make from `diagram`.
+    pub(crate) fn table_bytes(diagram: &Diagram) -> usize {
+        let (n, m) = (diagram.n_parallels(), diagram.n_meridians());
+        let radial_k = n.div_ceil(2).max(1);
+        8 * (n + (m + 1) + m + 2 * m * n + 2 * (m + 1))
+            + 8 * (n - 1)
+            + 4 * (2 * m + 2 * n + m * (radial_k + 1))
             + std::mem::size_of::<Self>()
     }
 
@@ -399,6 +413,18 @@ impl HdsCore {
         let (i, eps) = self.sector(p);
         super::angular::star_radius2(self.r2[i], self.r2[i + 1], eps)
     }
+}
+
+/// The disk radii x_j = √(1 − cos θ_j) of a completed grid's parallels, with the pole at exactly 0
+/// and a horizon at π/2 at exactly 1.
+pub(crate) fn parallel_radii(theta: &[f64]) -> Vec<f64> {
+    let n = theta.len();
+    let mut x: Vec<f64> = theta.iter().map(|&t| parallel_radius(t)).collect();
+    x[0] = 0.0;
+    if (theta[n - 1] - PI / 2.0).abs() < 1e-15 {
+        x[n - 1] = 1.0;
+    }
+    x
 }
 
 /// The largest i ≤ `last` with a_i ≤ x (0 if none), for non-decreasing `a`, starting from the guess

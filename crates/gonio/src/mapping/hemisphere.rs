@@ -3,6 +3,7 @@
 
 use super::complete::{complete, FarEnd};
 use super::core::HdsCore;
+use super::refine::{refine, valid_tolerance, RefineLimits, Refinement};
 use crate::diagram::{Diagram, DiagramError};
 use crate::sampler::{spherical, Domain, InvertError, Point2, Sample, Sampler, Vec3};
 use std::f64::consts::FRAC_PI_2;
@@ -35,6 +36,7 @@ pub struct HemisphereMap {
     inv_2t: f64,
     inv_target_total: f64,
     ratio_bound: (f64, f64),
+    refinement: Option<Refinement>,
 }
 
 impl HemisphereMap {
@@ -42,6 +44,65 @@ impl HemisphereMap {
     pub fn new(diagram: &Diagram) -> Result<Self, DiagramError> {
         let completed = complete(diagram, FRAC_PI_2, FarEnd::Zero)?;
         Ok(Self::from_core(HdsCore::build(completed)))
+    }
+
+    /// Builds the map refined to `tolerance` (issue 14, [`super::refine`]): parallels whose values
+    /// come from the target's own (θ, φ)-bilinear interpolant are inserted where needed, until
+    /// [`HemisphereMap::ratio_bound`] lies within [1 − tolerance, 1 + tolerance] wherever the target
+    /// is positive. Input nodes keep their values, zero regions stay zero, the target is unchanged,
+    /// and the map is still exact and bijective with a closed-form inverse.
+    ///
+    /// With the default [`RefineLimits`] every hemisphere diagram reaches any tolerance ≥ 1e-4;
+    /// whether it was reached, the bound reached and the cost are in
+    /// [`HemisphereMap::refinement`] (check [`Refinement::reached`], or show
+    /// [`Refinement::warning`]). `tolerance` must be finite and > 0.
+    pub fn with_tolerance(diagram: &Diagram, tolerance: f64) -> Result<Self, DiagramError> {
+        Self::with_refinement(diagram, tolerance, &RefineLimits::default())
+    }
+
+    /// As [`HemisphereMap::with_tolerance`], with explicit limits on the refinement's growth.
+    pub fn with_refinement(
+        diagram: &Diagram,
+        tolerance: f64,
+        limits: &RefineLimits,
+    ) -> Result<Self, DiagramError> {
+        if !valid_tolerance(tolerance) {
+            return Err(DiagramError::Domain(format!(
+                "the tolerance must be a finite number > 0, got {tolerance}"
+            )));
+        }
+        let start = std::time::Instant::now();
+        let completed = complete(diagram, FRAC_PI_2, FarEnd::Zero)?;
+        let parallels_before = completed.n_parallels();
+        let memory_before = HdsCore::table_bytes(&completed);
+        let mut r = refine(&[&completed], tolerance, limits);
+        let core = HdsCore::build_with_range(r.diagrams.remove(0), r.ranges[0]);
+        let mut map = Self::from_core(core);
+        let bound = map.ratio_bound;
+        let reached = bound.0 >= 1.0 - tolerance && bound.1 <= 1.0 + tolerance;
+        map.refinement = Some(Refinement {
+            tolerance,
+            bound,
+            reached,
+            stop: if reached { None } else { r.stop },
+            parallels_before,
+            parallels_after: map.diagram().n_parallels(),
+            meridians_added: 0,
+            memory_before,
+            memory_after: map.memory_bytes(),
+            build_seconds: start.elapsed().as_secs_f64(),
+        });
+        Ok(map)
+    }
+
+    /// The map's tables (for the batch paths).
+    pub(crate) fn core(&self) -> &HdsCore {
+        &self.core
+    }
+
+    /// 1/(2T): the pdf per unit of disk density.
+    pub(crate) fn inv_2t(&self) -> f64 {
+        self.inv_2t
     }
 
     pub(crate) fn from_core(core: HdsCore) -> Self {
@@ -53,10 +114,38 @@ impl HemisphereMap {
             ratio_bound: (lo * scale, hi * scale),
             inv_2t,
             core,
+            refinement: None,
         }
     }
 
-    /// The completed diagram the map was built from (see the type's documentation).
+    /// What refinement to a tolerance asked, reached and cost; `None` for a map built without a
+    /// tolerance ([`HemisphereMap::new`]).
+    pub fn refinement(&self) -> Option<&Refinement> {
+        self.refinement.as_ref()
+    }
+
+    /// The map's own intensity at `direction`: the disk density D(ω), i.e. `pdf(ω) ·`
+    /// [`HemisphereMap::map_power`], in the diagram's units (candela for a diagram in candela).
+    ///
+    /// It equals the diagram's value at every node of the map's grid (the input's nodes and those
+    /// refinement added) and lies within [`HemisphereMap::ratio_bound`] (up to the normalisation
+    /// `map_power / target_power`) of the (θ, φ)-interpolated diagram elsewhere. A renderer that
+    /// emits this intensity and samples with this map gets the constant weight
+    /// `map_intensity / pdf = map_power` for every sample: no variance from the emission at all.
+    /// See `docs/MAPPING.md` for when to prefer it to the interpolated diagram.
+    pub fn map_intensity(&self, direction: Vec3) -> f64 {
+        self.pdf(direction) * self.map_power()
+    }
+
+    /// The map's own flux: ∫ [`HemisphereMap::map_intensity`] dω = 2T, in diagram units × sr (lumens
+    /// for candela). It differs from [`HemisphereMap::target_power`] by a factor within the bound.
+    pub fn map_power(&self) -> f64 {
+        1.0 / self.inv_2t
+    }
+
+    /// The completed diagram the map was built from (see the type's documentation), with the
+    /// parallels refinement added, if any: the grid of the map's tables. Its (θ, φ)-bilinear
+    /// interpolant, the target, is the same as the input's.
     pub fn diagram(&self) -> &Diagram {
         self.core.diagram()
     }
@@ -132,10 +221,22 @@ impl Sampler for HemisphereMap {
     fn ratio_bound(&self) -> Option<(f64, f64)> {
         Some(HemisphereMap::ratio_bound(self))
     }
+    fn refinement(&self) -> Option<&Refinement> {
+        HemisphereMap::refinement(self)
+    }
     fn stages(&self, u: Point2) -> Option<super::Stages> {
         Some(HemisphereMap::stages(self, u))
     }
     fn memory_bytes(&self) -> usize {
         self.core.memory_bytes()
+    }
+    fn sample_batch(&self, u: &[Point2], out: &mut [Sample]) {
+        super::batch::sample_batch_aos(self, u, out)
+    }
+    fn pdf_batch(&self, dirs: &[Vec3], out: &mut [f64]) {
+        super::batch::pdf_batch_aos(self, dirs, out)
+    }
+    fn invert_batch(&self, dirs: &[Vec3], out: &mut [Result<Point2, InvertError>]) {
+        super::batch::invert_batch_aos(self, dirs, out)
     }
 }

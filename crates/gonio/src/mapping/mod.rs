@@ -13,6 +13,7 @@
 //! guaranteed pdf/target range at build time.
 
 pub mod angular;
+pub mod batch;
 mod bound;
 mod complete;
 pub mod concentric;
@@ -20,9 +21,12 @@ mod core;
 mod hemisphere;
 pub mod lift;
 pub mod radial;
+pub mod refine;
+pub mod simd;
 mod sphere;
 
 pub use hemisphere::HemisphereMap;
+pub use refine::{RefineLimits, RefineStop, Refinement};
 pub use sphere::{SphereLayout, SphereMap};
 
 /// The intermediate points of one forward evaluation F(u) = M_E(M_D(M_C(M_B(u)))), in polar

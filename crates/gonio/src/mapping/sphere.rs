@@ -15,6 +15,7 @@
 
 use super::complete::{complete, hemisphere_part, with_horizon_node, FarEnd};
 use super::core::HdsCore;
+use super::refine::{refine, valid_tolerance, RefineLimits, Refinement};
 use crate::diagram::{Diagram, DiagramError};
 use crate::sampler::{spherical, Domain, InvertError, Point2, Sample, Sampler, Vec3};
 use std::f64::consts::{FRAC_PI_2, PI};
@@ -41,6 +42,16 @@ enum Layout {
     Lambert(Box<HdsCore>),
 }
 
+/// Borrowed view of a [`SphereMap`]'s maps, for the batch paths.
+pub(crate) enum CoresRef<'a> {
+    Split {
+        upper: Option<&'a HdsCore>,
+        lower: Option<&'a HdsCore>,
+        p_lower: f64,
+    },
+    Lambert(&'a HdsCore),
+}
+
 /// The HDS map from the unit square onto the whole sphere. Directions are in the diagram's frame
 /// (θ from +z). A diagram that covers only θ ∈ [0°, 90°] or [90°, 180°] gives zero density on the
 /// other hemisphere, which is never sampled.
@@ -63,6 +74,7 @@ pub struct SphereMap {
     inv_2t: f64,
     inv_target_total: f64,
     ratio_bound: (f64, f64),
+    refinement: Option<Refinement>,
 }
 
 fn mirror(d: Vec3) -> Vec3 {
@@ -89,20 +101,89 @@ impl SphereMap {
     /// Builds the map with the chosen layout. [`SphereLayout::Lambert`] needs a diagram that
     /// reaches into both hemispheres; its missing poles get the mean of the nearest parallel.
     pub fn with_layout(diagram: &Diagram, layout: SphereLayout) -> Result<Self, DiagramError> {
-        match layout {
+        Self::build(diagram, layout, None)
+    }
+
+    /// Builds the map with the default split layout, refined to `tolerance` (see
+    /// [`crate::HemisphereMap::with_tolerance`] and [`super::refine`]): `ratio_bound` within
+    /// [1 − tolerance, 1 + tolerance] wherever the target is positive, reached or not as
+    /// [`SphereMap::refinement`] says. Both hemisphere maps are refined under one normalisation.
+    pub fn with_tolerance(diagram: &Diagram, tolerance: f64) -> Result<Self, DiagramError> {
+        Self::with_refinement(
+            diagram,
+            SphereLayout::Split,
+            tolerance,
+            &RefineLimits::default(),
+        )
+    }
+
+    /// Builds the map with the chosen layout, refined to `tolerance` under `limits`. On the
+    /// [`SphereLayout::Lambert`] layout a target that is zero at θ = 180° cannot be bounded from
+    /// below ([`super::RefineStop::FarPoleZero`]); the split layout can always be refined.
+    pub fn with_refinement(
+        diagram: &Diagram,
+        layout: SphereLayout,
+        tolerance: f64,
+        limits: &RefineLimits,
+    ) -> Result<Self, DiagramError> {
+        if !valid_tolerance(tolerance) {
+            return Err(DiagramError::Domain(format!(
+                "the tolerance must be a finite number > 0, got {tolerance}"
+            )));
+        }
+        Self::build(diagram, layout, Some((tolerance, limits)))
+    }
+
+    fn build(
+        diagram: &Diagram,
+        layout: SphereLayout,
+        tolerance: Option<(f64, &RefineLimits)>,
+    ) -> Result<Self, DiagramError> {
+        let start = std::time::Instant::now();
+        // The completed diagram(s); refined when a tolerance is asked.
+        let completed: Vec<Option<Diagram>> = match layout {
             SphereLayout::Split => {
                 let d = with_horizon_node(diagram);
-                let build = |upper: bool| -> Result<Option<HdsCore>, DiagramError> {
-                    match hemisphere_part(&d, upper) {
-                        Some(part) => Ok(Some(HdsCore::build(complete(
-                            &part,
-                            FRAC_PI_2,
-                            FarEnd::Zero,
-                        )?))),
-                        None => Ok(None),
-                    }
+                let part = |upper: bool| -> Result<Option<Diagram>, DiagramError> {
+                    hemisphere_part(&d, upper)
+                        .map(|p| complete(&p, FRAC_PI_2, FarEnd::Zero))
+                        .transpose()
                 };
-                let (upper, lower) = (build(true)?, build(false)?);
+                vec![part(true)?, part(false)?]
+            }
+            SphereLayout::Lambert => {
+                let theta = diagram.theta();
+                if !(theta[0] < FRAC_PI_2 && theta[theta.len() - 1] > FRAC_PI_2) {
+                    return Err(DiagramError::Domain(
+                        "the Lambert sphere layout needs a diagram that spans the horizon".into(),
+                    ));
+                }
+                vec![Some(complete(diagram, PI, FarEnd::Mean)?)]
+            }
+        };
+        let mut cores: Vec<Option<HdsCore>> = Vec::with_capacity(2);
+        let mut info = None;
+        match tolerance {
+            None => cores.extend(completed.into_iter().map(|c| c.map(HdsCore::build))),
+            Some((tol, limits)) => {
+                let present: Vec<&Diagram> = completed.iter().flatten().collect();
+                let parallels_before = present.iter().map(|d| d.n_parallels()).sum::<usize>();
+                let memory_before = present.iter().map(|d| HdsCore::table_bytes(d)).sum();
+                let r = refine(&present, tol, limits);
+                let mut refined = r.diagrams.into_iter().zip(r.ranges);
+                for c in &completed {
+                    cores.push(c.as_ref().map(|_| {
+                        let (d, range) = refined.next().expect("one refined diagram per part");
+                        HdsCore::build_with_range(d, range)
+                    }));
+                }
+                info = Some((tol, r.stop, parallels_before, memory_before));
+            }
+        }
+        let mut map = match layout {
+            SphereLayout::Split => {
+                let lower = cores.pop().flatten();
+                let upper = cores.pop().flatten();
                 let t = |c: &Option<HdsCore>| c.as_ref().map_or(0.0, |c| c.total());
                 let z = |c: &Option<HdsCore>| c.as_ref().map_or(0.0, |c| c.target_total());
                 let range = |c: &Option<HdsCore>| c.as_ref().map_or((1.0, 1.0), |c| c.db_range());
@@ -114,7 +195,7 @@ impl SphereMap {
                 let target_total = z(&upper) + z(&lower);
                 let (ru, rl) = (range(&upper), range(&lower));
                 let scale = target_total / (2.0 * total);
-                Ok(SphereMap {
+                SphereMap {
                     layout: Layout::Split {
                         upper,
                         lower,
@@ -123,26 +204,71 @@ impl SphereMap {
                     inv_2t: 0.5 / total,
                     inv_target_total: 1.0 / target_total,
                     ratio_bound: (ru.0.min(rl.0) * scale, ru.1.max(rl.1) * scale),
-                })
+                    refinement: None,
+                }
             }
             SphereLayout::Lambert => {
-                let theta = diagram.theta();
-                if !(theta[0] < FRAC_PI_2 && theta[theta.len() - 1] > FRAC_PI_2) {
-                    return Err(DiagramError::Domain(
-                        "the Lambert sphere layout needs a diagram that spans the horizon".into(),
-                    ));
-                }
-                let core = HdsCore::build(complete(diagram, PI, FarEnd::Mean)?);
+                let core = cores
+                    .pop()
+                    .flatten()
+                    .expect("the Lambert layout has one map");
                 let scale = core.target_total() / (2.0 * core.total());
                 let (lo, hi) = core.db_range();
-                Ok(SphereMap {
+                SphereMap {
                     inv_2t: 0.5 / core.total(),
                     inv_target_total: 1.0 / core.target_total(),
                     ratio_bound: (lo * scale, hi * scale),
                     layout: Layout::Lambert(Box::new(core)),
-                })
+                    refinement: None,
+                }
             }
+        };
+        if let Some((tolerance, stop, parallels_before, memory_before)) = info {
+            let bound = map.ratio_bound;
+            let reached = bound.0 >= 1.0 - tolerance && bound.1 <= 1.0 + tolerance;
+            map.refinement = Some(Refinement {
+                tolerance,
+                bound,
+                reached,
+                stop: if reached { None } else { stop },
+                parallels_before,
+                parallels_after: map.map_cores().map(|c| c.diagram().n_parallels()).sum(),
+                meridians_added: 0,
+                memory_before,
+                memory_after: map.memory_bytes(),
+                build_seconds: start.elapsed().as_secs_f64(),
+            });
         }
+        Ok(map)
+    }
+
+    /// The hemisphere maps (split layout) or the one Lambert map.
+    fn map_cores(&self) -> impl Iterator<Item = &HdsCore> {
+        let (a, b): (Option<&HdsCore>, Option<&HdsCore>) = match &self.layout {
+            Layout::Split { upper, lower, .. } => (upper.as_ref(), lower.as_ref()),
+            Layout::Lambert(c) => (Some(c), None),
+        };
+        a.into_iter().chain(b)
+    }
+
+    /// What refinement to a tolerance asked, reached and cost; `None` for a map built without a
+    /// tolerance.
+    pub fn refinement(&self) -> Option<&Refinement> {
+        self.refinement.as_ref()
+    }
+
+    /// The map's own intensity at `direction`: `pdf(ω) ·` [`SphereMap::map_power`], the disk density
+    /// D of the map that serves ω, in the diagram's units (candela for a diagram in candela). Exact
+    /// at every node of the maps' grids, within the bound elsewhere, and `map_intensity / pdf` is the
+    /// same constant for every sample (see [`crate::HemisphereMap::map_intensity`]).
+    pub fn map_intensity(&self, direction: Vec3) -> f64 {
+        self.pdf(direction) * self.map_power()
+    }
+
+    /// The map's own flux ∫ [`SphereMap::map_intensity`] dω, in diagram units × sr; it differs from
+    /// [`SphereMap::target_power`] by a factor within the bound.
+    pub fn map_power(&self) -> f64 {
+        1.0 / self.inv_2t
     }
 
     /// The intermediate points of the forward map at `u` (see [`super::Stages`]): those of the
@@ -190,6 +316,27 @@ impl SphereMap {
             direction: [0.0, 0.0, 1.0],
             lower: false,
         }
+    }
+
+    /// The maps of the layout (for the batch paths).
+    pub(crate) fn cores(&self) -> CoresRef<'_> {
+        match &self.layout {
+            Layout::Split {
+                upper,
+                lower,
+                p_lower,
+            } => CoresRef::Split {
+                upper: upper.as_ref(),
+                lower: lower.as_ref(),
+                p_lower: *p_lower,
+            },
+            Layout::Lambert(c) => CoresRef::Lambert(c),
+        }
+    }
+
+    /// 1/(2T): the pdf per unit of disk density.
+    pub(crate) fn inv_2t(&self) -> f64 {
+        self.inv_2t
     }
 
     /// The layout in use.
@@ -330,6 +477,9 @@ impl Sampler for SphereMap {
     fn ratio_bound(&self) -> Option<(f64, f64)> {
         Some(SphereMap::ratio_bound(self))
     }
+    fn refinement(&self) -> Option<&Refinement> {
+        SphereMap::refinement(self)
+    }
     fn stages(&self, u: Point2) -> Option<super::Stages> {
         Some(SphereMap::stages(self, u))
     }
@@ -341,5 +491,14 @@ impl Sampler for SphereMap {
             }
             Layout::Lambert(c) => c.memory_bytes(),
         }
+    }
+    fn sample_batch(&self, u: &[Point2], out: &mut [Sample]) {
+        super::batch::sample_batch_aos(self, u, out)
+    }
+    fn pdf_batch(&self, dirs: &[Vec3], out: &mut [f64]) {
+        super::batch::pdf_batch_aos(self, dirs, out)
+    }
+    fn invert_batch(&self, dirs: &[Vec3], out: &mut [Result<Point2, InvertError>]) {
+        super::batch::invert_batch_aos(self, dirs, out)
     }
 }

@@ -1,0 +1,105 @@
+//! A driver for instruction counting (callgrind) of the HDS map's scalar and SoA batch paths: runs
+//! ONE operation over 2¹⁶ Halton points of a "lobes" hemisphere diagram, so that
+//! (instructions of a run − instructions of the `setup` run) / 2¹⁶ is the cost per point.
+//!
+//! ```sh
+//! cargo build --release -p gonio --example soa_profile
+//! for op in setup scalar-sample scalar-pdf scalar-invert soa-sample-f64 soa-pdf-f64 \
+//!           soa-invert-f64 soa-sample-f32 soa-invert-f32; do
+//!   valgrind --tool=callgrind --callgrind-out-file=/tmp/cg.$op \
+//!     target/release/examples/soa_profile $op 181 361 2>&1 | grep 'refs'
+//! done
+//! ```
+//! Arguments: OP [N M] [portable]; `portable` forces the portable backend.
+
+use gonio::mapping::batch::SoaSampler;
+use gonio::mapping::simd::Backend;
+use gonio::sequence::Halton;
+use gonio::synthetic::{random_hemisphere, Family};
+use gonio::{HemisphereMap, Sampler};
+use std::hint::black_box;
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let op = args.get(1).map_or("setup", |s| s.as_str());
+    let n: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(181);
+    let m: usize = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(361);
+    let backend = if args.get(4).is_some_and(|s| s == "portable") {
+        Backend::Portable
+    } else {
+        Backend::detect()
+    };
+    let count = 1 << 16;
+    let map = HemisphereMap::new(&random_hemisphere(Family::Lobes, n, m, false, 7)).unwrap();
+    let mut pts = vec![[0.0; 2]; count];
+    Halton::with_skip(1).fill(0, &mut pts);
+    // Inputs of every operation, prepared in the setup (scalar reference directions).
+    let u: Vec<f64> = pts.iter().map(|p| p[0]).collect();
+    let v: Vec<f64> = pts.iter().map(|p| p[1]).collect();
+    let dirs: Vec<[f64; 3]> = pts.iter().map(|&p| map.sample(p).direction).collect();
+    let d: Vec<Vec<f64>> = (0..3)
+        .map(|c| dirs.iter().map(|x| x[c]).collect())
+        .collect();
+    let d32: Vec<Vec<f32>> = d
+        .iter()
+        .map(|c| c.iter().map(|&x| x as f32).collect())
+        .collect();
+    let (u32s, v32s): (Vec<f32>, Vec<f32>) = (
+        u.iter().map(|&x| x as f32).collect(),
+        v.iter().map(|&x| x as f32).collect(),
+    );
+    let mut o = vec![vec![0.0f64; count]; 4];
+    let mut o32 = vec![vec![0.0f32; count]; 4];
+    let mut acc = 0.0;
+    match op {
+        "setup" => {}
+        "scalar-sample" => {
+            for &p in &pts {
+                acc += map.sample(black_box(p)).pdf;
+            }
+        }
+        "scalar-pdf" => {
+            for &w in &dirs {
+                acc += map.pdf(black_box(w));
+            }
+        }
+        "scalar-invert" => {
+            for &w in &dirs {
+                acc += map.invert(black_box(w)).map_or(0.0, |x| x[0]);
+            }
+        }
+        "soa-sample-f64" => {
+            let [x, y, z, p] = &mut o[..] else {
+                unreachable!()
+            };
+            map.sample_soa_with(backend, black_box(&u), &v, [x, y, z], p);
+        }
+        "soa-pdf-f64" => map.pdf_soa_with(backend, [black_box(&d[0]), &d[1], &d[2]], &mut o[0]),
+        "soa-invert-f64" => {
+            let [a, b, ..] = &mut o[..] else {
+                unreachable!()
+            };
+            map.invert_soa_with(backend, [black_box(&d[0]), &d[1], &d[2]], [a, b]);
+        }
+        "soa-sample-f32" => {
+            let [x, y, z, p] = &mut o32[..] else {
+                unreachable!()
+            };
+            map.sample_soa_with(backend, black_box(&u32s), &v32s, [x, y, z], p);
+        }
+        "soa-pdf-f32" => {
+            map.pdf_soa_with(backend, [black_box(&d32[0]), &d32[1], &d32[2]], &mut o32[0])
+        }
+        "soa-invert-f32" => {
+            let [a, b, ..] = &mut o32[..] else {
+                unreachable!()
+            };
+            map.invert_soa_with(backend, [black_box(&d32[0]), &d32[1], &d32[2]], [a, b]);
+        }
+        other => {
+            eprintln!("unknown operation {other}");
+            std::process::exit(2);
+        }
+    }
+    black_box((acc, &o, &o32));
+}

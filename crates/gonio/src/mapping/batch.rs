@@ -1,0 +1,582 @@
+//! Batch paths of the HDS mapping over structure-of-arrays slices, in f64 and f32, on AVX2+FMA
+//! (chosen at run time) or the portable instruction set: [`SoaSampler`] for
+//! [`HemisphereMap`] and [`SphereMap`], and the parallel versions [`sample_soa_par`],
+//! [`pdf_soa_par`], [`invert_soa_par`].
+//!
+//! The scalar [`Sampler`] methods stay the reference. In f64 the batch results equal them bit for
+//! bit except through sin/cos (directions) and atan2 (pdf and invert), whose lane versions are
+//! within 2 ulp of libm ([`crate::mapping::simd::math`]); the resulting end-to-end differences are
+//! bounded by the tests in `tests/batch.rs` and reported in `docs/PERFORMANCE.md`. Results never
+//! depend on the backend, the block size or the number of threads (tested bit for bit).
+//!
+//! Conventions, as in [`Sampler`]: directions are unit vectors in the map's frame, densities per
+//! steradian, points of the square in [0, 1]². Where the scalar `invert` returns an error (a
+//! direction outside the domain or not finite), the batch inverse writes NaN to both coordinates.
+//!
+//! ```
+//! use gonio::mapping::batch::SoaSampler;
+//! use gonio::{Diagram, HemisphereMap, Sampler};
+//! let d = Diagram::from_degrees(&[0.0, 45.0, 90.0], &[0.0], &[vec![1.0, 0.7, 0.0]]).unwrap();
+//! let map = HemisphereMap::new(&d).unwrap();
+//! let (u, v) = (vec![0.3f32, 0.9], vec![0.7f32, 0.1]);
+//! let (mut x, mut y, mut z, mut pdf) = (vec![0.0f32; 2], vec![0.0; 2], vec![0.0; 2], vec![0.0; 2]);
+//! map.sample_soa(&u, &v, [&mut x, &mut y, &mut z], &mut pdf);
+//! let (mut uu, mut vv) = (vec![0.0f32; 2], vec![0.0; 2]);
+//! map.invert_soa([&x, &y, &z], [&mut uu, &mut vv]);
+//! assert!((uu[0] - 0.3).abs() < 1e-5 && (vv[1] - 0.1).abs() < 1e-5);
+//! ```
+
+// Lane loops index several arrays by the same lane number on purpose (they vectorise).
+#![allow(clippy::needless_range_loop)]
+
+use super::core::HdsCore;
+use super::simd::{Backend, BatchFloat, Lane};
+use super::sphere::CoresRef;
+use super::{HemisphereMap, SphereMap};
+use crate::sampler::{InvertError, Point2, Sample, Sampler, Vec3};
+use rayon::prelude::*;
+
+/// Points per chunk of the sphere's partition into hemispheres and of the AoS adapters.
+const CHUNK: usize = 256;
+/// Points per rayon task in the parallel batch functions.
+const PAR_CHUNK: usize = 4096;
+
+#[cfg(target_arch = "x86_64")]
+mod avx2 {
+    use super::HdsCore;
+    use crate::mapping::simd::Lane;
+
+    /// # Safety
+    /// The CPU must support AVX2 and FMA.
+    #[target_feature(enable = "avx2,fma")]
+    pub(super) unsafe fn sample<T: Lane>(c: &HdsCore, u: &[T], v: &[T], out: [&mut [T]; 4]) {
+        c.sample_slices(u, v, out)
+    }
+    /// # Safety
+    /// The CPU must support AVX2 and FMA.
+    #[target_feature(enable = "avx2,fma")]
+    pub(super) unsafe fn density<T: Lane>(c: &HdsCore, dir: [&[T]; 3], out: &mut [T]) {
+        c.density_slices(dir, out)
+    }
+    /// # Safety
+    /// The CPU must support AVX2 and FMA.
+    #[target_feature(enable = "avx2,fma")]
+    pub(super) unsafe fn invert<T: Lane>(c: &HdsCore, dir: [&[T]; 3], out: [&mut [T]; 2]) {
+        c.invert_slices(dir, out)
+    }
+}
+
+#[inline(never)]
+fn sample_portable<T: Lane>(c: &HdsCore, u: &[T], v: &[T], out: [&mut [T]; 4]) {
+    c.sample_slices(u, v, out)
+}
+#[inline(never)]
+fn density_portable<T: Lane>(c: &HdsCore, dir: [&[T]; 3], out: &mut [T]) {
+    c.density_slices(dir, out)
+}
+#[inline(never)]
+fn invert_portable<T: Lane>(c: &HdsCore, dir: [&[T]; 3], out: [&mut [T]; 2]) {
+    c.invert_slices(dir, out)
+}
+
+fn core_sample<T: Lane>(b: Backend, c: &HdsCore, u: &[T], v: &[T], out: [&mut [T]; 4]) {
+    #[cfg(target_arch = "x86_64")]
+    if b.usable() == Backend::Avx2Fma {
+        // SAFETY: `usable` returns Avx2Fma only when the CPU has AVX2 and FMA.
+        return unsafe { avx2::sample(c, u, v, out) };
+    }
+    let _ = b;
+    sample_portable(c, u, v, out)
+}
+
+fn core_density<T: Lane>(b: Backend, c: &HdsCore, dir: [&[T]; 3], out: &mut [T]) {
+    #[cfg(target_arch = "x86_64")]
+    if b.usable() == Backend::Avx2Fma {
+        // SAFETY: as in `core_sample`.
+        return unsafe { avx2::density(c, dir, out) };
+    }
+    let _ = b;
+    density_portable(c, dir, out)
+}
+
+fn core_invert<T: Lane>(b: Backend, c: &HdsCore, dir: [&[T]; 3], out: [&mut [T]; 2]) {
+    #[cfg(target_arch = "x86_64")]
+    if b.usable() == Backend::Avx2Fma {
+        // SAFETY: as in `core_sample`.
+        return unsafe { avx2::invert(c, dir, out) };
+    }
+    let _ = b;
+    invert_portable(c, dir, out)
+}
+
+/// Batch sample / pdf / invert over structure-of-arrays slices (see the module documentation).
+///
+/// Every method panics if its slices differ in length (a programming error, not an input error).
+/// The `_with` methods take the [`Backend`] explicitly (one the CPU lacks falls back to
+/// [`Backend::Portable`]); the others use [`Backend::detect`].
+pub trait SoaSampler: Sampler {
+    /// Maps the points `(u[k], v[k])` of the unit square to directions `dir[·][k]` and their exact
+    /// densities `pdf[k]` (per steradian).
+    fn sample_soa_with<T: BatchFloat>(
+        &self,
+        backend: Backend,
+        u: &[T],
+        v: &[T],
+        dir: [&mut [T]; 3],
+        pdf: &mut [T],
+    );
+    /// The density (per steradian) at each direction `(dir[0][k], dir[1][k], dir[2][k])`; 0 outside
+    /// the domain.
+    fn pdf_soa_with<T: BatchFloat>(&self, backend: Backend, dir: [&[T]; 3], pdf: &mut [T]);
+    /// The point of the unit square of each direction, NaN where the scalar `invert` fails.
+    fn invert_soa_with<T: BatchFloat>(&self, backend: Backend, dir: [&[T]; 3], uv: [&mut [T]; 2]);
+
+    /// [`SoaSampler::sample_soa_with`] on the detected backend.
+    fn sample_soa<T: BatchFloat>(&self, u: &[T], v: &[T], dir: [&mut [T]; 3], pdf: &mut [T]) {
+        self.sample_soa_with(Backend::detect(), u, v, dir, pdf)
+    }
+    /// [`SoaSampler::pdf_soa_with`] on the detected backend.
+    fn pdf_soa<T: BatchFloat>(&self, dir: [&[T]; 3], pdf: &mut [T]) {
+        self.pdf_soa_with(Backend::detect(), dir, pdf)
+    }
+    /// [`SoaSampler::invert_soa_with`] on the detected backend.
+    fn invert_soa<T: BatchFloat>(&self, dir: [&[T]; 3], uv: [&mut [T]; 2]) {
+        self.invert_soa_with(Backend::detect(), dir, uv)
+    }
+}
+
+fn check_len(what: &str, n: usize, lens: &[usize]) {
+    assert!(
+        lens.iter().all(|&l| l == n),
+        "{what}: slices differ in length"
+    );
+}
+
+impl SoaSampler for HemisphereMap {
+    fn sample_soa_with<T: BatchFloat>(
+        &self,
+        backend: Backend,
+        u: &[T],
+        v: &[T],
+        dir: [&mut [T]; 3],
+        pdf: &mut [T],
+    ) {
+        let [x, y, z] = dir;
+        check_len(
+            "sample_soa",
+            u.len(),
+            &[v.len(), x.len(), y.len(), z.len(), pdf.len()],
+        );
+        core_sample(backend, self.core(), u, v, [x, y, z, &mut *pdf]);
+        let s = T::from_f64(self.inv_2t());
+        for p in pdf.iter_mut() {
+            *p = *p * s;
+        }
+    }
+    fn pdf_soa_with<T: BatchFloat>(&self, backend: Backend, dir: [&[T]; 3], pdf: &mut [T]) {
+        check_len(
+            "pdf_soa",
+            pdf.len(),
+            &[dir[0].len(), dir[1].len(), dir[2].len()],
+        );
+        core_density(backend, self.core(), dir, pdf);
+        let s = T::from_f64(self.inv_2t());
+        for (p, &z) in pdf.iter_mut().zip(dir[2]) {
+            *p = if z >= T::ZERO { *p * s } else { T::ZERO };
+        }
+    }
+    fn invert_soa_with<T: BatchFloat>(&self, backend: Backend, dir: [&[T]; 3], uv: [&mut [T]; 2]) {
+        let [u, v] = uv;
+        check_len(
+            "invert_soa",
+            u.len(),
+            &[v.len(), dir[0].len(), dir[1].len(), dir[2].len()],
+        );
+        core_invert(backend, self.core(), dir, [&mut *u, &mut *v]);
+        for k in 0..u.len() {
+            let ok = dir[2][k] >= T::ZERO
+                && dir[0][k].is_finite()
+                && dir[1][k].is_finite()
+                && dir[2][k].is_finite();
+            if !ok {
+                u[k] = T::NAN;
+                v[k] = T::NAN;
+            }
+        }
+    }
+}
+
+/// Whether a direction with these z and the presence of an upper map is served by the lower map
+/// (`sphere::lower_side`).
+#[inline]
+fn lower_side<T: Lane>(z: T, has_upper: bool) -> bool {
+    z < T::ZERO || (z == T::ZERO && !has_upper)
+}
+
+impl SoaSampler for SphereMap {
+    fn sample_soa_with<T: BatchFloat>(
+        &self,
+        backend: Backend,
+        u: &[T],
+        v: &[T],
+        dir: [&mut [T]; 3],
+        pdf: &mut [T],
+    ) {
+        let [x, y, z] = dir;
+        check_len(
+            "sample_soa",
+            u.len(),
+            &[v.len(), x.len(), y.len(), z.len(), pdf.len()],
+        );
+        let s = T::from_f64(self.inv_2t());
+        match self.cores() {
+            CoresRef::Lambert(c) => core_sample(backend, c, u, v, [x, y, z, &mut *pdf]),
+            CoresRef::Split {
+                upper: Some(c),
+                lower: None,
+                ..
+            } => core_sample(backend, c, u, v, [x, y, z, &mut *pdf]),
+            CoresRef::Split {
+                upper: None,
+                lower: Some(c),
+                ..
+            } => {
+                core_sample(backend, c, u, v, [x, y, &mut *z, &mut *pdf]);
+                for z in z.iter_mut() {
+                    *z = -*z;
+                }
+            }
+            CoresRef::Split {
+                upper: Some(up),
+                lower: Some(lo),
+                p_lower,
+            } => {
+                let pl = T::from_f64(p_lower);
+                let mut start = 0;
+                while start < u.len() {
+                    let cnt = (u.len() - start).min(CHUNK);
+                    // Partition the chunk by hemisphere, with the square rescaled as in the scalar
+                    // `SphereMap::sample`.
+                    let mut idx = [[0u16; CHUNK]; 2];
+                    let mut nn = [0usize; 2];
+                    let mut bu = [[T::ZERO; CHUNK]; 2];
+                    let mut bv = [[T::ZERO; CHUNK]; 2];
+                    for k in 0..cnt {
+                        let (uu, vv) = (u[start + k], v[start + k]);
+                        let (side, w) = if uu < pl {
+                            (0, (uu / pl).min(T::ONE))
+                        } else {
+                            (1, ((uu - pl) / (T::ONE - pl)).clamp(T::ZERO, T::ONE))
+                        };
+                        let at = nn[side];
+                        idx[side][at] = k as u16;
+                        bu[side][at] = w;
+                        bv[side][at] = vv;
+                        nn[side] += 1;
+                    }
+                    for (side, core) in [(0usize, lo), (1, up)] {
+                        let cn = nn[side];
+                        if cn == 0 {
+                            continue;
+                        }
+                        let mut o = [[T::ZERO; CHUNK]; 4];
+                        let [ox, oy, oz, od] = &mut o;
+                        core_sample(
+                            backend,
+                            core,
+                            &bu[side][..cn],
+                            &bv[side][..cn],
+                            [&mut ox[..cn], &mut oy[..cn], &mut oz[..cn], &mut od[..cn]],
+                        );
+                        for q in 0..cn {
+                            let k = start + idx[side][q] as usize;
+                            x[k] = ox[q];
+                            y[k] = oy[q];
+                            z[k] = if side == 0 { -oz[q] } else { oz[q] };
+                            pdf[k] = od[q];
+                        }
+                    }
+                    start += cnt;
+                }
+            }
+            CoresRef::Split {
+                upper: None,
+                lower: None,
+                ..
+            } => {
+                // Refused at build time (zero power); as the scalar path.
+                x.fill(T::ZERO);
+                y.fill(T::ZERO);
+                z.fill(T::ONE);
+                pdf.fill(T::ZERO);
+            }
+        }
+        for p in pdf.iter_mut() {
+            *p = *p * s;
+        }
+    }
+
+    fn pdf_soa_with<T: BatchFloat>(&self, backend: Backend, dir: [&[T]; 3], pdf: &mut [T]) {
+        check_len(
+            "pdf_soa",
+            pdf.len(),
+            &[dir[0].len(), dir[1].len(), dir[2].len()],
+        );
+        let s = T::from_f64(self.inv_2t());
+        match self.cores() {
+            CoresRef::Lambert(c) => core_density(backend, c, dir, pdf),
+            CoresRef::Split { upper, lower, .. } => {
+                let has_upper = upper.is_some();
+                split_by_side(dir, has_upper, |side, d, pos| {
+                    let core = if side == 0 { lower } else { upper };
+                    let mut o = [T::ZERO; CHUNK];
+                    let o = &mut o[..pos.len()];
+                    match core {
+                        Some(c) => core_density(backend, c, d, o),
+                        None => o.fill(T::ZERO),
+                    }
+                    for (q, &k) in pos.iter().enumerate() {
+                        pdf[k] = o[q];
+                    }
+                });
+            }
+        }
+        for p in pdf.iter_mut() {
+            *p = *p * s;
+        }
+    }
+
+    fn invert_soa_with<T: BatchFloat>(&self, backend: Backend, dir: [&[T]; 3], uv: [&mut [T]; 2]) {
+        let [u, v] = uv;
+        check_len(
+            "invert_soa",
+            u.len(),
+            &[v.len(), dir[0].len(), dir[1].len(), dir[2].len()],
+        );
+        match self.cores() {
+            CoresRef::Lambert(c) => core_invert(backend, c, dir, [&mut *u, &mut *v]),
+            CoresRef::Split {
+                upper,
+                lower,
+                p_lower,
+            } => {
+                let has_upper = upper.is_some();
+                let pl = T::from_f64(p_lower);
+                split_by_side(dir, has_upper, |side, d, pos| {
+                    let core = if side == 0 { lower } else { upper };
+                    let (mut ou, mut ov) = ([T::ZERO; CHUNK], [T::ZERO; CHUNK]);
+                    let (ou, ov) = (&mut ou[..pos.len()], &mut ov[..pos.len()]);
+                    match core {
+                        Some(c) => core_invert(backend, c, d, [&mut *ou, &mut *ov]),
+                        None => {
+                            ou.fill(T::NAN);
+                            ov.fill(T::NAN);
+                        }
+                    }
+                    for (q, &k) in pos.iter().enumerate() {
+                        u[k] = if side == 0 {
+                            ou[q] * pl
+                        } else {
+                            (pl + ou[q] * (T::ONE - pl)).min(T::ONE)
+                        };
+                        v[k] = ov[q];
+                    }
+                });
+            }
+        }
+        for k in 0..u.len() {
+            if !(dir[0][k].is_finite() && dir[1][k].is_finite() && dir[2][k].is_finite()) {
+                u[k] = T::NAN;
+                v[k] = T::NAN;
+            }
+        }
+    }
+}
+
+/// Splits directions into chunks and each chunk by hemisphere; calls `f(side, dirs, positions)`
+/// with side 0 (lower, the direction mirrored to z ≥ 0) or 1 (upper).
+fn split_by_side<T: Lane>(
+    dir: [&[T]; 3],
+    has_upper: bool,
+    mut f: impl FnMut(usize, [&[T]; 3], &[usize]),
+) {
+    let len = dir[0].len();
+    let mut start = 0;
+    while start < len {
+        let cnt = (len - start).min(CHUNK);
+        let mut pos = [[0usize; CHUNK]; 2];
+        let mut b = [[[T::ZERO; CHUNK]; 3]; 2];
+        let mut nn = [0usize; 2];
+        for k in start..start + cnt {
+            let z = dir[2][k];
+            let side = if lower_side(z, has_upper) { 0 } else { 1 };
+            let at = nn[side];
+            pos[side][at] = k;
+            b[side][0][at] = dir[0][k];
+            b[side][1][at] = dir[1][k];
+            b[side][2][at] = if side == 0 { -z } else { z };
+            nn[side] += 1;
+        }
+        for side in 0..2 {
+            let cn = nn[side];
+            if cn > 0 {
+                let d = [&b[side][0][..cn], &b[side][1][..cn], &b[side][2][..cn]];
+                f(side, d, &pos[side][..cn]);
+            }
+        }
+        start += cnt;
+    }
+}
+
+/// [`SoaSampler::sample_soa`] on all rayon threads, in chunks of 4096 points. Each output depends
+/// only on its own input, so the result is the same for any number of threads.
+///
+/// # Panics
+/// If the slices differ in length.
+pub fn sample_soa_par<S: SoaSampler, T: BatchFloat>(
+    s: &S,
+    u: &[T],
+    v: &[T],
+    dir: [&mut [T]; 3],
+    pdf: &mut [T],
+) {
+    let [x, y, z] = dir;
+    check_len(
+        "sample_soa_par",
+        u.len(),
+        &[v.len(), x.len(), y.len(), z.len(), pdf.len()],
+    );
+    let b = Backend::detect();
+    x.par_chunks_mut(PAR_CHUNK)
+        .zip(y.par_chunks_mut(PAR_CHUNK))
+        .zip(z.par_chunks_mut(PAR_CHUNK))
+        .zip(pdf.par_chunks_mut(PAR_CHUNK))
+        .zip(u.par_chunks(PAR_CHUNK).zip(v.par_chunks(PAR_CHUNK)))
+        .for_each(|((((x, y), z), p), (u, v))| s.sample_soa_with(b, u, v, [x, y, z], p));
+}
+
+/// [`SoaSampler::pdf_soa`] on all rayon threads (see [`sample_soa_par`]).
+///
+/// # Panics
+/// If the slices differ in length.
+pub fn pdf_soa_par<S: SoaSampler, T: BatchFloat>(s: &S, dir: [&[T]; 3], pdf: &mut [T]) {
+    check_len(
+        "pdf_soa_par",
+        pdf.len(),
+        &[dir[0].len(), dir[1].len(), dir[2].len()],
+    );
+    let b = Backend::detect();
+    pdf.par_chunks_mut(PAR_CHUNK)
+        .zip(dir[0].par_chunks(PAR_CHUNK))
+        .zip(
+            dir[1]
+                .par_chunks(PAR_CHUNK)
+                .zip(dir[2].par_chunks(PAR_CHUNK)),
+        )
+        .for_each(|((p, x), (y, z))| s.pdf_soa_with(b, [x, y, z], p));
+}
+
+/// [`SoaSampler::invert_soa`] on all rayon threads (see [`sample_soa_par`]).
+///
+/// # Panics
+/// If the slices differ in length.
+pub fn invert_soa_par<S: SoaSampler, T: BatchFloat>(s: &S, dir: [&[T]; 3], uv: [&mut [T]; 2]) {
+    let [u, v] = uv;
+    check_len(
+        "invert_soa_par",
+        u.len(),
+        &[v.len(), dir[0].len(), dir[1].len(), dir[2].len()],
+    );
+    let b = Backend::detect();
+    u.par_chunks_mut(PAR_CHUNK)
+        .zip(v.par_chunks_mut(PAR_CHUNK))
+        .zip(dir[0].par_chunks(PAR_CHUNK))
+        .zip(
+            dir[1]
+                .par_chunks(PAR_CHUNK)
+                .zip(dir[2].par_chunks(PAR_CHUNK)),
+        )
+        .for_each(|(((u, v), x), (y, z))| s.invert_soa_with(b, [x, y, z], [u, v]));
+}
+
+/// The AoS `Sampler::sample_batch` of the HDS maps through the SoA path, [`CHUNK`] points at a
+/// time on the stack.
+pub(crate) fn sample_batch_aos<S: SoaSampler>(s: &S, u: &[Point2], out: &mut [Sample]) {
+    assert_eq!(u.len(), out.len(), "sample_batch: slices differ in length");
+    for (u, out) in u.chunks(CHUNK).zip(out.chunks_mut(CHUNK)) {
+        let n = u.len();
+        let (mut bu, mut bv) = ([0.0f64; CHUNK], [0.0f64; CHUNK]);
+        for (k, p) in u.iter().enumerate() {
+            bu[k] = p[0];
+            bv[k] = p[1];
+        }
+        let mut o = [[0.0f64; CHUNK]; 4];
+        let [ox, oy, oz, op] = &mut o;
+        s.sample_soa(
+            &bu[..n],
+            &bv[..n],
+            [&mut ox[..n], &mut oy[..n], &mut oz[..n]],
+            &mut op[..n],
+        );
+        for (k, o) in out.iter_mut().enumerate() {
+            *o = Sample {
+                direction: [ox[k], oy[k], oz[k]],
+                pdf: op[k],
+            };
+        }
+    }
+}
+
+/// Transposes directions into three stack arrays.
+fn split_dirs(d: &[Vec3]) -> [[f64; CHUNK]; 3] {
+    let mut b = [[0.0f64; CHUNK]; 3];
+    for (k, d) in d.iter().enumerate() {
+        b[0][k] = d[0];
+        b[1][k] = d[1];
+        b[2][k] = d[2];
+    }
+    b
+}
+
+/// The AoS `Sampler::pdf_batch` of the HDS maps through the SoA path.
+pub(crate) fn pdf_batch_aos<S: SoaSampler>(s: &S, dirs: &[Vec3], out: &mut [f64]) {
+    assert_eq!(dirs.len(), out.len(), "pdf_batch: slices differ in length");
+    for (d, out) in dirs.chunks(CHUNK).zip(out.chunks_mut(CHUNK)) {
+        let n = d.len();
+        let b = split_dirs(d);
+        s.pdf_soa([&b[0][..n], &b[1][..n], &b[2][..n]], out);
+    }
+}
+
+/// The AoS `Sampler::invert_batch` of the HDS maps through the SoA path.
+pub(crate) fn invert_batch_aos<S: SoaSampler>(
+    s: &S,
+    dirs: &[Vec3],
+    out: &mut [Result<Point2, InvertError>],
+) {
+    assert_eq!(
+        dirs.len(),
+        out.len(),
+        "invert_batch: slices differ in length"
+    );
+    for (d, out) in dirs.chunks(CHUNK).zip(out.chunks_mut(CHUNK)) {
+        let n = d.len();
+        let b = split_dirs(d);
+        let (mut u, mut v) = ([0.0f64; CHUNK], [0.0f64; CHUNK]);
+        s.invert_soa(
+            [&b[0][..n], &b[1][..n], &b[2][..n]],
+            [&mut u[..n], &mut v[..n]],
+        );
+        for (k, o) in out.iter_mut().enumerate() {
+            *o = if u[k].is_nan() {
+                // No preimage: the scalar path says why (outside the domain, or density 0).
+                match s.invert(d[k]) {
+                    Err(e) => Err(e),
+                    Ok(_) => Err(InvertError::OutsideDomain),
+                }
+            } else {
+                Ok([u[k], v[k]])
+            };
+        }
+    }
+}
