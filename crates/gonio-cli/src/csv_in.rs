@@ -31,7 +31,7 @@ pub fn read_columns<const K: usize>(path: &str, names: [&str; K]) -> anyhow::Res
     let reader: Box<dyn Read> = if path == "-" {
         Box::new(std::io::stdin())
     } else {
-        Box::new(std::fs::File::open(path).with_context(|| format!("cannot read {path}"))?)
+        Box::new(crate::input::open_regular(std::path::Path::new(path), path)?.0)
     };
     let mut reader = BufReader::new(reader);
     let mut index: Option<[usize; K]> = None;

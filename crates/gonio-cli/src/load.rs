@@ -6,6 +6,7 @@
 //!   [`domain`] chooses;
 //! * [`build_hds`] builds the HDS map with its concrete type, for `info` and `check`.
 
+use crate::input::{read_regular, tame, TiltFiles, MAX_INPUT_BYTES};
 use anyhow::Context;
 use gonio::baselines::Method;
 use gonio::mapping::SphereLayout;
@@ -207,8 +208,9 @@ pub fn load(name: &str) -> anyhow::Result<Loaded> {
     })
 }
 
+/// Reads an input file: a regular file of at most [`MAX_INPUT_BYTES`] (see [`crate::input`]).
 fn read_file(name: &str) -> anyhow::Result<Vec<u8>> {
-    std::fs::read(name).map_err(|e| anyhow::anyhow!("cannot read {name}: {e}"))
+    read_regular(Path::new(name), name, MAX_INPUT_BYTES)
 }
 
 /// Parses the native JSON form, turning library errors into CLI errors that name the file.
@@ -222,14 +224,14 @@ pub fn diagram_from_json(name: &str, text: &str) -> anyhow::Result<Diagram> {
             file: name.to_string(),
             line,
             column,
-            message: strip_serde_location(&message).to_string(),
+            message: tame(strip_serde_location(&message)),
         }
         .into(),
         gonio::Error::Parse(p) => LocatedError {
             file: name.to_string(),
             line: p.line,
             column: p.column,
-            message: p.message,
+            message: tame(&p.message),
         }
         .into(),
         gonio::Error::Diagram(d) => {
@@ -413,7 +415,7 @@ fn load_photometry(
     kind: InputKind,
     bytes: &[u8],
 ) -> anyhow::Result<(gonio::photometry::Photometry, Diagram)> {
-    use gonio::photometry::{read, DirTiltResolver, FileFormat};
+    use gonio::photometry::{read, FileFormat};
     let format = if kind == InputKind::Ies {
         FileFormat::Ies
     } else {
@@ -423,11 +425,11 @@ fn load_photometry(
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
         _ => PathBuf::from("."),
     };
-    let p = read(bytes, format, &DirTiltResolver::new(dir)).map_err(|e| LocatedError {
+    let p = read(bytes, format, &TiltFiles::new(dir)).map_err(|e| LocatedError {
         file: name.to_string(),
         line: e.line,
         column: e.column,
-        message: e.message,
+        message: tame(&e.message),
     })?;
     let d = p.to_diagram().map_err(|e| {
         // Say why there is no light when the file's TILT factor is the reason.

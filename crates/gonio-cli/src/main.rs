@@ -11,8 +11,10 @@ use std::process::ExitCode;
 
 pub mod args;
 pub mod bench;
+pub mod cleanup;
 pub mod commands;
 pub mod csv_in;
+pub mod input;
 pub mod load;
 pub mod output;
 pub mod plot;
@@ -91,6 +93,8 @@ fn main() -> ExitCode {
             msg.replace('\n', " ")
         );
     }));
+
+    cleanup::install();
 
     let cli = match Cli::try_parse() {
         Ok(c) => c,

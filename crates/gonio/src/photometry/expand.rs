@@ -1,6 +1,6 @@
 //! Symmetry classification and expansion to the whole sphere, in the crate's frame.
 
-use super::tokens::{Cursor, Token};
+use super::tokens::{Cursor, Mark, Token};
 use super::{
     ParseError, PhotometricType, Photometry, Symmetry, Warning, RESAMPLE_STEP_PHI_DEG,
     RESAMPLE_STEP_THETA_DEG,
@@ -24,22 +24,27 @@ pub(crate) const NEGATIVE_TOLERANCE: f64 = 1e-6;
 pub(crate) fn clamp_negative(
     cur: &Cursor,
     raw: &mut [f64],
-    toks: &[Token],
+    start: Mark,
     warnings: &mut Vec<Warning>,
 ) -> Result<(), ParseError> {
+    // The token of value k, found again by scanning from `start` (only for a message).
+    let at = |k: usize, msg: String| match cur.token_after(start, k) {
+        Some(t) => cur.err_at(&t, msg),
+        None => ParseError::new(0, 0, msg),
+    };
     let max = raw.iter().fold(0.0f64, |a, &b| a.max(b));
     let tol = NEGATIVE_TOLERANCE * max;
     let mut first = None;
     let mut count = 0usize;
-    for (v, t) in raw.iter_mut().zip(toks) {
+    for (k, v) in raw.iter_mut().enumerate() {
         if *v < 0.0 {
             if -*v <= tol {
-                first.get_or_insert(*t);
+                first.get_or_insert(k);
                 count += 1;
                 *v = 0.0;
             } else {
-                return Err(cur.err_at(
-                    t,
+                return Err(at(
+                    k,
                     format!("negative intensity {v} (intensities must be ≥ 0)"),
                 ));
             }
@@ -47,10 +52,11 @@ pub(crate) fn clamp_negative(
             *v = 0.0; // turns −0 into +0
         }
     }
-    if let Some(t) = first {
+    if let Some(k) = first {
+        let e = at(k, String::new());
         warnings.push(Warning {
-            line: t.line,
-            column: t.column,
+            line: e.line,
+            column: e.column,
             message: format!(
                 "{count} tiny negative intensities (round-off, at most {NEGATIVE_TOLERANCE} × the maximum) clamped to 0"
             ),

@@ -1,9 +1,9 @@
 //! IES LM-63 reader (1986, 1991, 1995, 2002, 2019 and the variants met in practice).
 
-use super::tokens::{check_angles, end_position, split_lines, strip_bom, text, tokenize, Cursor};
+use super::tokens::{check_angles, excerpt, strip_bom, text, Cursor, Lines};
 use super::{
     expand, IesInfo, Keyword, LampSet, ParseError, PhotometricType, Photometry, Tilt, TiltResolver,
-    TiltTable, Version, Warning, MAX_ANGLES,
+    TiltTable, Version, Warning, MAX_ANGLES, MAX_HEADER_LINES,
 };
 use crate::diagram::MAX_NODES;
 
@@ -33,13 +33,17 @@ fn version_of(first: &str) -> Option<(Version, Option<String>)> {
             };
             (
                 v,
-                Some(format!("non-standard version line `{first}` read as {v}")),
+                Some(format!(
+                    "non-standard version line `{}` read as {v}",
+                    excerpt(first.as_bytes())
+                )),
             )
         }
         c if c.starts_with("IESNA") || c.starts_with("IES:") => (
             Version::Ies2002,
             Some(format!(
-                "unknown version line `{first}`; read with the LM-63-2002 rules"
+                "unknown version line `{}`; read with the LM-63-2002 rules",
+                excerpt(first.as_bytes())
             )),
         ),
         _ => return None,
@@ -74,12 +78,13 @@ pub(crate) fn read_ies(
     bytes: &[u8],
     resolver: &dyn TiltResolver,
 ) -> Result<Photometry, ParseError> {
-    let lines = split_lines(strip_bom(bytes));
-    if lines.is_empty() {
+    // Lines are taken one at a time: nothing is stored per line or per token of the file.
+    let mut lines = Lines::new(strip_bom(bytes));
+    let Some(first_line) = lines.clone().next() else {
         return Err(ParseError::new(0, 0, "the file is empty"));
-    }
+    };
     let mut warnings = Vec::new();
-    let first = text(lines[0]);
+    let first = text(first_line);
     let (version, version_line, header_start) = match version_of(&first) {
         Some((v, w)) => {
             if let Some(w) = w {
@@ -98,8 +103,25 @@ pub(crate) fn read_ies(
     let mut header = Vec::new();
     let mut keywords: Vec<Keyword> = Vec::new();
     let mut tilt_at = None;
-    for (k, &raw) in lines.iter().enumerate().skip(header_start) {
+    if header_start == 1 {
+        lines.next();
+    }
+    for (k, raw) in lines
+        .by_ref()
+        .enumerate()
+        .map(|(k, l)| (k + header_start, l))
+    {
         let lno = k + 1;
+        if k - header_start >= MAX_HEADER_LINES {
+            return Err(ParseError::new(
+                lno,
+                1,
+                format!(
+                    "no `TILT=` line within the first {MAX_HEADER_LINES} header lines: \
+                     this is not an IES LM-63 file"
+                ),
+            ));
+        }
         if let Some((col, value)) = tilt_line(raw) {
             tilt_at = Some((k, col, value));
             break;
@@ -138,7 +160,10 @@ pub(crate) fn read_ies(
             warnings.push(Warning {
                 line: lno,
                 column: 1,
-                message: format!("header line is not a keyword; kept as free text: `{t}`"),
+                message: format!(
+                    "header line is not a keyword; kept as free text: `{}`",
+                    excerpt(t.as_bytes())
+                ),
             });
         }
         header.push(t);
@@ -152,10 +177,7 @@ pub(crate) fn read_ies(
     };
     let tilt_line_no = tilt_idx + 1;
 
-    let data_lines = &lines[tilt_idx + 1..];
-    let toks = tokenize(data_lines, tilt_line_no + 1, true);
-    let end = end_position(data_lines, tilt_line_no + 1);
-    let mut cur = Cursor::new(toks, end, false);
+    let mut cur = Cursor::new(lines.rest(), tilt_line_no + 1, true, false);
 
     let tilt = match tilt_value.to_ascii_uppercase().as_str() {
         "NONE" => Tilt::None,
@@ -169,18 +191,17 @@ pub(crate) fn read_ies(
         }
         _ => {
             let name = tilt_value.clone();
+            let shown = excerpt(name.as_bytes());
             let bytes = resolver.resolve(&name).map_err(|m| {
-                ParseError::new(tilt_line_no, tilt_col, format!("TILT file `{name}`: {m}"))
+                ParseError::new(tilt_line_no, tilt_col, format!("TILT file `{shown}`: {m}"))
             })?;
-            let tl = split_lines(strip_bom(&bytes));
-            let end = end_position(&tl, 1);
-            let mut tc = Cursor::new(tokenize(&tl, 1, true), end, false);
+            let mut tc = Cursor::new(strip_bom(&bytes), 1, true, false);
             let table = read_tilt_table(&mut tc).map_err(|e| {
                 ParseError::new(
                     tilt_line_no,
                     tilt_col,
                     format!(
-                        "in TILT file `{name}` at {}:{}: {}",
+                        "in TILT file `{shown}` at {}:{}: {}",
                         e.line, e.column, e.message
                     ),
                 )
@@ -190,7 +211,7 @@ pub(crate) fn read_ies(
                     line: tilt_line_no,
                     column: tilt_col,
                     message: format!(
-                        "TILT file `{name}`: {} trailing tokens after the table ignored (first `{}` at {}:{})",
+                        "TILT file `{shown}`: {} trailing tokens after the table ignored (first `{}` at {}:{})",
                         tc.remaining(),
                         t.show(),
                         t.line,
@@ -244,7 +265,7 @@ pub(crate) fn read_ies(
             )
         })?;
     let needed = values + n_v + n_h;
-    if cur.remaining() < needed {
+    if !cur.has_at_least(needed) {
         return Err(cur.err_at(
             &nvt,
             format!(
@@ -281,8 +302,8 @@ pub(crate) fn read_ies(
             check_angles(&cur, &horiz, &ht, "horizontal angle", -180.0, 180.0)?;
         }
     }
-    let (mut raw, rt) = cur.numbers(values, "candela value")?;
-    expand::clamp_negative(&cur, &mut raw, &rt, &mut warnings)?;
+    let (mut raw, start) = cur.values(values, "candela value")?;
+    expand::clamp_negative(&cur, &mut raw, start, &mut warnings)?;
 
     if let Some(t) = cur.peek() {
         warnings.push(Warning {
@@ -413,7 +434,7 @@ fn read_tilt_table(cur: &mut Cursor) -> Result<TiltTable, ParseError> {
     let (geometry, _) = cur.integer("TILT lamp-to-luminaire geometry", 1, 3)?;
     let (n, nt) = cur.integer("number of TILT angles", 0, MAX_ANGLES as i64)?;
     let n = n as usize;
-    if cur.remaining() < 2 * n {
+    if !cur.has_at_least(2 * n) {
         return Err(cur.err_at(
             &nt,
             format!(

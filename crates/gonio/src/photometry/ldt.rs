@@ -1,37 +1,51 @@
 //! EULUMDAT reader.
 
-use super::tokens::{
-    check_angles, end_position, parse_number, split_lines, strip_bom, text, tokenize, Cursor,
-};
+use super::tokens::{check_angles, excerpt, parse_number, strip_bom, text, Cursor, Lines};
 use super::{
     expand, FileFormat, LampSet, LdtInfo, ParseError, PhotometricType, Photometry, Symmetry, Tilt,
     Version, Warning, MAX_ANGLES, MAX_LAMP_SETS,
 };
 use crate::diagram::MAX_NODES;
 
-/// Line-by-line reader of the header fields.
+/// Line-by-line reader of the header fields (one line at a time: nothing is stored per line).
 struct Fields<'a> {
-    lines: Vec<&'a [u8]>,
+    bytes: &'a [u8],
+    lines: Lines<'a>,
+    /// Lines taken so far (the 1-based number of the last one taken).
     next: usize,
 }
 
 impl<'a> Fields<'a> {
     fn eof(&self, what: &str) -> ParseError {
-        let (l, c) = end_position(&self.lines, 1);
+        // Just after the last byte of the last line (a scan, on this error path only).
+        let mut n = 0;
+        let mut last = None;
+        for l in Lines::new(self.bytes) {
+            n += 1;
+            last = Some(l.len());
+        }
+        let (l, c) = match last {
+            Some(len) => (n, len + 1),
+            None => (1, 1),
+        };
         ParseError::new(l, c, format!("unexpected end of file: expected {what}"))
+    }
+
+    /// The next line, consumed.
+    fn take(&mut self, what: &str) -> Result<&'a [u8], ParseError> {
+        let l = self.lines.next().ok_or_else(|| self.eof(what))?;
+        self.next += 1;
+        Ok(l)
     }
 
     /// The next line as text.
     fn text(&mut self, what: &str) -> Result<String, ParseError> {
-        let l = self.lines.get(self.next).ok_or_else(|| self.eof(what))?;
-        self.next += 1;
-        Ok(text(l))
+        Ok(text(self.take(what)?))
     }
 
     /// The next line as a number (decimal comma allowed); (value, line, column).
     fn number(&mut self, what: &str) -> Result<(f64, usize, usize), ParseError> {
-        let l = *self.lines.get(self.next).ok_or_else(|| self.eof(what))?;
-        self.next += 1;
+        let l = self.take(what)?;
         let lno = self.next;
         let lead = l.iter().take_while(|b| b.is_ascii_whitespace()).count();
         let body = l[lead..].trim_ascii_end();
@@ -40,21 +54,16 @@ impl<'a> Fields<'a> {
             None => Err(ParseError::new(
                 lno,
                 lead + 1,
-                format!(
-                    "expected a number ({what}), found `{}`",
-                    String::from_utf8_lossy(body)
-                        .chars()
-                        .take(40)
-                        .collect::<String>()
-                ),
+                format!("expected a number ({what}), found `{}`", excerpt(body)),
             )),
         }
     }
 
     /// A number that is not needed for the distribution: an empty line reads as 0 (warning).
     fn lenient(&mut self, what: &str, warnings: &mut Vec<Warning>) -> Result<f64, ParseError> {
-        if let Some(l) = self.lines.get(self.next) {
+        if let Some(l) = self.lines.clone().next() {
             if l.trim_ascii().is_empty() {
+                self.lines.next();
                 self.next += 1;
                 warnings.push(Warning {
                     line: self.next,
@@ -87,12 +96,16 @@ impl<'a> Fields<'a> {
 }
 
 pub(crate) fn read_ldt(bytes: &[u8]) -> Result<Photometry, ParseError> {
-    let lines = split_lines(strip_bom(bytes));
-    if lines.iter().all(|l| l.trim_ascii().is_empty()) {
+    let bytes = strip_bom(bytes);
+    if Lines::new(bytes).all(|l| l.trim_ascii().is_empty()) {
         return Err(ParseError::new(0, 0, "the file is empty"));
     }
     let mut w = Vec::new();
-    let mut f = Fields { lines, next: 0 };
+    let mut f = Fields {
+        bytes,
+        lines: Lines::new(bytes),
+        next: 0,
+    };
     let company = f.text("company identification (line 1)")?;
     let (ityp, il, ic) = f.integer("type indicator Ityp", i64::MIN / 2, i64::MAX / 2)?;
     let (isym, sl, sc) = f.integer("symmetry indicator Isym", 0, 4)?;
@@ -136,13 +149,13 @@ pub(crate) fn read_ldt(bytes: &[u8]) -> Result<Photometry, ParseError> {
     let tilt_deg = f.lenient("tilt during measurement", &mut w)?;
     let (n_sets, nl, nc) = f.integer("number of lamp sets", 0, MAX_LAMP_SETS as i64)?;
     let n_sets = n_sets as usize;
-    if f.lines.len() - f.next < 6 * n_sets {
+    if f.lines.clone().take(6 * n_sets).count() < 6 * n_sets {
         return Err(ParseError::new(
             nl,
             nc,
             format!(
                 "{n_sets} lamp sets declared (6 lines each), but only {} lines follow",
-                f.lines.len() - f.next
+                f.lines.clone().count()
             ),
         ));
     }
@@ -170,9 +183,7 @@ pub(crate) fn read_ldt(bytes: &[u8]) -> Result<Photometry, ParseError> {
 
     // The rest is read as white-space separated numbers (one per line in the standard layout).
     let first_data_line = f.next + 1;
-    let rest = &f.lines[f.next..];
-    let end = end_position(rest, first_data_line);
-    let mut cur = Cursor::new(tokenize(rest, first_data_line, false), end, true);
+    let mut cur = Cursor::new(f.lines.rest(), first_data_line, false, true);
     let (dr, _) = cur.numbers(10, "direct ratio")?;
     let mut direct_ratios = [0.0; 10];
     direct_ratios.copy_from_slice(&dr);
@@ -208,7 +219,7 @@ pub(crate) fn read_ldt(bytes: &[u8]) -> Result<Photometry, ParseError> {
             )
         })?;
     let needed = mc + ng + values;
-    if cur.remaining() < needed {
+    if !cur.has_at_least(needed) {
         return Err(ParseError::new(
             mcl,
             mcc,
@@ -223,8 +234,8 @@ pub(crate) fn read_ldt(bytes: &[u8]) -> Result<Photometry, ParseError> {
     check_angles(&cur, &c_angles, &ct, "C angle", 0.0, 360.0)?;
     let (gamma, gt) = cur.numbers(ng, "γ angle")?;
     check_angles(&cur, &gamma, &gt, "γ angle", 0.0, 180.0)?;
-    let (mut raw, rt) = cur.numbers(values, "luminous intensity (cd/klm)")?;
-    expand::clamp_negative(&cur, &mut raw, &rt, &mut w)?;
+    let (mut raw, raw_at) = cur.values(values, "luminous intensity (cd/klm)")?;
+    expand::clamp_negative(&cur, &mut raw, raw_at, &mut w)?;
     if let Some(t) = cur.peek() {
         w.push(Warning {
             line: t.line,

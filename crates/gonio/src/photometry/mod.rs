@@ -48,6 +48,11 @@ pub const MAX_ANGLES: usize = 100_000;
 /// duplicates (so that every conversion keeps them distinct).
 pub const MIN_ANGLE_STEP_DEG: f64 = 1e-9;
 
+/// Largest number of header lines (keywords, `[MORE]` and free text) before the `TILT=` line of
+/// an IES file: a file without a `TILT=` line within them is refused (real headers have a few
+/// dozen lines; the cap bounds the memory and the warnings a hostile header can cost).
+pub const MAX_HEADER_LINES: usize = 10_000;
+
 /// Largest number of EULUMDAT lamp sets accepted.
 pub const MAX_LAMP_SETS: usize = 1_000;
 
@@ -375,9 +380,18 @@ impl TiltResolver for NoTiltFiles {
     }
 }
 
+/// Largest TILT file [`DirTiltResolver`] reads: 4 MiB (a table of [`MAX_ANGLES`] angle/factor
+/// pairs fits in well under this). A larger file is refused before it is read.
+pub const MAX_TILT_FILE_BYTES: u64 = 4 << 20;
+
 /// A [`TiltResolver`] that reads TILT files from one directory chosen by the caller (the CLI uses
-/// the directory of the IES file). Only plain file names are accepted: a name with a path
-/// separator, a `..` component or a drive prefix is refused.
+/// the directory of the IES file).
+///
+/// Only plain file names are accepted: a name with a path separator, a `..` component or a drive
+/// prefix is refused. The name is then resolved with every symbolic link followed
+/// ([`DirTiltResolver::locate`]): the result must be a regular file inside the directory (a link
+/// that leaves it, a FIFO, a device or a directory is refused before the file is opened), of at most
+/// [`MAX_TILT_FILE_BYTES`].
 #[derive(Debug, Clone)]
 pub struct DirTiltResolver {
     /// The directory the names are looked up in.
@@ -389,10 +403,11 @@ impl DirTiltResolver {
     pub fn new(dir: impl Into<PathBuf>) -> Self {
         Self { dir: dir.into() }
     }
-}
 
-impl TiltResolver for DirTiltResolver {
-    fn resolve(&self, name: &str) -> Result<Vec<u8>, String> {
+    /// The canonical path (symbolic links resolved) of the TILT file `name`, after checking that
+    /// `name` is a plain file name and that the path is a regular file inside [`Self::dir`] (also
+    /// after canonicalisation). Nothing is opened.
+    pub fn locate(&self, name: &str) -> Result<PathBuf, String> {
         let plain = !name.is_empty()
             && name != "."
             && name != ".."
@@ -400,11 +415,71 @@ impl TiltResolver for DirTiltResolver {
             && !name.contains('\0');
         if !plain {
             return Err(format!(
-                "TILT file name `{name}` is not a plain file name; only files next to the IES file are read"
+                "TILT file name `{}` is not a plain file name; only files next to the IES file are read",
+                tokens::excerpt(name.as_bytes())
             ));
         }
-        let path = self.dir.join(name);
-        std::fs::read(&path).map_err(|e| format!("cannot read TILT file {}: {e}", path.display()))
+        let dir = std::fs::canonicalize(&self.dir)
+            .map_err(|e| format!("cannot resolve the folder {}: {e}", self.dir.display()))?;
+        let path = std::fs::canonicalize(self.dir.join(name)).map_err(|e| {
+            format!(
+                "cannot read TILT file {}: {e}",
+                self.dir.join(name).display()
+            )
+        })?;
+        if !path.starts_with(&dir) {
+            return Err(format!(
+                "TILT file {} leads outside the IES file's folder {} (through a symbolic link); refused",
+                self.dir.join(name).display(),
+                dir.display()
+            ));
+        }
+        let meta = std::fs::metadata(&path)
+            .map_err(|e| format!("cannot read TILT file {}: {e}", path.display()))?;
+        if !meta.is_file() {
+            return Err(format!(
+                "TILT file {} is not a regular file; refused",
+                path.display()
+            ));
+        }
+        if meta.len() > MAX_TILT_FILE_BYTES {
+            return Err(format!(
+                "TILT file {} has {} bytes, more than the limit of {MAX_TILT_FILE_BYTES}; not read",
+                path.display(),
+                meta.len()
+            ));
+        }
+        Ok(path)
+    }
+}
+
+impl TiltResolver for DirTiltResolver {
+    /// [`DirTiltResolver::locate`], then a read of at most [`MAX_TILT_FILE_BYTES`] that checks
+    /// again, on the open file, that it is a regular file. (The library opens without
+    /// `O_NONBLOCK`, so a FIFO swapped in between the check and the open could block; the CLI
+    /// uses its own resolver, which cannot.)
+    fn resolve(&self, name: &str) -> Result<Vec<u8>, String> {
+        use std::io::Read;
+        let path = self.locate(name)?;
+        let err = |e: std::io::Error| format!("cannot read TILT file {}: {e}", path.display());
+        let file = std::fs::File::open(&path).map_err(err)?;
+        if !file.metadata().map_err(err)?.is_file() {
+            return Err(format!(
+                "TILT file {} is not a regular file; refused",
+                path.display()
+            ));
+        }
+        let mut bytes = Vec::new();
+        file.take(MAX_TILT_FILE_BYTES + 1)
+            .read_to_end(&mut bytes)
+            .map_err(err)?;
+        if bytes.len() as u64 > MAX_TILT_FILE_BYTES {
+            return Err(format!(
+                "TILT file {} has more than {MAX_TILT_FILE_BYTES} bytes; not read",
+                path.display()
+            ));
+        }
+        Ok(bytes)
     }
 }
 

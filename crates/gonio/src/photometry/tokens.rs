@@ -8,37 +8,78 @@ pub(crate) fn strip_bom(bytes: &[u8]) -> &[u8] {
 }
 
 /// Splits at LF, CRLF and CR. A final line ending does not start an extra (empty) line.
+#[cfg(test)]
 pub(crate) fn split_lines(bytes: &[u8]) -> Vec<&[u8]> {
-    let mut lines = Vec::new();
-    let mut start = 0;
-    let mut i = 0;
-    while i < bytes.len() {
-        match bytes[i] {
-            b'\n' => {
-                lines.push(&bytes[start..i]);
-                i += 1;
-                start = i;
-            }
-            b'\r' => {
-                lines.push(&bytes[start..i]);
-                i += 1;
-                if i < bytes.len() && bytes[i] == b'\n' {
-                    i += 1;
-                }
-                start = i;
-            }
-            _ => i += 1,
+    Lines::new(bytes).collect()
+}
+
+/// The lines of a byte slice, one at a time (LF, CRLF and CR end a line; a final line ending does
+/// not start an extra, empty line). Nothing is allocated: a reader walks a file of any length in
+/// constant memory.
+#[derive(Debug, Clone)]
+pub(crate) struct Lines<'a> {
+    bytes: &'a [u8],
+    pos: usize,
+}
+
+impl<'a> Lines<'a> {
+    pub fn new(bytes: &'a [u8]) -> Self {
+        Self { bytes, pos: 0 }
+    }
+
+    /// The bytes not yet returned (from the start of the next line).
+    pub fn rest(&self) -> &'a [u8] {
+        &self.bytes[self.pos..]
+    }
+}
+
+impl<'a> Iterator for Lines<'a> {
+    type Item = &'a [u8];
+
+    fn next(&mut self) -> Option<&'a [u8]> {
+        let b = self.bytes;
+        if self.pos >= b.len() {
+            return None;
         }
+        let start = self.pos;
+        let mut i = start;
+        while i < b.len() && b[i] != b'\n' && b[i] != b'\r' {
+            i += 1;
+        }
+        let line = &b[start..i];
+        if i < b.len() {
+            if b[i] == b'\r' && i + 1 < b.len() && b[i + 1] == b'\n' {
+                i += 1;
+            }
+            i += 1;
+        }
+        self.pos = i;
+        Some(line)
     }
-    if start < bytes.len() {
-        lines.push(&bytes[start..]);
-    }
-    lines
 }
 
 /// A line decoded lossily (invalid UTF-8 becomes U+FFFD), without surrounding white space.
 pub(crate) fn text(line: &[u8]) -> String {
     String::from_utf8_lossy(line).trim().to_string()
+}
+
+/// Longest excerpt of a file's text that a message quotes, in characters.
+pub(crate) const EXCERPT_CHARS: usize = 40;
+
+/// Bytes of a file for a message: decoded lossily, at most [`EXCERPT_CHARS`] characters (then
+/// `…`), control and other non-printable characters escaped (`\n`, `\u{1b}`), so that a message
+/// never carries more than a short, harmless piece of what was read.
+pub(crate) fn excerpt(bytes: &[u8]) -> String {
+    // Never decode more than needed: 4 bytes per character at most.
+    let head = &bytes[..bytes.len().min(4 * EXCERPT_CHARS + 4)];
+    let s = String::from_utf8_lossy(head);
+    let mut out: String = s.chars().take(EXCERPT_CHARS).collect();
+    let cut = s.chars().count() > EXCERPT_CHARS || head.len() < bytes.len();
+    out = out.escape_debug().to_string();
+    if cut {
+        out.push('…');
+    }
+    out
 }
 
 /// A token: a run of non-separator bytes, with its 1-based line and byte column.
@@ -50,14 +91,9 @@ pub(crate) struct Token<'a> {
 }
 
 impl Token<'_> {
-    /// The token for messages: lossy, at most 40 characters.
+    /// The token for messages: see [`excerpt`].
     pub fn show(&self) -> String {
-        let s = String::from_utf8_lossy(self.text);
-        let mut out: String = s.chars().take(40).collect();
-        if s.chars().count() > 40 {
-            out.push('…');
-        }
-        out.escape_debug().to_string()
+        excerpt(self.text)
     }
 }
 
@@ -65,29 +101,12 @@ fn is_separator(b: u8, comma: bool) -> bool {
     matches!(b, b' ' | b'\t' | 0x0B | 0x0C) || (comma && b == b',')
 }
 
-/// The tokens of `lines`, the first of which has 1-based number `first_line`. With `comma`, a
-/// comma separates tokens (IES); otherwise it is part of the token (EULUMDAT decimal comma).
-pub(crate) fn tokenize<'a>(lines: &[&'a [u8]], first_line: usize, comma: bool) -> Vec<Token<'a>> {
-    let mut out = Vec::new();
-    for (k, line) in lines.iter().enumerate() {
-        let mut i = 0;
-        while i < line.len() {
-            if is_separator(line[i], comma) {
-                i += 1;
-                continue;
-            }
-            let s = i;
-            while i < line.len() && !is_separator(line[i], comma) {
-                i += 1;
-            }
-            out.push(Token {
-                text: &line[s..i],
-                line: first_line + k,
-                column: s + 1,
-            });
-        }
-    }
-    out
+/// The tokens of `bytes`, whose first line has 1-based number `first_line` (the tokens a
+/// [`Cursor`] yields, collected).
+#[cfg(test)]
+pub(crate) fn tokenize(bytes: &[u8], first_line: usize, comma: bool) -> Vec<Token<'_>> {
+    let mut c = Cursor::new(bytes, first_line, comma, false);
+    std::iter::from_fn(|| c.next_token()).collect()
 }
 
 /// Parses a decimal number: optional sign, digits with an optional decimal point (at least one
@@ -143,56 +162,180 @@ pub(crate) fn parse_number(t: &[u8], decimal_comma: bool) -> Option<f64> {
     v.is_finite().then_some(v)
 }
 
-/// A cursor over tokens that reads numbers and reports errors with positions.
+/// A cursor over the tokens of a byte slice that reads numbers and reports errors with positions.
+///
+/// Tokens are found one at a time as they are read (nothing is stored per token or per line), so
+/// the memory a reader needs does not grow with data it does not keep, such as trailing tokens
+/// after a table.
 pub(crate) struct Cursor<'a> {
-    toks: Vec<Token<'a>>,
-    pos: usize,
-    /// Position reported for "unexpected end of file" (line, column).
-    end: (usize, usize),
+    bytes: &'a [u8],
+    /// Where the next unread byte is.
+    at: Mark,
+    /// 1-based number of the first line of `bytes`.
+    first_line: usize,
+    /// A comma separates tokens (IES); otherwise it is part of a token (EULUMDAT).
+    comma: bool,
     decimal_comma: bool,
     /// Prefix for messages (e.g. the TILT file name).
     pub context: String,
 }
 
+/// A place in a [`Cursor`]'s bytes: offset, 1-based line there and the offset that line starts at.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Mark {
+    pos: usize,
+    line: usize,
+    line_start: usize,
+}
+
 impl<'a> Cursor<'a> {
-    pub fn new(toks: Vec<Token<'a>>, end: (usize, usize), decimal_comma: bool) -> Self {
+    /// The tokens of `bytes`, whose first line is line `first_line` of the file. With `comma`, a
+    /// comma separates tokens (IES); otherwise it is part of the token (EULUMDAT decimal comma).
+    pub fn new(bytes: &'a [u8], first_line: usize, comma: bool, decimal_comma: bool) -> Self {
         Self {
-            toks,
-            pos: 0,
-            end,
+            bytes,
+            at: Mark {
+                pos: 0,
+                line: first_line,
+                line_start: 0,
+            },
+            first_line,
+            comma,
             decimal_comma,
             context: String::new(),
         }
     }
 
+    /// The next token from `m` and the mark after it, or `None` at the end.
+    fn scan(&self, m: Mark) -> Option<(Token<'a>, Mark)> {
+        let b = self.bytes;
+        let Mark {
+            pos: mut i,
+            mut line,
+            mut line_start,
+        } = m;
+        while i < b.len() {
+            match b[i] {
+                b'\n' => {
+                    i += 1;
+                    line += 1;
+                    line_start = i;
+                }
+                b'\r' => {
+                    i += 1;
+                    if i < b.len() && b[i] == b'\n' {
+                        i += 1;
+                    }
+                    line += 1;
+                    line_start = i;
+                }
+                c if is_separator(c, self.comma) => i += 1,
+                _ => {
+                    let s = i;
+                    while i < b.len()
+                        && !is_separator(b[i], self.comma)
+                        && b[i] != b'\n'
+                        && b[i] != b'\r'
+                    {
+                        i += 1;
+                    }
+                    let t = Token {
+                        text: &b[s..i],
+                        line,
+                        column: s - line_start + 1,
+                    };
+                    let after = Mark {
+                        pos: i,
+                        line,
+                        line_start,
+                    };
+                    return Some((t, after));
+                }
+            }
+        }
+        None
+    }
+
+    /// The `k`-th token (0-based) from mark `m`, found again by scanning (for messages about
+    /// values that were read without keeping their tokens).
+    pub fn token_after(&self, m: Mark, k: usize) -> Option<Token<'a>> {
+        let mut m = m;
+        for _ in 0..k {
+            m = self.scan(m)?.1;
+        }
+        self.scan(m).map(|(t, _)| t)
+    }
+
+    /// The next token, consumed.
+    #[cfg(test)]
+    pub fn next_token(&mut self) -> Option<Token<'a>> {
+        let (t, m) = self.scan(self.at)?;
+        self.at = m;
+        Some(t)
+    }
+
+    /// The number of tokens left (a scan to the end: for messages and warnings).
     pub fn remaining(&self) -> usize {
-        self.toks.len() - self.pos
+        let mut m = self.at;
+        let mut n = 0;
+        while let Some((_, next)) = self.scan(m) {
+            n += 1;
+            m = next;
+        }
+        n
+    }
+
+    /// True when at least `n` tokens are left (scans at most `n` tokens).
+    pub fn has_at_least(&self, n: usize) -> bool {
+        let mut m = self.at;
+        for _ in 0..n {
+            match self.scan(m) {
+                Some((_, next)) => m = next,
+                None => return false,
+            }
+        }
+        true
+    }
+
+    /// The position reported for "unexpected end of file": just after the last byte of the last
+    /// line (a scan of the whole slice, on that error path only).
+    pub fn end(&self) -> (usize, usize) {
+        let mut n = 0;
+        let mut last = None;
+        for l in Lines::new(self.bytes) {
+            n += 1;
+            last = Some(l.len());
+        }
+        match last {
+            Some(len) => (self.first_line + n - 1, len + 1),
+            None => (self.first_line.max(1), 1),
+        }
     }
 
     /// The next token, without consuming it.
     pub fn peek(&self) -> Option<Token<'a>> {
-        self.toks.get(self.pos).copied()
+        self.scan(self.at).map(|(t, _)| t)
     }
 
     pub fn err_at(&self, t: &Token, msg: impl Into<String>) -> ParseError {
         ParseError::new(t.line, t.column, format!("{}{}", self.context, msg.into()))
     }
 
+    fn eof(&self, msg: String) -> ParseError {
+        let (l, c) = self.end();
+        ParseError::new(l, c, format!("{}{msg}", self.context))
+    }
+
     /// The next token as a number.
     pub fn number(&mut self, what: &str) -> Result<(f64, Token<'a>), ParseError> {
-        let Some(t) = self.toks.get(self.pos).copied() else {
-            return Err(ParseError::new(
-                self.end.0,
-                self.end.1,
-                format!(
-                    "{}unexpected end of file: expected a number ({what})",
-                    self.context
-                ),
-            ));
+        let Some((t, m)) = self.scan(self.at) else {
+            return Err(self.eof(format!(
+                "unexpected end of file: expected a number ({what})"
+            )));
         };
         match parse_number(t.text, self.decimal_comma) {
             Some(v) => {
-                self.pos += 1;
+                self.at = m;
                 Ok((v, t))
             }
             None => Err(self.err_at(
@@ -229,24 +372,24 @@ impl<'a> Cursor<'a> {
         Ok((v as usize, t))
     }
 
-    /// `n` numbers, after checking that at least `n` tokens remain (so nothing is allocated for
-    /// tokens that are not there).
+    fn check_left(&self, n: usize, what: &str) -> Result<(), ParseError> {
+        if self.has_at_least(n) {
+            return Ok(());
+        }
+        Err(self.eof(format!(
+            "unexpected end of file: {n} {what} expected, only {} values follow",
+            self.remaining()
+        )))
+    }
+
+    /// `n` numbers with their tokens, after checking that at least `n` tokens remain (so nothing
+    /// is allocated for tokens that are not there).
     pub fn numbers(
         &mut self,
         n: usize,
         what: &str,
     ) -> Result<(Vec<f64>, Vec<Token<'a>>), ParseError> {
-        if self.remaining() < n {
-            return Err(ParseError::new(
-                self.end.0,
-                self.end.1,
-                format!(
-                    "{}unexpected end of file: {n} {what} expected, only {} values follow",
-                    self.context,
-                    self.remaining()
-                ),
-            ));
-        }
+        self.check_left(n, what)?;
         let mut v = Vec::with_capacity(n);
         let mut tk = Vec::with_capacity(n);
         for k in 0..n {
@@ -256,13 +399,41 @@ impl<'a> Cursor<'a> {
         }
         Ok((v, tk))
     }
-}
 
-/// The position just after the last byte of the last line (for end-of-file errors).
-pub(crate) fn end_position(lines: &[&[u8]], first_line: usize) -> (usize, usize) {
-    match lines.last() {
-        Some(l) => (first_line + lines.len() - 1, l.len() + 1),
-        None => (first_line.max(1), 1),
+    /// `n` numbers without their tokens (8 bytes per value: for the large tables), and the mark
+    /// before the first; [`Cursor::token_after`] finds a value's token again when a message needs
+    /// it.
+    pub fn values(&mut self, n: usize, what: &str) -> Result<(Vec<f64>, Mark), ParseError> {
+        self.check_left(n, what)?;
+        let start = self.at;
+        let mut v = Vec::with_capacity(n);
+        for k in 0..n {
+            match self.scan(self.at) {
+                Some((t, m)) => match parse_number(t.text, self.decimal_comma) {
+                    Some(x) => {
+                        v.push(x);
+                        self.at = m;
+                    }
+                    None => {
+                        return Err(self.err_at(
+                            &t,
+                            format!(
+                                "expected a number ({what} #{}), found `{}`",
+                                k + 1,
+                                t.show()
+                            ),
+                        ))
+                    }
+                },
+                None => {
+                    return Err(self.eof(format!(
+                        "unexpected end of file: expected a number ({what} #{})",
+                        k + 1
+                    )))
+                }
+            }
+        }
+        Ok((v, start))
     }
 }
 
@@ -326,7 +497,7 @@ mod tests {
         let lines = split_lines(b"a b\r\nc\rd\n\ne");
         assert_eq!(lines, vec![&b"a b"[..], b"c", b"d", b"", b"e"]);
         assert_eq!(split_lines(b"x\n").len(), 1);
-        let toks = tokenize(&split_lines(b" 1,2\t3\n  x"), 5, true);
+        let toks = tokenize(b" 1,2\t3\n  x", 5, true);
         let pos: Vec<_> = toks.iter().map(|t| (t.line, t.column)).collect();
         assert_eq!(pos, vec![(5, 2), (5, 4), (5, 6), (6, 3)]);
         assert_eq!(strip_bom(b"\xEF\xBB\xBFab"), b"ab");

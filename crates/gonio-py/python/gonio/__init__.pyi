@@ -1,0 +1,154 @@
+"""Type stubs of the package ``gonio`` (the native module ``gonio._gonio``).
+
+Frame: directions are unit vectors (x, y, z); θ is the polar angle from +z, φ the azimuth from +x
+toward +y; densities are per steradian. Photometric files: γ = 0° (nadir) is −z, C = 0° is +x,
+θ = 180° − γ, φ = C; values in candela.
+"""
+
+import os
+from typing import Any, Literal, Optional, Sequence as _Seq, Tuple, Union
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+Method = Literal["hds", "piecewise-constant", "bilinear", "rejection", "uniform"]
+DomainName = Literal["hemisphere", "sphere"]
+Format = Literal["ies", "ldt", "json"]
+ArrayLike = npt.ArrayLike
+F64Array = npt.NDArray[np.float64]
+
+class GonioError(ValueError):
+    """Base of every gonio error caused by input."""
+
+class ParseError(GonioError):
+    """A file or text could not be read; the message is ``FILE:LINE:COLUMN: message``."""
+
+    file: str
+    line: int  # 1-based; 0 when the problem concerns the file as a whole
+    column: int  # 1-based; 0 when unknown
+    message: str
+
+class DiagramError(GonioError):
+    """A diagram was refused (angles, shape or values)."""
+
+class BuildError(GonioError):
+    """No sampler of that method for that diagram on that domain."""
+
+class InputError(GonioError):
+    """An array or argument is not acceptable; rows are named by their 0-based index."""
+
+class InternalError(RuntimeError):
+    """A bug in gonio: a panic caught before it could cross into Python."""
+
+class Diagram:
+    """A goniometric diagram: values on a (θ, φ) grid, from a file or from arrays."""
+
+    def __init__(self, theta_deg: ArrayLike, phi_deg: ArrayLike, values: ArrayLike) -> None:
+        """``theta_deg`` (N,) strictly increasing in [0°, 180°]; ``phi_deg`` (M,) strictly
+        increasing in [0°, 360°); ``values`` (M, N) finite and ≥ 0, ``values[i, j]`` at
+        (phi_deg[i], theta_deg[j]). Raises DiagramError."""
+    @property
+    def theta_deg(self) -> F64Array:
+        """Parallels θ in degrees from +z, shape (N,)."""
+    @property
+    def phi_deg(self) -> F64Array:
+        """Meridians φ in degrees from +x toward +y, shape (M,)."""
+    @property
+    def values(self) -> F64Array:
+        """Values, shape (M, N); candela for photometric files."""
+    @property
+    def flux(self) -> float:
+        """∫ of the (θ, φ)-bilinear interpolant over the sphere: value unit × sr (lumens for cd)."""
+    @property
+    def source(self) -> Literal["ies", "ldt", "json", "example", "arrays"]: ...
+    @property
+    def name(self) -> str: ...
+    @property
+    def domain(self) -> DomainName:
+        """Default sampler domain: "sphere" for photometric input, else "hemisphere" when θ ≤ 90°."""
+    @property
+    def warnings(self) -> list[str]:
+        """What the reader tolerated, one ``FILE:LINE:COLUMN: warning: ...`` line each."""
+    @property
+    def header(self) -> Optional[dict[str, Any]]:
+        """Every field of an IES/EULUMDAT file (None for other sources)."""
+    def intensity(self, directions: ArrayLike) -> F64Array:
+        """The (θ, φ)-bilinear interpolant at directions (n, 3): candela for photometric input."""
+    def sampler(
+        self,
+        method: Method = "hds",
+        domain: Optional[DomainName] = None,
+        *,
+        resolution: Optional[int] = None,
+        seed: Optional[int] = None,
+        tolerance: Optional[float] = None,
+    ) -> "Sampler": ...
+    def to_json(self) -> str: ...
+    def dumps(self, format: Format, luminaire: Optional[str] = None) -> str:
+        """JSON, IES LM-63-2019 or EULUMDAT text of the diagram (values must be candela)."""
+    def write(self, path: Union[str, os.PathLike[str]], format: Optional[Format] = None) -> None: ...
+
+class Sampler:
+    """A bijective map from [0, 1]² to unit directions with the exact pdf (per steradian)."""
+
+    def __init__(
+        self,
+        diagram: Diagram,
+        method: Method = "hds",
+        domain: Optional[DomainName] = None,
+        *,
+        resolution: Optional[int] = None,
+        seed: Optional[int] = None,
+        tolerance: Optional[float] = None,
+    ) -> None: ...
+    @property
+    def method(self) -> Method: ...
+    @property
+    def domain(self) -> DomainName: ...
+    @property
+    def ratio_bound(self) -> Optional[Tuple[float, float]]:
+        """Guaranteed (min, max) of pdf / target_pdf, or None when the method claims none."""
+    @property
+    def memory_bytes(self) -> int: ...
+    @property
+    def target_power(self) -> float:
+        """∫ of the diagram over the domain (unit × sr): intensity = target_power × target_pdf."""
+    def sample(self, u: ArrayLike) -> Tuple[F64Array, F64Array]:
+        """Points (n, 2) in [0, 1]² → (directions (n, 3), pdf (n,) per sr)."""
+    def pdf(self, directions: ArrayLike) -> F64Array:
+        """Density (n,) per sr of ``sample`` at directions (n, 3); 0 outside the domain."""
+    def target_pdf(self, directions: ArrayLike) -> F64Array:
+        """Normalised target density (n,) per sr at directions (n, 3)."""
+    def invert(self, directions: ArrayLike) -> F64Array:
+        """Points (n, 2) that ``sample`` maps to directions (n, 3)."""
+
+def read(path: Union[str, os.PathLike[str]], format: Optional[Format] = None) -> Diagram:
+    """Reads a .ies, .ldt or .json file (TILT files resolved next to it)."""
+
+def read_bytes(data: Union[bytes, str], format: Format, name: str = "<bytes>") -> Diagram:
+    """Reads a diagram from file contents in an explicit format."""
+
+def example() -> Diagram:
+    """The built-in example luminaire (candela, sphere)."""
+
+def sequence(
+    n: int, kind: Literal["halton", "sobol", "random"] = "halton", seed: int = 0, start: int = 0
+) -> F64Array:
+    """Points (n, 2) of [0, 1)²: the CLI's ``--sequence KIND --seed SEED`` points."""
+
+def check(
+    diagram: Diagram,
+    method: Method = "hds",
+    *,
+    samples: Optional[int] = None,
+    seed: int = 0,
+    quick: bool = False,
+) -> dict[str, Any]:
+    """The ``gonio check --json`` report as a dict; ``report["passed"]`` is the verdict."""
+
+def convert(src: Union[str, os.PathLike[str]], dst: Union[str, os.PathLike[str]]) -> None:
+    """``gonio convert SRC DST``: JSON ↔ IES LM-63-2019 ↔ EULUMDAT by DST's extension."""
+
+def methods() -> list[Method]: ...

@@ -1,0 +1,201 @@
+//! Sequences, the check battery, conversion and writing.
+
+use crate::arrays;
+use crate::diagram::PyDiagram;
+use crate::sampler::PySampler;
+use crate::{detached, InputError};
+use gonio::check::{cell_boundary_points, run_battery, BatteryOptions};
+use gonio::photometry::{write_ies, write_ldt, WriteMeta};
+use gonio::sequence::{Sequence, SequenceKind};
+use gonio::Method;
+use gonio::{Diagram, Point2};
+use numpy::PyArray2;
+use pyo3::prelude::*;
+use std::path::{Path, PathBuf};
+
+/// Largest number of points `sequence` makes in one call (2 GiB of float64).
+const MAX_POINTS: u64 = 1 << 27;
+
+/// Points of the unit square [0, 1)², shape (n, 2): `kind` "halton" (bases 2, 3; deterministic,
+/// `seed` ignored), "sobol" (Owen-scrambled Sobol' seeded with `seed`) or "random" (iid,
+/// Xoshiro256++ seeded with `seed`), points number `start` … `start + n − 1`. The same points as
+/// the CLI's `gonio sample --sequence KIND --seed SEED`.
+#[pyfunction]
+#[pyo3(signature = (n, kind = "halton", seed = 0, start = 0))]
+pub(crate) fn sequence<'py>(
+    py: Python<'py>,
+    n: u64,
+    kind: &str,
+    seed: u64,
+    start: u64,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let kind: SequenceKind = kind
+        .parse()
+        .map_err(|e: gonio::sequence::UnknownSequence| InputError::new_err(e.to_string()))?;
+    if n > MAX_POINTS {
+        return Err(InputError::new_err(format!(
+            "n = {n} points is more than the limit of {MAX_POINTS} per call; ask in batches with `start`"
+        )));
+    }
+    if start.checked_add(n).is_none() {
+        return Err(InputError::new_err(format!(
+            "start + n = {start} + {n} overflows the sequence index"
+        )));
+    }
+    let seq = Sequence::new(kind, seed);
+    let mut pts: Vec<Point2> = vec![[0.0; 2]; n as usize];
+    detached(py, "sequence", || seq.fill_par(start, &mut pts))?;
+    Ok(arrays::new_2d(py, pts.into_flattened(), 2))
+}
+
+/// The names of every sampling method, as `Sampler(method=...)` accepts them.
+#[pyfunction]
+pub(crate) fn methods() -> Vec<&'static str> {
+    Method::ALL.iter().map(|m| m.as_str()).collect()
+}
+
+/// Runs the test battery of `gonio check` on the sampler of `method` for `diagram` (chi-square,
+/// round trip, pdf consistency, normalisation, pdf/target ratio, flux) and returns its report as
+/// a dict, the same as `gonio check --json` prints (`report["passed"]` is the verdict). `quick`
+/// runs the cheaper settings of `gonio check --quick`; `samples` overrides the chi-square and
+/// flux sample counts; `seed` seeds every item.
+#[pyfunction]
+#[pyo3(signature = (diagram, method = "hds", *, samples = None, seed = 0, quick = false))]
+pub(crate) fn check<'py>(
+    py: Python<'py>,
+    diagram: &Bound<'py, PyDiagram>,
+    method: &str,
+    samples: Option<usize>,
+    seed: u64,
+    quick: bool,
+) -> PyResult<Bound<'py, PyAny>> {
+    let mut opts = if quick {
+        BatteryOptions::quick()
+    } else {
+        BatteryOptions::default()
+    }
+    .with_seed(seed);
+    if let Some(n) = samples {
+        if n == 0 {
+            return Err(InputError::new_err("samples must be positive"));
+        }
+        opts.chi_square.samples = n;
+        opts.flux.samples = n;
+    }
+    let s = PySampler::build(diagram, method, None, None, None, None)?;
+    // The map claims its guaranteed bound; the flux check integrates the diagram's power.
+    opts.ratio.claimed_bound = s.ratio_bound_value();
+    opts.flux_total = s.target_power_value();
+    let d = &diagram.get().diagram;
+    let json = detached(py, "check", || {
+        opts.round_trip.extra_points =
+            cell_boundary_points(s.inner(), d, if quick { 16 } else { 64 });
+        let report = run_battery(s.inner(), &opts);
+        serde_json::to_string(&report)
+    })?
+    .map_err(|e| InputError::new_err(e.to_string()))?;
+    py.import("json")?.call_method1("loads", (json,))
+}
+
+/// The output format named by `format` or by `path`'s extension.
+pub(crate) fn out_format(path: &Path, format: Option<&str>) -> PyResult<String> {
+    let name = path.display();
+    let f = match format {
+        Some(f) => f.to_ascii_lowercase(),
+        None => match path.extension().and_then(|e| e.to_str()) {
+            Some(e) => e.to_ascii_lowercase(),
+            None => {
+                return Err(InputError::new_err(format!(
+                    "{name}: the output name has no extension; expected .json, .ies or .ldt (or pass format=)"
+                )))
+            }
+        },
+    };
+    match f.as_str() {
+        "json" | "ies" | "ldt" => Ok(f),
+        e => Err(InputError::new_err(format!(
+            "{name}: unknown output format `{e}`; expected json, ies or ldt"
+        ))),
+    }
+}
+
+/// The text of `d` in `format` ("json", "ies", "ldt"), as `gonio convert` writes it.
+pub(crate) fn dumps(d: &Diagram, format: &str, luminaire: String) -> PyResult<String> {
+    let meta = WriteMeta {
+        luminaire,
+        ..WriteMeta::default()
+    };
+    match format.to_ascii_lowercase().as_str() {
+        "json" => serde_json::to_string_pretty(&d.to_json())
+            .map(|s| s + "\n")
+            .map_err(|e| InputError::new_err(e.to_string())),
+        "ies" => Ok(write_ies(d, &meta)),
+        "ldt" => Ok(write_ldt(d, &meta)),
+        e => Err(InputError::new_err(format!(
+            "unknown output format `{e}`; expected json, ies or ldt"
+        ))),
+    }
+}
+
+/// Converts a file as `gonio convert IN OUT` does: reads `src` (.json, .ies, .ldt) and writes
+/// `dst` in the format of its extension (JSON, IES LM-63-2019 or EULUMDAT), the luminaire named
+/// after `src`'s file stem.
+#[pyfunction]
+pub(crate) fn convert(py: Python<'_>, src: PathBuf, dst: PathBuf) -> PyResult<()> {
+    let fmt = out_format(&dst, None)?;
+    let d = crate::diagram::read(py, src, None)?;
+    let d = d.get();
+    let text = dumps(&d.diagram, &fmt, d.stem())?;
+    std::fs::write(&dst, text).map_err(|e| {
+        pyo3::exceptions::PyOSError::new_err(format!("cannot write {}: {e}", dst.display()))
+    })
+}
+
+/// Panics inside the library's thread pool with the GIL released (`detached = True`) or
+/// while holding it, to test that no panic crosses into Python (InternalError instead).
+#[pyfunction]
+#[pyo3(name = "_panic_for_test", signature = (detached = true))]
+pub(crate) fn panic_for_test(py: Python<'_>, detached: bool) -> PyResult<()> {
+    use rayon::prelude::*;
+    let f = || {
+        (0..64u32).into_par_iter().for_each(|i| {
+            if i == 37 {
+                panic!("deliberate panic for the test of panic safety");
+            }
+        })
+    };
+    if detached {
+        crate::detached(py, "_panic_for_test", f)
+    } else {
+        crate::no_panic("_panic_for_test", f)
+    }
+}
+
+/// The reference of the speed comparison (docs/PYTHON.md, "Speed"): the best wall time in
+/// seconds, over `runs` runs, of the library's own batch call `gonio::sampler::sample_batch_par`
+/// on the points `u` (n, 2) into a preallocated `Vec<Sample>`, timed inside Rust around that call
+/// only (the points are converted before). `Sampler.sample` on the same points does the same work
+/// plus the numpy conversions and allocations.
+#[pyfunction]
+#[pyo3(name = "_bench_rust_batch", signature = (sampler, u, runs = 10))]
+pub(crate) fn bench_rust_batch(
+    py: Python<'_>,
+    sampler: &Bound<'_, PySampler>,
+    u: &Bound<'_, PyAny>,
+    runs: usize,
+) -> PyResult<f64> {
+    let rows = arrays::rows::<2>(u, "u")?;
+    let pts: Vec<Point2> = rows.as_slice().into_owned();
+    let s = sampler.get().inner();
+    detached(py, "_bench_rust_batch", || {
+        let mut out = vec![gonio::Sample::default(); pts.len()];
+        let mut best = f64::INFINITY;
+        for _ in 0..runs.max(1) {
+            let t = std::time::Instant::now();
+            gonio::sampler::sample_batch_par(s, &pts, &mut out);
+            best = best.min(t.elapsed().as_secs_f64());
+            std::hint::black_box(&out);
+        }
+        best
+    })
+}
