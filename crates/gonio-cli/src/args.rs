@@ -166,9 +166,25 @@ pub struct ConvertArgs {
     /// Input: `.json`, `.ies`, `.ldt`, or `example`.
     #[arg(value_name = "IN")]
     pub input: String,
-    /// Output; its extension picks the format: `.json`, `.ies` (LM-63-2019) or `.ldt`.
+    /// Output; its extension picks the format: `.json`, `.ies` (LM-63-2019) or `.ldt`; with
+    /// `--to pbrt-v4`, `.exr` or `.pfm`.
     #[arg(value_name = "OUT")]
     pub output: PathBuf,
+    /// Convert for a renderer instead: `pbrt-v4` writes the equal-area image of pbrt-v4's
+    /// goniometric light and prints the scene line that uses it.
+    #[arg(long, value_enum, value_name = "TARGET")]
+    pub to: Option<ConvertTarget>,
+    /// Image resolution in pixels per side for `--to pbrt-v4` (default 512).
+    #[arg(long, value_name = "N", requires = "to")]
+    pub resolution: Option<usize>,
+}
+
+/// What `gonio convert --to` converts for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum ConvertTarget {
+    /// pbrt-v4's `LightSource "goniometric"`: an equal-area octahedral image (`.exr` or `.pfm`).
+    #[value(name = "pbrt-v4")]
+    PbrtV4,
 }
 
 /// `gonio check FILE [--samples N] [--seed S] [--quick] [--json] [--method M]`.

@@ -487,11 +487,61 @@ impl Hds {
             Hds::Sphere(m) => m.refinement(),
         }
     }
-    /// ∫ of the (completed) diagram over the domain, in diagram units × sr (lumens for candela).
+    /// The data's integral over the domain (zero outside its measured range), in diagram units ×
+    /// sr (lumens for candela): the map's target power.
     pub fn target_power(&self) -> f64 {
         match self {
             Hds::Hemisphere(m) => m.target_power(),
             Hds::Sphere(m) => m.target_power(),
+        }
+    }
+    /// The power of the completed diagram the map samples (data plus zero guard bands).
+    pub fn completed_power(&self) -> f64 {
+        match self {
+            Hds::Hemisphere(m) => m.completed_power(),
+            Hds::Sphere(m) => m.completed_power(),
+        }
+    }
+    /// Map power / data power (1 + the zero guard bands' share).
+    pub fn power_ratio(&self) -> f64 {
+        match self {
+            Hds::Hemisphere(m) => m.power_ratio(),
+            Hds::Sphere(m) => m.power_ratio(),
+        }
+    }
+    /// The map's target power divided by the data's largest value (always finite).
+    pub fn normalised_target_power(&self) -> f64 {
+        match self {
+            Hds::Hemisphere(m) => m.normalised_target_power(),
+            Hds::Sphere(m) => m.normalised_target_power(),
+        }
+    }
+    /// The data's largest value.
+    pub fn value_scale(&self) -> f64 {
+        match self {
+            Hds::Hemisphere(m) => m.value_scale(),
+            Hds::Sphere(m) => m.value_scale(),
+        }
+    }
+    /// Probability of a sample outside the data's measured θ range (exact, from the tables).
+    pub fn probability_outside_measured(&self) -> f64 {
+        match self {
+            Hds::Hemisphere(m) => m.probability_outside_measured(),
+            Hds::Sphere(m) => m.probability_outside_measured(),
+        }
+    }
+    /// The zones without data that the map completed with zero light, as warning texts.
+    pub fn completion_warnings(&self) -> Vec<String> {
+        let c = match self {
+            Hds::Hemisphere(m) => m.completions(),
+            Hds::Sphere(m) => m.completions(),
+        };
+        c.iter().map(|c| c.to_string()).collect()
+    }
+    /// Prints [`Hds::completion_warnings`] to stderr as `gonio: warning: NAME: …`.
+    pub fn warn_completions(&self, name: &str) {
+        for w in self.completion_warnings() {
+            eprintln!("gonio: warning: {name}: {w}");
         }
     }
     /// The map as a sampler.
@@ -549,10 +599,12 @@ pub fn build_hds(loaded: &Loaded) -> anyhow::Result<(Hds, Duration)> {
 /// on the domain [`domain`] chooses.
 pub fn build_sampler(method: Method, loaded: &Loaded) -> anyhow::Result<Box<dyn Sampler>> {
     match method {
-        Method::Hds => Ok(build_hds(loaded)
-            .with_context(|| format!("{}: cannot build the HDS map", loaded.name))?
-            .0
-            .into_sampler()),
+        Method::Hds => {
+            let (hds, _) = build_hds(loaded)
+                .with_context(|| format!("{}: cannot build the HDS map", loaded.name))?;
+            hds.warn_completions(&loaded.name);
+            Ok(hds.into_sampler())
+        }
         m => m
             .build_baseline(&loaded.diagram, domain(loaded))
             .with_context(|| format!("{}: cannot build the {m} sampler", loaded.name)),

@@ -397,6 +397,41 @@ fn check_passes_on_a_good_diagram() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stdout));
 }
 
+/// Issue 9: a diagram without data for θ < 30° — the map puts no light there (≤ 1e-6), says so as
+/// a warning (stderr of `sample`, `info`), its power is the data's integral, and `check` compares
+/// the map with the data and passes.
+#[test]
+fn partial_ranges_are_warned_and_conserve_light() {
+    let dir = temp_dir("partial");
+    let json = dir.join("cap.json");
+    std::fs::write(
+        &json,
+        r#"{"theta_deg":[30,60,90],"phi_deg":[0,180],"values":[[3,2,1],[1,2,3]]}"#,
+    )
+    .unwrap();
+    let o = run(&["sample", s(&json), "-n", "5"]);
+    assert!(o.status.success());
+    let err = String::from_utf8(o.stderr).unwrap();
+    assert!(
+        err.contains("warning") && err.contains("no data for θ in [0°, 30°]"),
+        "{err}"
+    );
+    let v: serde_json::Value = serde_json::from_str(&ok(&["info", s(&json), "--json"])).unwrap();
+    let outside = v["map"]["probability_outside_measured"].as_f64().unwrap();
+    assert!((0.0..=1e-6).contains(&outside), "{outside}");
+    assert!((v["map"]["power_ratio"].as_f64().unwrap() - 1.0).abs() <= 1e-6);
+    assert_eq!(v["map"]["completions"].as_array().unwrap().len(), 1);
+    let data = Diagram::from_json_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(v["map"]["target_power"], data.integral());
+    let text = ok(&["info", s(&json)]);
+    assert!(
+        text.contains("warning: no data for θ in [0°, 30°]"),
+        "{text}"
+    );
+    let text = ok(&["check", s(&json), "--quick"]);
+    assert!(text.contains("PASS"), "{text}");
+}
+
 #[test]
 fn bad_input_files_give_located_one_line_errors() {
     let dir = temp_dir("badjson");

@@ -18,13 +18,21 @@
 //! See ALGORITHM §10 A12.
 
 use serde::{Deserialize, Serialize};
-use std::f64::consts::{PI, TAU};
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 /// Largest number of grid nodes (M·N) a diagram may hold: 2²⁶ ≈ 67 million values (512 MiB of f64).
 ///
 /// A 0.1° × 0.1° full-sphere grid has 6.5 million nodes, so real data stays far below this cap; it exists
 /// so that no input can make the library allocate without bound.
 pub const MAX_NODES: usize = 1 << 26;
+
+/// Angles within this many **degrees** of 0°, 90° or 180° (θ), or of 0° and 360° (φ), *are* those
+/// angles: [`Diagram::new`] and every reader snap them there before any domain or range is decided,
+/// so that `90.00000000000001` (a cumulative sum, a radians → degrees round trip) or an IES
+/// `90.0000001` ends a hemisphere diagram exactly at the horizon. Values are never changed by the
+/// snap; an angle moves by at most this much. A θ is snapped only when it stays strictly between
+/// its neighbours (otherwise it is kept as given).
+pub const ANGLE_TOLERANCE_DEG: f64 = 1e-6;
 
 /// Why a diagram was refused. Indices are zero-based: `meridian` i indexes φ, `parallel` j indexes θ.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -106,9 +114,29 @@ pub enum DiagramError {
         /// The offending value.
         value: f64,
     },
-    /// Every value is zero, so there is nothing to sample.
-    #[error("the diagram has zero total power: every value is 0")]
+    /// The diagram carries no light in its measured range: every value is 0.
+    #[error("the diagram carries no light in its measured range: every value is 0")]
     ZeroPower,
+    /// The diagram has a single parallel: a line of directions of zero solid angle carries no power,
+    /// and there is no range of θ to sample.
+    #[error("the diagram has a single parallel (θ = {theta_deg}°): it covers no solid angle, so it carries no light to sample; give at least two parallels")]
+    SingleParallel {
+        /// The parallel, in degrees.
+        theta_deg: f64,
+    },
+    /// The last meridian lies at 360° (within [`ANGLE_TOLERANCE_DEG`]), the same meridian as the
+    /// first one at 0°, but holds different values.
+    #[error("phi angle #{index} = {value_deg}° is the meridian φ = 0° again (360°), but its values differ from those of φ = 0°")]
+    ClosingMeridian {
+        /// Index of the meridian at 360°.
+        index: usize,
+        /// The angle as given, in degrees.
+        value_deg: f64,
+    },
+    /// The diagram's light lies in cells thinner than double precision resolves on the map's disk
+    /// (e.g. between θ = 89.99999999999999° and 90°): no map can place it.
+    #[error("the diagram's light lies only in cells too thin for double precision to resolve (parallels closer than about 1e-15 rad); nothing can be sampled")]
+    UnresolvedLight,
     /// The diagram does not fit the domain of the sampler it was given to.
     #[error("{0}")]
     Domain(String),
@@ -177,7 +205,16 @@ impl Diagram {
     ///
     /// θ must be strictly increasing in [0, π], φ strictly increasing in [0, 2π), values finite
     /// and ≥ 0, not all zero.
-    pub fn new(theta: Vec<f64>, phi: Vec<f64>, values: Vec<f64>) -> Result<Self, DiagramError> {
+    ///
+    /// Angles within [`ANGLE_TOLERANCE_DEG`] of 0, π/2 and π (θ) or 0 and 2π (φ) are those angles
+    /// (see there); a last meridian at 2π is the first one again: dropped when φ_0 = 0 and its values
+    /// are the same (refused with [`DiagramError::ClosingMeridian`] when they differ), moved to φ = 0
+    /// otherwise. A single parallel is refused ([`DiagramError::SingleParallel`]).
+    pub fn new(
+        mut theta: Vec<f64>,
+        mut phi: Vec<f64>,
+        mut values: Vec<f64>,
+    ) -> Result<Self, DiagramError> {
         let (n, m) = (theta.len(), phi.len());
         if n == 0 || m == 0 {
             return Err(DiagramError::Empty {
@@ -194,13 +231,20 @@ impl Diagram {
                 })
             }
         }
-        check_axis("theta", &theta, PI, true, "[0°, 180°]")?;
-        check_axis("phi", &phi, TAU, false, "[0°, 360°)")?;
         if values.len() != n * m {
             return Err(DiagramError::Shape {
                 what: "values".into(),
                 expected: n * m,
                 found: values.len(),
+            });
+        }
+        snap_theta(&mut theta);
+        snap_phi(&mut phi, &mut values, n)?;
+        check_axis("theta", &theta, PI, true, "[0°, 180°]")?;
+        check_axis("phi", &phi, TAU, false, "[0°, 360°)")?;
+        if n == 1 {
+            return Err(DiagramError::SingleParallel {
+                theta_deg: theta[0].to_degrees(),
             });
         }
         let mut any_positive = false;
@@ -217,7 +261,12 @@ impl Diagram {
         if !any_positive {
             return Err(DiagramError::ZeroPower);
         }
-        Ok(Self { theta, phi, values })
+        let d = Self { theta, phi, values };
+        // Light on nodes only between parallels closer than an ulp cannot integrate to anything.
+        if !(d.normalised_integral() > 0.0) {
+            return Err(DiagramError::UnresolvedLight);
+        }
+        Ok(d)
     }
 
     /// Builds a diagram from angles in **degrees** and nested rows, `values[i][j]` at (φ_i, θ_j).
@@ -244,8 +293,9 @@ impl Diagram {
         }
         // Angles are checked in degrees first so that 360° is refused even if rounding in the
         // conversion would bring it just below 2π.
+        let tol = ANGLE_TOLERANCE_DEG;
         for (index, &p) in phi_deg.iter().enumerate() {
-            if p.is_finite() && p >= 360.0 {
+            if p.is_finite() && p > 360.0 + tol {
                 return Err(DiagramError::AngleOutOfRange {
                     axis: "phi",
                     index,
@@ -255,7 +305,7 @@ impl Diagram {
             }
         }
         for (index, &t) in theta_deg.iter().enumerate() {
-            if t.is_finite() && t > 180.0 {
+            if t.is_finite() && t > 180.0 + tol {
                 return Err(DiagramError::AngleOutOfRange {
                     axis: "theta",
                     index,
@@ -264,15 +314,34 @@ impl Diagram {
                 });
             }
         }
+        // φ ≈ 360° is 2π (the closing meridian, resolved by `new`).
+        // θ is snapped by `new` (which keeps the order strict); 180° + round-off is π.
+        // (`min` would turn NaN into π.)
         let theta = theta_deg
             .iter()
-            .map(|t| if deg(*t) > PI { PI } else { deg(*t) })
+            .map(|&t| if deg(t) > PI { PI } else { deg(t) })
             .collect();
-        let phi = phi_deg.iter().map(|p| deg(*p)).collect();
+        let phi = phi_deg
+            .iter()
+            .map(|&p| {
+                let s = snap_deg(p, &[0.0, 360.0]);
+                if s == 360.0 {
+                    TAU
+                } else {
+                    deg(s)
+                }
+            })
+            .collect();
         // Messages name the angles as given (5e-324° and 0° differ in degrees but not in
-        // radians).
+        // radians). `new` moves a lone closing meridian (360°) to the front, shifting φ's indices
+        // by one.
+        let moved = phi_deg.len() > 1
+            && snap_deg(phi_deg[0], &[0.0]) != 0.0
+            && snap_deg(phi_deg[phi_deg.len() - 1], &[360.0]) == 360.0;
         Self::new(theta, phi, values.concat()).map_err(|e| match e {
-            DiagramError::NotIncreasing { axis, index, .. } if index > 0 => {
+            DiagramError::NotIncreasing { axis, index, .. }
+                if index > 0 && !(axis == "phi" && moved) =>
+            {
                 let given = if axis == "theta" { theta_deg } else { phi_deg };
                 DiagramError::NotIncreasing {
                     axis,
@@ -389,7 +458,19 @@ impl Diagram {
     /// ∫ over the sphere of the diagram interpolated bilinearly in (θ, φ) (see
     /// [`Diagram::interpolate`]), dω in steradians, in closed form. For a diagram in candela this is the
     /// luminous flux in lumens.
+    ///
+    /// Computed on the values divided by their maximum and scaled back, so it is exact in relative
+    /// terms for any scale of values; it is `+inf` only when the power itself exceeds `f64::MAX`
+    /// (values near `f64::MAX` over a large solid angle) — use [`Diagram::normalised_integral`] there.
     pub fn integral(&self) -> f64 {
+        self.normalised_integral() * self.max_value()
+    }
+
+    /// [`Diagram::integral`] of the values divided by [`Diagram::max_value`]: finite and positive for
+    /// every valid diagram, whatever the scale of its values (1e-320 … `f64::MAX`).
+    pub fn normalised_integral(&self) -> f64 {
+        let max = self.max_value();
+        let scale = |v: f64| v / max;
         let (n, m) = (self.theta.len(), self.phi.len());
         let beta = self.sector_widths();
         let mut total = 0.0;
@@ -397,8 +478,8 @@ impl Diagram {
             let (w0, w1) = cell_weights(self.theta[j], self.theta[j + 1]);
             for (i, b) in beta.iter().enumerate() {
                 let i1 = (i + 1) % m;
-                let a = self.value(i, j) + self.value(i1, j);
-                let c = self.value(i, j + 1) + self.value(i1, j + 1);
+                let a = scale(self.value(i, j)) + scale(self.value(i1, j));
+                let c = scale(self.value(i, j + 1)) + scale(self.value(i1, j + 1));
                 total += 0.5 * b * (a * w0 + c * w1);
             }
         }
@@ -435,6 +516,73 @@ pub(crate) fn cell_weights(a: f64, b: f64) -> (f64, f64) {
     let w1 = mean_cos - b.cos();
     let w0 = (a.cos() - b.cos()) - w1;
     (w0, w1)
+}
+
+/// `a` replaced by the first of `targets` within [`ANGLE_TOLERANCE_DEG`] of it (degrees).
+pub(crate) fn snap_deg(a: f64, targets: &[f64]) -> f64 {
+    targets
+        .iter()
+        .copied()
+        .find(|t| (a - t).abs() <= ANGLE_TOLERANCE_DEG)
+        .unwrap_or(a)
+}
+
+/// The tolerance of [`ANGLE_TOLERANCE_DEG`] in radians.
+fn tol_rad() -> f64 {
+    ANGLE_TOLERANCE_DEG.to_radians()
+}
+
+/// Snaps parallels within the tolerance of 0, π/2, π to those angles when the order stays strict.
+fn snap_theta(theta: &mut [f64]) {
+    let n = theta.len();
+    for j in 0..n {
+        let t = theta[j];
+        let Some(&s) = [0.0, FRAC_PI_2, PI]
+            .iter()
+            .find(|&&s| (t - s).abs() <= tol_rad())
+        else {
+            continue;
+        };
+        let after_prev = j == 0 || theta[j - 1] < s;
+        let before_next = j + 1 == n || s < theta[j + 1];
+        if after_prev && before_next {
+            theta[j] = s;
+        }
+    }
+}
+
+/// Snaps meridians within the tolerance of 0 to 0, and resolves a last meridian within the
+/// tolerance of 2π (it is φ = 0 again): dropped when it repeats meridian 0 at φ = 0 exactly,
+/// refused when its values differ there, moved to the front at φ = 0 when there is no meridian at 0.
+fn snap_phi(phi: &mut Vec<f64>, values: &mut Vec<f64>, n: usize) -> Result<(), DiagramError> {
+    let m = phi.len();
+    if phi[0].abs() <= tol_rad() {
+        phi[0] = 0.0;
+    }
+    let last = phi[m - 1];
+    if !((last - TAU).abs() <= tol_rad()) {
+        return Ok(());
+    }
+    if m == 1 {
+        phi[0] = 0.0;
+        return Ok(());
+    }
+    if phi[0] == 0.0 {
+        if values[..n] == values[(m - 1) * n..] {
+            phi.pop();
+            values.truncate((m - 1) * n);
+            return Ok(());
+        }
+        return Err(DiagramError::ClosingMeridian {
+            index: m - 1,
+            value_deg: last.to_degrees(),
+        });
+    }
+    phi.pop();
+    phi.insert(0, 0.0);
+    let row: Vec<f64> = values.drain((m - 1) * n..).collect();
+    values.splice(0..0, row);
+    Ok(())
 }
 
 /// Degrees to radians.
@@ -509,8 +657,45 @@ mod tests {
             DiagramError::NotIncreasing { .. }
         ));
         assert!(matches!(
-            r(&[0.0, 90.0], &[360.0], &[vec![1.0, 1.0]]),
+            r(&[0.0, 90.0], &[360.001], &[vec![1.0, 1.0]]),
             DiagramError::AngleOutOfRange { .. }
+        ));
+        // 360° is φ = 0 again: a differing closing meridian is refused, an equal one dropped, a
+        // lone one moved to the front.
+        assert!(matches!(
+            r(
+                &[0.0, 90.0],
+                &[0.0, 360.0],
+                &[vec![1.0, 1.0], vec![2.0, 1.0]]
+            ),
+            DiagramError::ClosingMeridian { index: 1, .. }
+        ));
+        let d = Diagram::from_degrees(
+            &[0.0, 90.0],
+            &[0.0, 180.0, 359.9999999999],
+            &[vec![1.0, 1.0], vec![2.0, 2.0], vec![1.0, 1.0]],
+        )
+        .unwrap();
+        assert_eq!(d.n_meridians(), 2);
+        let d = Diagram::from_degrees(
+            &[0.0, 90.0],
+            &[90.0, 360.0000000001],
+            &[vec![1.0, 1.0], vec![2.0, 2.0]],
+        )
+        .unwrap();
+        assert_eq!(d.phi(), &[0.0, FRAC_PI_2]);
+        assert_eq!(d.values(), &[2.0, 2.0, 1.0, 1.0]);
+        // θ within the tolerance of 0°, 90°, 180° is there, when the order allows
+        let d = Diagram::from_degrees(
+            &[1e-9, 90.00000000000001, 179.9999999],
+            &[0.0],
+            &[vec![1.0; 3]],
+        )
+        .unwrap();
+        assert_eq!(d.theta(), &[0.0, FRAC_PI_2, PI]);
+        assert!(matches!(
+            r(&[45.0], &[0.0], &[vec![1.0]]),
+            DiagramError::SingleParallel { .. }
         ));
         assert!(matches!(
             r(&[0.0, 90.0], &[0.0], &[vec![1.0, -1.0]]),

@@ -236,12 +236,16 @@ pub fn invert_batch_par<S: Sampler + ?Sized>(
 }
 
 /// Polar angle θ (radians from +z) and azimuth φ in [0, 2π) (radians from +x toward +y) of a unit
-/// direction.
+/// direction. At the poles (x = y = 0, either sign of zero) φ = 0: the azimuth of every pole
+/// direction is meridian 0's, so (±0, ±0, ±1) all get the same values (`atan2(0, −0)` would be π).
 ///
 /// θ = atan2(√(x² + y²), z), accurate to a few ulps everywhere; acos(z) would lose half the digits
 /// near the poles (θ = 1e-4 came back with a relative error of 1e-8, θ = 1e-7 with 2e-2).
 pub fn spherical(d: Vec3) -> (f64, f64) {
     let theta = d[0].hypot(d[1]).atan2(d[2]);
+    if d[0] == 0.0 && d[1] == 0.0 {
+        return (theta, 0.0);
+    }
     let mut phi = d[1].atan2(d[0]);
     if phi < 0.0 {
         phi += std::f64::consts::TAU;
@@ -259,12 +263,18 @@ pub fn direction(theta: f64, phi: f64) -> Vec3 {
     [st * cp, st * sp, ct]
 }
 
-/// `d` scaled to unit length, or `None` if it is zero or not finite.
+/// `d` scaled to unit length, or `None` if it is zero or not finite. Any finite non-zero vector is
+/// normalised, however long or short (1e-300 … 1e300 components): it is first divided by its largest
+/// component magnitude, so the sum of squares neither overflows nor underflows.
 pub fn normalize(d: Vec3) -> Option<Vec3> {
-    let l = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-    if l.is_finite() && l > 0.0 && d.iter().all(|c| c.is_finite()) {
-        Some([d[0] / l, d[1] / l, d[2] / l])
-    } else {
-        None
+    if !d.iter().all(|c| c.is_finite()) {
+        return None;
     }
+    let big = d.iter().fold(0.0f64, |a, c| a.max(c.abs()));
+    if !(big > 0.0) {
+        return None;
+    }
+    let s = [d[0] / big, d[1] / big, d[2] / big];
+    let l = (s[0] * s[0] + s[1] * s[1] + s[2] * s[2]).sqrt();
+    Some([s[0] / l, s[1] / l, s[2] / l])
 }

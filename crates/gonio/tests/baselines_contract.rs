@@ -436,10 +436,10 @@ fn constructors_refuse_bad_input() {
             m.build_baseline(&sphere, Domain::Hemisphere),
             Err(BaselineError::NotHemisphere { .. })
         ));
-        let single = build(&[30.0], &[0.0], |_, _| 1.0);
+        // A single parallel carries no power: refused when the diagram is made (issue 9).
         assert!(matches!(
-            m.build_baseline(&single, Domain::Sphere),
-            Err(BaselineError::NoPower { .. })
+            Diagram::from_degrees(&[30.0], &[0.0], &[vec![1.0]]),
+            Err(gonio::DiagramError::SingleParallel { .. })
         ));
         let s = m.build_baseline(&sphere, Domain::Sphere).unwrap();
         assert_eq!(s.name(), m.as_str());

@@ -23,8 +23,11 @@ pub fn run(a: &CheckArgs) -> anyhow::Result<bool> {
     let mut refinement = None;
     let sampler = if a.method == Method::Hds {
         let (hds, _) = build_hds(&loaded)?;
+        hds.warn_completions(&loaded.name);
+        // The map claims its guaranteed bound; the flux check integrates the DATA's power (the
+        // map's target is the data, zero outside its measured range): a map that invents or
+        // drops light fails it.
         refinement = hds.refinement().cloned();
-        // The map claims its guaranteed bound; the flux check integrates the diagram's power.
         opts.ratio.claimed_bound = Some(hds.ratio_bound());
         opts.flux_total = hds.target_power();
         hds.into_sampler()

@@ -1,6 +1,7 @@
-//! `gonio convert IN OUT`: JSON ↔ IES LM-63-2019 ↔ EULUMDAT, chosen by OUT's extension.
+//! `gonio convert IN OUT`: JSON ↔ IES LM-63-2019 ↔ EULUMDAT, chosen by OUT's extension; with
+//! `--to pbrt-v4`, the image of pbrt-v4's goniometric light ([`super::pbrt`]).
 
-use crate::args::ConvertArgs;
+use crate::args::{ConvertArgs, ConvertTarget};
 use crate::load::load;
 use crate::output::Output;
 use gonio::photometry::{write_ies, write_ldt, WriteMeta};
@@ -14,9 +15,15 @@ pub fn run(a: &ConvertArgs) -> anyhow::Result<()> {
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
     let out_name = a.output.display().to_string();
+    if a.to == Some(ConvertTarget::PbrtV4) {
+        return super::pbrt::run(a, ext.as_deref());
+    }
     // Check the output format before reading anything.
     match ext.as_deref() {
         Some("json" | "ies" | "ldt") => {}
+        Some(e @ ("exr" | "pfm")) => {
+            anyhow::bail!("{out_name}: `.{e}` is written by `--to pbrt-v4` (the pbrt-v4 goniometric light image)")
+        }
         Some(e) => {
             anyhow::bail!("{out_name}: unknown output format `.{e}`; expected .json, .ies or .ldt")
         }

@@ -52,8 +52,22 @@ impl Grid {
 pub struct MapInfo {
     /// `hemisphere` or `sphere`.
     pub domain: &'static str,
-    /// ∫ of the (completed) diagram over the domain, in diagram units × sr (lumens for candela).
+    /// The data's integral over the domain (zero outside its measured θ range), in diagram units ×
+    /// sr (lumens for candela): the map's target power. `null` in JSON only if it exceeds f64
+    /// (see `normalised_target_power` × `value_scale`).
     pub target_power: f64,
+    /// The power of the completed diagram the map samples (data plus zero guard bands).
+    pub completed_power: f64,
+    /// completed_power / target_power, computed without overflow (within 1e-6 of 1).
+    pub power_ratio: f64,
+    /// The target power divided by the data's largest value (always finite).
+    pub normalised_target_power: f64,
+    /// The data's largest value.
+    pub value_scale: f64,
+    /// Probability of a sample outside the data's measured θ range (exact, ≤ ~2e-7).
+    pub probability_outside_measured: f64,
+    /// Zones without data that the map completed with zero light (warnings).
+    pub completions: Vec<String>,
     /// Bytes of the map's tables ([`Sampler::memory_bytes`]).
     pub memory_bytes: usize,
     /// The paper's count of precomputed floats, M·N + 2M + 2, on the map's grid.
@@ -265,6 +279,12 @@ pub fn collect(loaded: &Loaded) -> anyhow::Result<Info> {
                 Hds::Sphere(_) => "sphere",
             },
             target_power: hds.target_power(),
+            completed_power: hds.completed_power(),
+            power_ratio: hds.power_ratio(),
+            normalised_target_power: hds.normalised_target_power(),
+            value_scale: hds.value_scale(),
+            probability_outside_measured: hds.probability_outside_measured(),
+            completions: hds.completion_warnings(),
             memory_bytes: sampler.memory_bytes(),
             paper_table_floats: paper,
             build_time_ms: took.as_secs_f64() * 1e3,
@@ -333,11 +353,27 @@ fn human(i: &Info) -> String {
     );
     let m = &i.map;
     let _ = writeln!(s, "domain           {}", m.domain);
+    let power = |p: f64, normalised: f64| {
+        if p.is_finite() {
+            format!("{p}")
+        } else {
+            format!("{normalised} × {} (beyond f64)", m.value_scale)
+        }
+    };
     let _ = writeln!(
         s,
-        "total power      {} {power_unit} (map target), diagram integral {} {power_unit}",
-        m.target_power, i.diagram_integral
+        "total power      {} {power_unit} (map target = data), diagram integral {} {power_unit}",
+        power(m.target_power, m.normalised_target_power),
+        power(i.diagram_integral, m.normalised_target_power)
     );
+    let _ = writeln!(
+        s,
+        "outside data     probability {:e} outside the measured θ range; map power / data = {}",
+        m.probability_outside_measured, m.power_ratio
+    );
+    for c in &m.completions {
+        let _ = writeln!(s, "  {}: warning: {c}", i.input);
+    }
     let _ = writeln!(
         s,
         "table memory     {} bytes (paper's M·N+2M+2 = {} floats = {} bytes as f32)",

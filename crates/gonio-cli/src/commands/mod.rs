@@ -5,4 +5,5 @@ pub mod check;
 pub mod convert;
 pub mod directions;
 pub mod info;
+pub mod pbrt;
 pub mod sample;

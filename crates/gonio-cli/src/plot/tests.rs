@@ -336,12 +336,12 @@ fn polar_draws_type_b_in_its_h_and_v_planes() {
         .position(|&t| (t.to_degrees() - 135.0).abs() < 1e-9)
         .unwrap();
     assert!(
-        (vplane.0[k] - (100.0 - 45.0 + 4.5)).abs() < 1e-9,
+        (vplane.0[k] - (200.0 - 45.0 + 4.5)).abs() < 1e-9,
         "{}",
         vplane.0[k]
     );
     assert!(
-        (vplane.1[k] - (100.0 - 45.0 - 4.5)).abs() < 1e-9,
+        (vplane.1[k] - (200.0 - 45.0 - 4.5)).abs() < 1e-9,
         "{}",
         vplane.1[k]
     );

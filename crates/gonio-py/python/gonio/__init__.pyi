@@ -122,7 +122,8 @@ class Sampler:
     def target_pdf(self, directions: ArrayLike) -> F64Array:
         """Normalised target density (n,) per sr at directions (n, 3)."""
     def invert(self, directions: ArrayLike) -> F64Array:
-        """Points (n, 2) that ``sample`` maps to directions (n, 3)."""
+        """Points (n, 2) that ``sample`` maps to directions (n, 3); InputError naming the row for a
+        direction outside the domain or of density 0 (no point maps to it)."""
 
 def read(path: Union[str, os.PathLike[str]], format: Optional[Format] = None) -> Diagram:
     """Reads a .ies, .ldt or .json file (TILT files resolved next to it)."""

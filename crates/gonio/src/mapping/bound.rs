@@ -87,6 +87,11 @@ pub(crate) fn segment_ratio_range(
 ) -> (f64, f64) {
     let (mut lo, mut hi) = (1.0f64, 1.0f64);
     let (h, dx) = (t1 - t0, x1 - x0);
+    if !(dx > 0.0 && h > 0.0) {
+        // A segment thinner than double precision resolves on the disk carries no map mass (its
+        // probability is below 1e-15): no ratio to bound there (issue 9).
+        return (lo, hi);
+    }
     let s = |t: f64| ((parallel_radius(t) - x0) / dx).clamp(0.0, 1.0);
     let tt = |t: f64| ((t - t0) / h).clamp(0.0, 1.0);
     let slope_cap = |t: f64| FRAC_1_SQRT_2 * (0.5 * t).cos() * h / dx;

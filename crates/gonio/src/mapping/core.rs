@@ -1,7 +1,8 @@
 //! The precomputed tables of §4 and the composed map F = M_E ∘ M_D ∘ M_C ∘ M_B on one disk.
 //!
-//! `HdsCore` works on a *completed* grid: θ_0 = 0 (the pole), θ_{N−1} = θ_max (π/2 for a hemisphere,
-//! π for the whole-sphere Lambert lift), φ_0 = 0. The public samplers in this module complete a user's
+//! `HdsCore` works on a *completed* grid: θ_0 = 0 (the pole), φ_0 = 0, and θ_{N−1} anywhere up to
+//! π/2 for a hemisphere (π for the whole-sphere Lambert lift): the map covers the zone
+//! [0, θ_{N−1}], whose disk has radius x_{N−1} = √2 sin(θ_{N−1}/2). The public samplers in this module complete a user's
 //! diagram first (ALGORITHM §10 A15) and then build a core.
 
 use super::angular::{solve_wedge, wedge_angle};
@@ -9,15 +10,19 @@ use super::bound::density_ratio_range;
 use super::concentric::{disk_to_square, square_to_disk};
 use super::lift::{disk_to_sphere, parallel_radius, sphere_to_disk_radius};
 use super::radial::{partial_mass, segment_mass, solve_radius};
-use crate::diagram::{segment, Diagram};
+use crate::diagram::{segment, Diagram, DiagramError};
 use crate::sampler::Vec3;
 use std::f64::consts::{PI, TAU};
 
 mod lanes;
 
-/// Azimuth φ ∈ [0, 2π) of a direction, as [`crate::sampler::spherical`] computes it, without the polar angle.
+/// Azimuth φ ∈ [0, 2π) of a direction, as [`crate::sampler::spherical`] computes it, without the
+/// polar angle: 0 at the poles (x = y = 0, any signs of zero).
 #[inline]
 fn azimuth(d: Vec3) -> f64 {
+    if d[0] == 0.0 && d[1] == 0.0 {
+        return 0.0;
+    }
     let mut phi = d[1].atan2(d[0]);
     if phi < 0.0 {
         phi += TAU;
@@ -81,8 +86,10 @@ pub(crate) struct HdsCore {
 }
 
 impl HdsCore {
-    /// Builds the tables from a completed diagram (θ_0 = 0, θ_{N−1} = θ_max, φ_0 = 0, N ≥ 2).
-    pub(crate) fn build(diagram: Diagram) -> Self {
+    /// Builds the tables from a completed diagram (θ_0 = 0, φ_0 = 0, N ≥ 2), values normalised
+    /// (largest 1, see `complete`). Refuses a diagram whose light the disk cannot resolve (every
+    /// cell with light thinner than an ulp of x): [`DiagramError::UnresolvedLight`].
+    pub(crate) fn build(diagram: Diagram) -> Result<Self, DiagramError> {
         let x = parallel_radii(diagram.theta());
         let db_range = density_ratio_range(&diagram, &x);
         Self::build_with_range(diagram, db_range)
@@ -90,7 +97,10 @@ impl HdsCore {
 
     /// As [`HdsCore::build`], with the guaranteed range of D/B already known (refinement computes
     /// it cell by cell on the way).
-    pub(crate) fn build_with_range(diagram: Diagram, db_range: (f64, f64)) -> Self {
+    pub(crate) fn build_with_range(
+        diagram: Diagram,
+        db_range: (f64, f64),
+    ) -> Result<Self, DiagramError> {
         let n = diagram.n_parallels();
         let m = diagram.n_meridians();
         debug_assert!(n >= 2 && diagram.theta()[0] == 0.0 && diagram.phi()[0] == 0.0);
@@ -111,6 +121,9 @@ impl HdsCore {
         let total: f64 = (0..m)
             .map(|i| beta[i] * (last(i) + last(i + 1)) / 4.0)
             .sum();
+        if !(total > 0.0 && total.is_finite()) {
+            return Err(DiagramError::UnresolvedLight);
+        }
         let s = total / PI;
         let mut r2: Vec<f64> = (0..=m).map(|i| last(i) / s).collect();
         r2[m] = r2[0];
@@ -156,7 +169,7 @@ impl HdsCore {
             }
         }
         let target_total = diagram.integral();
-        HdsCore {
+        Ok(HdsCore {
             n,
             m,
             x,
@@ -179,7 +192,27 @@ impl HdsCore {
             diagram,
             target_total,
             db_range,
+        })
+    }
+
+    /// ∫ D dA over the cells of the completed grid that lie outside θ ∈ [`lo`, `hi`] (radians,
+    /// the measured range; completion puts nodes exactly at its ends): the map's power there,
+    /// exactly, in the units of [`HdsCore::total`].
+    pub(crate) fn power_outside(&self, lo: f64, hi: f64) -> f64 {
+        let (n, m) = (self.n, self.m);
+        let theta = self.diagram.theta();
+        let mut p = 0.0;
+        for j in 0..n - 1 {
+            if theta[j] >= lo && theta[j + 1] <= hi {
+                continue;
+            }
+            for i in 0..m {
+                let i1 = self.next(i);
+                let du = |r: usize| self.u[r * n + j + 1] - self.u[r * n + j];
+                p += self.beta[i] * (du(i) + du(i1)) / 4.0;
+            }
         }
+        p
     }
 
     /// T = ∫_disk D dA.
@@ -358,7 +391,13 @@ impl HdsCore {
         let xr = solve_radius(x0, x1, d0, d1, w - ut(j)).min(x1);
         let dens = d0 + (d1 - d0) * ((xr - x0) * self.inv_dx[j]);
         // M_E
-        (disk_to_sphere(xr, phi), dens.max(0.0))
+        let dir = disk_to_sphere(xr, phi);
+        if dir[0] == 0.0 && dir[1] == 0.0 {
+            // The pole: every meridian meets there, and `density` reads meridian 0 (φ = 0);
+            // the sample carries that same value, so sample() and pdf() agree at (±0, ±0, 1).
+            return (dir, self.density(dir));
+        }
+        (dir, dens.max(0.0))
     }
 
     /// The disk density D at a direction (bilinear in (x, φ)), the numerator of the pdf.
@@ -366,6 +405,10 @@ impl HdsCore {
     pub(crate) fn density(&self, dir: Vec3) -> f64 {
         let n = self.n;
         let xr = sphere_to_disk_radius(dir);
+        if xr > self.x[n - 1] * (1.0 + 1e-12) {
+            // Beyond the zone the map covers (a diagram ending before θ_max): no light.
+            return 0.0;
+        }
         let p = azimuth(dir);
         let (i, eps) = self.sector(p);
         let i1 = self.next(i);
@@ -446,7 +489,7 @@ fn guided_search(a: &[f64], guide: &[u32], scale: f64, x: f64, last: usize) -> u
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::mapping::complete::{complete, FarEnd};
+    use crate::mapping::complete::complete;
     use rand::{Rng, SeedableRng};
     use rand_xoshiro::Xoshiro256PlusPlus;
 
@@ -480,7 +523,12 @@ mod tests {
         let mut values = values;
         values[0][0] += 1.0;
         let d = Diagram::from_degrees(&theta, &phi, &values).unwrap();
-        HdsCore::build(complete(&d, PI / 2.0, FarEnd::Zero).unwrap())
+        HdsCore::build(
+            complete(&d, PI / 2.0, false, d.max_value())
+                .unwrap()
+                .diagram,
+        )
+        .unwrap()
     }
 
     /// §4.4 and §12: Σγ^i = 2π and the star domain has the area π of the B-disk.

@@ -1,7 +1,7 @@
 //! [`HemisphereMap`]: the HDS mapping of the upper hemisphere (ALGORITHM §1–§7, recommended variant
 //! A6).
 
-use super::complete::{complete, FarEnd};
+use super::complete::{complete, Completion};
 use super::core::HdsCore;
 use super::refine::{refine, valid_tolerance, RefineLimits, Refinement};
 use crate::diagram::{Diagram, DiagramError};
@@ -15,15 +15,18 @@ use std::f64::consts::FRAC_PI_2;
 /// bilinearly in (x = √(1 − cos θ), φ): every sample carries `pdf = D(ω) / (2T)` per steradian,
 /// where T = ∫_disk D dA (§7). [`Sampler::pdf`] returns the same number for any direction.
 ///
-/// **Target.** [`Sampler::target_pdf`] is the diagram interpolated bilinearly in (θ, φ) and
-/// normalised over the hemisphere. The two agree at every node up to one constant; in between they
+/// **Target.** [`Sampler::target_pdf`] is the **data**: the diagram as given, interpolated
+/// bilinearly in (θ, φ), zero outside its measured θ range, normalised by its integral. The two agree at every node up to one constant; in between they
 /// differ within the guaranteed range [`HemisphereMap::ratio_bound`] computed at build time.
 ///
-/// **Completion** (§10 A15). A diagram whose first parallel lies above the pole gets a pole parallel
-/// holding the mean of that parallel over the meridians; one whose last parallel lies below the
-/// horizon gets a horizon parallel of zeros; one whose first meridian is not at φ = 0 gets a meridian
-/// there, interpolated across the wrap-around sector (which changes neither interpolant). The
-/// completed diagram is [`HemisphereMap::diagram`].
+/// **Completion** (§10 A15, docs/MAPPING.md "Completion"). The support of the map is the measured
+/// range: a diagram whose first parallel lies below the pole, or whose last parallel ends above the
+/// horizon, is completed with **zero** there (a zero pole or horizon parallel, and a zero guard
+/// parallel within 1e-7 of the adjacent cell's width outside the measured edge, so at most ~2e-7 of
+/// the probability lies outside the measured range); each such zone is a [`Completion`], listed by
+/// [`HemisphereMap::completions`]. One whose first meridian is not at φ = 0 gets a meridian there,
+/// interpolated across the wrap-around sector (which changes neither interpolant). The completed
+/// diagram, divided by the data's largest value, is [`HemisphereMap::diagram`].
 ///
 /// **Seams.** The map is continuous on the whole square. Its inverse is discontinuous only where the
 /// B-disk azimuth wraps from 2π to 0 (the half-line v = ½, u > ½ of the square, which maps to φ = 0);
@@ -36,14 +39,54 @@ pub struct HemisphereMap {
     inv_2t: f64,
     inv_target_total: f64,
     ratio_bound: (f64, f64),
+    scale: f64,
+    completions: Vec<Completion>,
+    /// The measured θ range [θ_0, θ_{N−1}] of the data (radians): the target's support.
+    measured: (f64, f64),
+    /// The data's integral in units of its largest value.
+    data_total: f64,
     refinement: Option<Refinement>,
 }
 
 impl HemisphereMap {
     /// Builds the map. The diagram must lie within θ ∈ [0°, 90°].
     pub fn new(diagram: &Diagram) -> Result<Self, DiagramError> {
-        let completed = complete(diagram, FRAC_PI_2, FarEnd::Zero)?;
-        Ok(Self::from_core(HdsCore::build(completed)))
+        let completed = complete(diagram, FRAC_PI_2, false, diagram.max_value())?;
+        let core = HdsCore::build(completed.diagram)?;
+        Ok(Self::assemble(
+            diagram,
+            core,
+            completed.scale,
+            completed.completions,
+        ))
+    }
+
+    /// The map of `core`, built from the completion of `diagram` (the data).
+    fn assemble(
+        diagram: &Diagram,
+        core: HdsCore,
+        scale: f64,
+        completions: Vec<Completion>,
+    ) -> Self {
+        let theta = diagram.theta();
+        let measured = (theta[0], theta[theta.len() - 1]);
+        // The target is the data: normalised by the data's integral (in units of its largest
+        // value), zero outside the measured range (the zero guard bands included).
+        let data_total = diagram.normalised_integral();
+        let inv_2t = 0.5 / core.total();
+        let (lo, hi) = core.db_range();
+        let ratio_scale = data_total * inv_2t;
+        HemisphereMap {
+            inv_target_total: 1.0 / data_total,
+            ratio_bound: (lo * ratio_scale, hi * ratio_scale),
+            inv_2t,
+            core,
+            scale,
+            completions,
+            measured,
+            data_total,
+            refinement: None,
+        }
     }
 
     /// Builds the map refined to `tolerance` (issue 14, [`super::refine`]): parallels whose values
@@ -72,12 +115,13 @@ impl HemisphereMap {
             )));
         }
         let start = std::time::Instant::now();
-        let completed = complete(diagram, FRAC_PI_2, FarEnd::Zero)?;
+        let c = complete(diagram, FRAC_PI_2, false, diagram.max_value())?;
+        let completed = c.diagram;
         let parallels_before = completed.n_parallels();
         let memory_before = HdsCore::table_bytes(&completed);
         let mut r = refine(&[&completed], tolerance, limits);
-        let core = HdsCore::build_with_range(r.diagrams.remove(0), r.ranges[0]);
-        let mut map = Self::from_core(core);
+        let core = HdsCore::build_with_range(r.diagrams.remove(0), r.ranges[0])?;
+        let mut map = Self::assemble(diagram, core, c.scale, c.completions);
         let bound = map.ratio_bound;
         let reached = bound.0 >= 1.0 - tolerance && bound.1 <= 1.0 + tolerance;
         map.refinement = Some(Refinement {
@@ -105,19 +149,6 @@ impl HemisphereMap {
         self.inv_2t
     }
 
-    pub(crate) fn from_core(core: HdsCore) -> Self {
-        let inv_2t = 0.5 / core.total();
-        let (lo, hi) = core.db_range();
-        let scale = core.target_total() * inv_2t;
-        HemisphereMap {
-            inv_target_total: 1.0 / core.target_total(),
-            ratio_bound: (lo * scale, hi * scale),
-            inv_2t,
-            core,
-            refinement: None,
-        }
-    }
-
     /// What refinement to a tolerance asked, reached and cost; `None` for a map built without a
     /// tolerance ([`HemisphereMap::new`]).
     pub fn refinement(&self) -> Option<&Refinement> {
@@ -140,14 +171,25 @@ impl HemisphereMap {
     /// The map's own flux: ∫ [`HemisphereMap::map_intensity`] dω = 2T, in diagram units × sr (lumens
     /// for candela). It differs from [`HemisphereMap::target_power`] by a factor within the bound.
     pub fn map_power(&self) -> f64 {
-        1.0 / self.inv_2t
+        self.scale / self.inv_2t
     }
 
-    /// The completed diagram the map was built from (see the type's documentation), with the
-    /// parallels refinement added, if any: the grid of the map's tables. Its (θ, φ)-bilinear
-    /// interpolant, the target, is the same as the input's.
+    /// The completed diagram the map was built from, its values divided by the data's largest value
+    /// ([`HemisphereMap::value_scale`]); see the type's documentation.
     pub fn diagram(&self) -> &Diagram {
         self.core.diagram()
+    }
+
+    /// The data's largest value: [`HemisphereMap::diagram`] times this is the completed diagram in
+    /// the data's units.
+    pub fn value_scale(&self) -> f64 {
+        self.scale
+    }
+
+    /// The zones the data does not cover, completed with zero light (empty when the diagram spans
+    /// θ = 0° … 90°). Each is a warning for the user.
+    pub fn completions(&self) -> &[Completion] {
+        &self.completions
     }
 
     /// Guaranteed (min, max) of `pdf / target_pdf` over every direction where the target is positive,
@@ -156,15 +198,48 @@ impl HemisphereMap {
         self.ratio_bound
     }
 
-    /// T = ∫_disk D dA: the total power of the disk density, in diagram units × (disk area).
+    /// T = ∫_disk D dA: the total power of the disk density, in units of the data's largest value ×
+    /// (disk area).
     pub fn disk_power(&self) -> f64 {
         self.core.total()
     }
 
-    /// ∫ over the hemisphere of the diagram interpolated bilinearly in (θ, φ), in diagram units × sr
-    /// (lumens for a diagram in candela).
+    /// The data's integral: ∫ over the hemisphere of the diagram as given, interpolated bilinearly in
+    /// (θ, φ) and zero outside its measured θ range, in diagram units × sr (lumens for a diagram in
+    /// candela). The completed diagram's power ([`HemisphereMap::completed_power`])
+    /// equals it to ~2e-7 relative. `+inf` only if the power exceeds `f64::MAX` (see
+    /// [`HemisphereMap::normalised_target_power`]).
     pub fn target_power(&self) -> f64 {
-        self.core.target_total()
+        self.data_total * self.scale
+    }
+
+    /// [`HemisphereMap::target_power`] divided by [`HemisphereMap::value_scale`]: always finite.
+    pub fn normalised_target_power(&self) -> f64 {
+        self.data_total
+    }
+
+    /// The power of the completed diagram the map samples (data plus the zero guard bands), in
+    /// diagram units × sr: [`HemisphereMap::target_power`] × (1 + at most ~2e-7).
+    pub fn completed_power(&self) -> f64 {
+        self.core.target_total() * self.scale
+    }
+
+    /// The probability that a sample lies outside the measured θ range (in the zero guard bands),
+    /// computed exactly from the tables; at most ~2e-7 by construction (docs/MAPPING.md).
+    pub fn probability_outside_measured(&self) -> f64 {
+        self.core.power_outside(self.measured.0, self.measured.1) / self.core.total()
+    }
+
+    /// [`HemisphereMap::completed_power`] / [`HemisphereMap::target_power`], computed without overflow:
+    /// 1 + (the guard bands' share), within 1e-6 of 1.
+    pub fn power_ratio(&self) -> f64 {
+        self.core.target_total() / self.data_total
+    }
+
+    /// The measured θ range [θ_0, θ_{N−1}] of the data, in radians: the support of the target; the
+    /// map puts at most ~2e-7 of its probability outside it.
+    pub fn measured_theta(&self) -> (f64, f64) {
+        self.measured
     }
 
     /// The intermediate points of the forward map at `u` (see [`super::Stages`]).
@@ -213,6 +288,9 @@ impl Sampler for HemisphereMap {
             return 0.0;
         }
         let (t, p) = spherical(direction);
+        if !(t >= self.measured.0 && t <= self.measured.1) {
+            return 0.0;
+        }
         self.core.diagram().interpolate(t, p) * self.inv_target_total
     }
     fn target_power(&self) -> f64 {

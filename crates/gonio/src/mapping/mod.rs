@@ -25,6 +25,7 @@ pub mod refine;
 pub mod simd;
 mod sphere;
 
+pub use complete::Completion;
 pub use hemisphere::HemisphereMap;
 pub use refine::{RefineLimits, RefineStop, Refinement};
 pub use sphere::{SphereLayout, SphereMap};

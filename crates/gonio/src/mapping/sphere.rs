@@ -13,7 +13,7 @@
 //! In both, every sample's pdf is D/(2T) with T the total disk power of the map(s), so at every node
 //! the pdf is the node value times one constant.
 
-use super::complete::{complete, hemisphere_part, with_horizon_node, FarEnd};
+use super::complete::{complete, hemisphere_part, with_horizon_node, Completion};
 use super::core::HdsCore;
 use super::refine::{refine, valid_tolerance, RefineLimits, Refinement};
 use crate::diagram::{Diagram, DiagramError};
@@ -74,7 +74,17 @@ pub struct SphereMap {
     inv_2t: f64,
     inv_target_total: f64,
     ratio_bound: (f64, f64),
+    scale: f64,
+    completions: Vec<Completion>,
+    /// The measured θ range of the data (radians): the target's support.
+    measured: (f64, f64),
     refinement: Option<Refinement>,
+}
+
+/// The measured θ range of a diagram (radians).
+fn measured(d: &Diagram) -> (f64, f64) {
+    let t = d.theta();
+    (t[0], t[t.len() - 1])
 }
 
 fn mirror(d: Vec3) -> Vec3 {
@@ -91,15 +101,16 @@ impl SphereMap {
     /// Builds the map with the default [`SphereLayout::Split`] layout.
     ///
     /// Each hemisphere that the diagram reaches into is completed as in
-    /// [`crate::HemisphereMap`] (pole: mean of the nearest parallel; horizon: the diagram's node at
-    /// 90°, inserted by linear interpolation in θ if the diagram crosses 90° without one, or zeros if
-    /// the diagram ends before it).
+    /// [`crate::HemisphereMap`]: zero outside the measured θ range, with zero guard parallels (see
+    /// [`SphereMap::completions`]); the horizon is the diagram's node at 90°, inserted by linear
+    /// interpolation in θ if the diagram crosses 90° without one.
     pub fn new(diagram: &Diagram) -> Result<Self, DiagramError> {
         Self::with_layout(diagram, SphereLayout::Split)
     }
 
     /// Builds the map with the chosen layout. [`SphereLayout::Lambert`] needs a diagram that
-    /// reaches into both hemispheres; its missing poles get the mean of the nearest parallel.
+    /// reaches into both hemispheres; outside the measured range it is completed with zero, as the
+    /// split layout.
     pub fn with_layout(diagram: &Diagram, layout: SphereLayout) -> Result<Self, DiagramError> {
         Self::build(diagram, layout, None)
     }
@@ -141,13 +152,20 @@ impl SphereMap {
     ) -> Result<Self, DiagramError> {
         let start = std::time::Instant::now();
         // The completed diagram(s); refined when a tolerance is asked.
+        let scale = diagram.max_value();
+        let mut completions = Vec::new();
         let completed: Vec<Option<Diagram>> = match layout {
             SphereLayout::Split => {
-                let d = with_horizon_node(diagram);
-                let part = |upper: bool| -> Result<Option<Diagram>, DiagramError> {
-                    hemisphere_part(&d, upper)
-                        .map(|p| complete(&p, FRAC_PI_2, FarEnd::Zero))
-                        .transpose()
+                let d = with_horizon_node(diagram)?;
+                let mut part = |upper: bool| -> Result<Option<Diagram>, DiagramError> {
+                    // No part: the data does not reach into this hemisphere (it ends at the
+                    // horizon) or measures only zeros there; nothing is completed.
+                    let Some(p) = hemisphere_part(&d, upper) else {
+                        return Ok(None);
+                    };
+                    let c = complete(&p, FRAC_PI_2, !upper, scale)?;
+                    completions.extend(c.completions);
+                    Ok(Some(c.diagram))
                 };
                 vec![part(true)?, part(false)?]
             }
@@ -158,13 +176,33 @@ impl SphereMap {
                         "the Lambert sphere layout needs a diagram that spans the horizon".into(),
                     ));
                 }
-                vec![Some(complete(diagram, PI, FarEnd::Mean)?)]
+                let c = complete(diagram, PI, false, scale)?;
+                completions.extend(c.completions);
+                vec![Some(c.diagram)]
+            }
+        };
+        completions.sort_by(|a, b| a.theta_from_deg.total_cmp(&b.theta_from_deg));
+        // Light below double precision's resolution on one side only (< 1e-15 of the total) is
+        // dropped there; the other side carries the power.
+        let split = layout == SphereLayout::Split;
+        let keep = |r: Result<HdsCore, DiagramError>| -> Result<Option<HdsCore>, DiagramError> {
+            match r {
+                Ok(c) => Ok(Some(c)),
+                Err(DiagramError::UnresolvedLight) if split => Ok(None),
+                Err(e) => Err(e),
             }
         };
         let mut cores: Vec<Option<HdsCore>> = Vec::with_capacity(2);
         let mut info = None;
         match tolerance {
-            None => cores.extend(completed.into_iter().map(|c| c.map(HdsCore::build))),
+            None => {
+                for c in completed {
+                    cores.push(match c {
+                        Some(d) => keep(HdsCore::build(d))?,
+                        None => None,
+                    });
+                }
+            }
             Some((tol, limits)) => {
                 let present: Vec<&Diagram> = completed.iter().flatten().collect();
                 let parallels_before = present.iter().map(|d| d.n_parallels()).sum::<usize>();
@@ -172,29 +210,37 @@ impl SphereMap {
                 let r = refine(&present, tol, limits);
                 let mut refined = r.diagrams.into_iter().zip(r.ranges);
                 for c in &completed {
-                    cores.push(c.as_ref().map(|_| {
-                        let (d, range) = refined.next().expect("one refined diagram per part");
-                        HdsCore::build_with_range(d, range)
-                    }));
+                    cores.push(match c {
+                        Some(_) => {
+                            let (d, range) = refined.next().expect("one refined diagram per part");
+                            keep(HdsCore::build_with_range(d, range))?
+                        }
+                        None => None,
+                    });
                 }
                 info = Some((tol, r.stop, parallels_before, memory_before));
             }
         }
+        // The target is the data (zero outside its measured range), normalised by the data's
+        // integral; the cores' own (completed) totals include the guard bands.
+        let target_total = diagram.normalised_integral();
         let mut map = match layout {
             SphereLayout::Split => {
                 let lower = cores.pop().flatten();
                 let upper = cores.pop().flatten();
                 let t = |c: &Option<HdsCore>| c.as_ref().map_or(0.0, |c| c.total());
-                let z = |c: &Option<HdsCore>| c.as_ref().map_or(0.0, |c| c.target_total());
-                let range = |c: &Option<HdsCore>| c.as_ref().map_or((1.0, 1.0), |c| c.db_range());
+                let range = |c: &Option<HdsCore>| c.as_ref().map(|c| c.db_range());
                 let (tu, tl) = (t(&upper), t(&lower));
                 if !(tu + tl > 0.0) {
-                    return Err(DiagramError::ZeroPower);
+                    return Err(DiagramError::UnresolvedLight);
                 }
                 let total = tu + tl;
-                let target_total = z(&upper) + z(&lower);
-                let (ru, rl) = (range(&upper), range(&lower));
-                let scale = target_total / (2.0 * total);
+                let (lo, hi) = match (range(&upper), range(&lower)) {
+                    (Some(a), Some(b)) => (a.0.min(b.0), a.1.max(b.1)),
+                    (Some(a), None) | (None, Some(a)) => a,
+                    (None, None) => (1.0, 1.0),
+                };
+                let ratio_scale = target_total / (2.0 * total);
                 SphereMap {
                     layout: Layout::Split {
                         upper,
@@ -203,7 +249,10 @@ impl SphereMap {
                     },
                     inv_2t: 0.5 / total,
                     inv_target_total: 1.0 / target_total,
-                    ratio_bound: (ru.0.min(rl.0) * scale, ru.1.max(rl.1) * scale),
+                    ratio_bound: (lo * ratio_scale, hi * ratio_scale),
+                    scale,
+                    completions,
+                    measured: measured(diagram),
                     refinement: None,
                 }
             }
@@ -212,13 +261,16 @@ impl SphereMap {
                     .pop()
                     .flatten()
                     .expect("the Lambert layout has one map");
-                let scale = core.target_total() / (2.0 * core.total());
+                let ratio_scale = target_total / (2.0 * core.total());
                 let (lo, hi) = core.db_range();
                 SphereMap {
                     inv_2t: 0.5 / core.total(),
-                    inv_target_total: 1.0 / core.target_total(),
-                    ratio_bound: (lo * scale, hi * scale),
+                    inv_target_total: 1.0 / target_total,
+                    ratio_bound: (lo * ratio_scale, hi * ratio_scale),
                     layout: Layout::Lambert(Box::new(core)),
+                    scale,
+                    completions,
+                    measured: measured(diagram),
                     refinement: None,
                 }
             }
@@ -268,7 +320,24 @@ impl SphereMap {
     /// The map's own flux ∫ [`SphereMap::map_intensity`] dω, in diagram units × sr; it differs from
     /// [`SphereMap::target_power`] by a factor within the bound.
     pub fn map_power(&self) -> f64 {
-        1.0 / self.inv_2t
+        self.scale / self.inv_2t
+    }
+
+    /// The zones the data does not cover, completed with zero light (each is a warning for the
+    /// user), in θ order; empty when the diagram spans θ = 0° … 180°.
+    pub fn completions(&self) -> &[Completion] {
+        &self.completions
+    }
+
+    /// The data's largest value: the completed diagrams of the hemisphere maps hold the data divided
+    /// by it.
+    pub fn value_scale(&self) -> f64 {
+        self.scale
+    }
+
+    /// [`SphereMap::target_power`] divided by [`SphereMap::value_scale`]: always finite.
+    pub fn normalised_target_power(&self) -> f64 {
+        1.0 / self.inv_target_total
     }
 
     /// The intermediate points of the forward map at `u` (see [`super::Stages`]): those of the
@@ -362,13 +431,65 @@ impl SphereMap {
         }
     }
 
-    /// ∫ over the sphere of the completed diagram interpolated bilinearly in (θ, φ), in diagram units
-    /// × sr (lumens for a diagram in candela).
+    /// The data's integral: ∫ over the sphere of the diagram as given, interpolated bilinearly in
+    /// (θ, φ) and zero outside its measured θ range, in diagram units × sr (lumens for a diagram in
+    /// candela). The completed diagram's power ([`SphereMap::completed_power`]) equals it
+    /// to ~2e-7 relative (zero guard bands, docs/MAPPING.md "Completion"). `+inf` only if the power
+    /// exceeds `f64::MAX`.
     pub fn target_power(&self) -> f64 {
-        1.0 / self.inv_target_total
+        self.scale / self.inv_target_total
+    }
+
+    /// The power of the completed diagram(s) the map samples (data plus the zero guard bands), in
+    /// diagram units × sr.
+    pub fn completed_power(&self) -> f64 {
+        self.scale * self.normalised_map_power()
+    }
+
+    fn normalised_map_power(&self) -> f64 {
+        let z = |c: &Option<HdsCore>| c.as_ref().map_or(0.0, |c| c.target_total());
+        match &self.layout {
+            Layout::Split { upper, lower, .. } => z(upper) + z(lower),
+            Layout::Lambert(c) => c.target_total(),
+        }
+    }
+
+    /// [`SphereMap::completed_power`] / [`SphereMap::target_power`], computed without overflow:
+    /// 1 + (the guard bands' share), within 1e-6 of 1.
+    pub fn power_ratio(&self) -> f64 {
+        self.normalised_map_power() * self.inv_target_total
+    }
+
+    /// The probability that a sample lies outside the measured θ range (in the zero guard bands),
+    /// computed exactly from the tables; at most ~2e-7 by construction (docs/MAPPING.md).
+    pub fn probability_outside_measured(&self) -> f64 {
+        let (lo, hi) = self.measured;
+        let half = FRAC_PI_2;
+        let outside = match &self.layout {
+            Layout::Split { upper, lower, .. } => {
+                upper
+                    .as_ref()
+                    .map_or(0.0, |c| c.power_outside(lo, hi.min(half)))
+                    + lower.as_ref().map_or(0.0, |c| {
+                        c.power_outside((PI - hi).max(0.0), (PI - lo.max(half)).max(0.0))
+                    })
+            }
+            Layout::Lambert(c) => c.power_outside(lo, hi),
+        };
+        outside * 2.0 * self.inv_2t
+    }
+
+    /// The measured θ range [θ_0, θ_{N−1}] of the data, in radians: the support of the target; the
+    /// map puts at most ~2e-7 of its probability outside it.
+    pub fn measured_theta(&self) -> (f64, f64) {
+        self.measured
     }
 
     fn target_value(&self, d: Vec3) -> f64 {
+        let (t, _) = spherical(d);
+        if !(t >= self.measured.0 && t <= self.measured.1) {
+            return 0.0;
+        }
         match &self.layout {
             Layout::Split { upper, lower, .. } => {
                 let (core, dir) = if lower_side(d, upper.is_some()) {
@@ -458,7 +579,13 @@ impl Sampler for SphereMap {
                     // No light on that side: no preimage.
                     let l = lower.as_ref().ok_or(InvertError::ZeroDensity)?;
                     let w = l.invert(mirror(d));
-                    Ok([w[0] * p_lower, w[1]])
+                    let mut u0 = w[0] * p_lower;
+                    if upper.is_some() && u0 >= *p_lower {
+                        // Rounding must not carry a lower-map point across the seam u = P_lower,
+                        // which `sample` would send to the upper map (the rim of the other side).
+                        u0 = super::complete::next_down(*p_lower);
+                    }
+                    Ok([u0, w[1]])
                 } else {
                     let up = upper.as_ref().ok_or(InvertError::ZeroDensity)?;
                     let w = up.invert(d);

@@ -12,10 +12,6 @@ use std::f64::consts::PI;
 /// round-off of 180° − C and the like); stored planes are at least `MIN_ANGLE_STEP_DEG` apart.
 const SAME_ANGLE_DEG: f64 = 1e-12;
 
-/// A first or last vertical angle within this many degrees of 0°, 90° or 180° is taken to be there
-/// (its θ snapped; its values unchanged) instead of adding a zero row next to it.
-const SNAP_DEG: f64 = 1e-6;
-
 /// Negative values no larger in magnitude than this fraction of the table's largest value are
 /// round-off and clamped to 0 (with a warning); anything more negative is an error.
 pub(crate) const NEGATIVE_TOLERANCE: f64 = 1e-6;
@@ -65,21 +61,22 @@ pub(crate) fn clamp_negative(
     Ok(())
 }
 
-/// The γ range [lo, hi] the diagram will cover: 0–90, 90–180 or 0–180, and the padding rows
-/// needed (γ of a zero row at the start, at the end).
-pub(crate) fn vertical_plan(vert: &[f64]) -> (Option<f64>, Option<f64>) {
-    let (a, b) = (vert[0], vert[vert.len() - 1]);
-    let (lo, hi) = if b <= 90.0 {
+/// The measured γ range [first, last] with its ends snapped to 0°, 90° or 180° when within
+/// [`crate::diagram::ANGLE_TOLERANCE_DEG`], and the standard range it falls short of, if any: (0–90, 90–180 or 0–180; the one a
+/// range stopping short belongs to is 0–90 if it ends at or before 90°, 90–180 if it starts at or
+/// after 90°, else 0–180). Nothing is added to the data: outside the measured range the map has no
+/// light (docs/PHOTOMETRY.md, "Vertical range rule").
+pub(crate) fn vertical_plan(vert: &[f64]) -> ((f64, f64), Option<(f64, f64)>) {
+    let snap = |g: f64| crate::diagram::snap_deg(g, &[0.0, 90.0, 180.0]);
+    let (a, b) = (snap(vert[0]), snap(vert[vert.len() - 1]));
+    let standard = if b <= 90.0 {
         (0.0, 90.0)
     } else if a >= 90.0 {
         (90.0, 180.0)
     } else {
         (0.0, 180.0)
     };
-    (
-        (a > lo + SNAP_DEG).then_some(lo),
-        (b < hi - SNAP_DEG).then_some(hi),
-    )
+    ((a, b), ((a, b) != standard).then_some(standard))
 }
 
 /// Checks the type C vertical angles and reports the padding rule as a warning.
@@ -96,22 +93,15 @@ pub(crate) fn check_vertical_c(
             None => ParseError::new(0, 0, msg),
         });
     }
-    let (lo, hi) = vertical_plan(vert);
-    if lo.is_some() || hi.is_some() {
-        let pads: Vec<String> = lo
-            .iter()
-            .chain(hi.iter())
-            .map(|g| format!("γ = {g}°"))
-            .collect();
+    let ((a, b), short) = vertical_plan(vert);
+    if let Some((lo, hi)) = short {
         let (line, column) = first.map_or((0, 0), |t| (t.line, t.column));
         warnings.push(Warning {
             line,
             column,
             message: format!(
-                "vertical angles {}°–{}° do not span 0–90°, 90–180° or 0–180°; zero intensity is added at {}",
-                vert[0],
-                vert[vert.len() - 1],
-                pads.join(" and ")
+                "vertical angles {a}°–{b}° do not span {lo}–{hi}° (LM-63: 0–90°, 90–180° or 0–180°); \
+                 no light is assumed outside the measured range: the map completes it with zero intensity"
             ),
         });
     }
@@ -144,9 +134,11 @@ pub(crate) fn classify(
                 ),
             ));
         }
+        let horizontal = ab_axis_rule(ptype, "horizontal", horiz, ht.0, warnings);
+        let vertical = ab_axis_rule(ptype, "vertical", vert, vt.0, warnings);
         return Ok(Symmetry::TypeAB {
-            horizontal: horiz[0] == 0.0,
-            vertical: vert[0] == 0.0,
+            horizontal,
+            vertical,
         });
     }
     check_vertical_c(cur, vert, vt.0, warnings)?;
@@ -182,6 +174,51 @@ pub(crate) fn classify(
         ));
     };
     Ok(sym)
+}
+
+/// LM-63's rule for each axis of a type A or B table: the angles run from −90° (full) or 0°
+/// (symmetric about 0°, completed by mirroring) to 90°. Returns whether the axis is mirrored, and
+/// warns, naming the rule and what was done, when the angles break it:
+/// * first angle in (0°, 90°) (e.g. 1°): read as symmetric about 0° and mirrored, the band around 0°
+///   interpolated between the first angle and its mirror image (never half the light dropped);
+/// * first angle in (−90°, 0°) or last angle short of 90°: no light outside the measured range.
+///
+/// Ends within [`crate::diagram::ANGLE_TOLERANCE_DEG`] of −90°, 0° or 90° are those angles.
+fn ab_axis_rule(
+    ptype: PhotometricType,
+    axis: &str,
+    angles: &[f64],
+    first: Option<&Token>,
+    warnings: &mut Vec<Warning>,
+) -> bool {
+    let snap = |g: f64| crate::diagram::snap_deg(g, &[-90.0, 0.0, 90.0]);
+    let (a, b) = (snap(angles[0]), snap(angles[angles.len() - 1]));
+    let (line, column) = first.map_or((0, 0), |t| (t.line, t.column));
+    let rule = format!(
+        "type {ptype} {axis} angles must run from −90° (full) or 0° (symmetric about 0°) to 90° (LM-63)"
+    );
+    let mut warn = |what: String| {
+        warnings.push(Warning {
+            line,
+            column,
+            message: format!("{rule}; {what}"),
+        })
+    };
+    let mirror = a >= 0.0;
+    if a > 0.0 {
+        warn(format!(
+            "they start at {a}°: read as symmetric about 0° and mirrored, the light between −{a}° and {a}° \
+             interpolated between the two mirrored planes"
+        ));
+    } else if a > -90.0 && a < 0.0 {
+        warn(format!(
+            "they start at {a}°: no light is assumed below {a}°"
+        ));
+    }
+    if b < 90.0 {
+        warn(format!("they end at {b}°: no light is assumed beyond {b}°"));
+    }
+    mirror
 }
 
 /// Warns when the closing plane (first + 360°) differs from the first plane; the first is kept.
@@ -288,31 +325,27 @@ pub(crate) fn to_diagram(p: &Photometry) -> Result<Diagram, crate::Error> {
 fn type_c(p: &Photometry) -> Result<Diagram, crate::Error> {
     let vert = &p.vertical_angles_deg;
     let n_v = vert.len();
-    // Rows in γ order: (γ, Some(stored index) or None for a zero row).
-    let (lo, hi) = vertical_plan(vert);
-    let mut rows: Vec<(f64, Option<usize>)> = Vec::with_capacity(n_v + 2);
-    if let Some(g) = lo {
-        rows.push((g, None));
-    }
-    rows.extend(vert.iter().enumerate().map(|(k, &g)| (g, Some(k))));
-    if let Some(g) = hi {
-        rows.push((g, None));
-    }
-    rows.reverse(); // θ = 180° − γ ascending
-    let snap = |g: f64| {
-        [0.0, 90.0, 180.0]
-            .into_iter()
-            .find(|b| (g - b).abs() <= SNAP_DEG)
-            .unwrap_or(g)
-    };
-    let last = rows.len() - 1;
-    let theta: Vec<f64> = rows
+    // The measured rows only, θ = 180° − γ ascending; the ends snapped to 0°, 90° or 180° (interior
+    // angles are snapped by `Diagram::new` when the order allows).
+    let ((a, b), _) = vertical_plan(vert);
+    let rows: Vec<(f64, usize)> = vert
         .iter()
         .enumerate()
-        .map(|(k, &(g, _))| {
-            let g = if k == 0 || k == last { snap(g) } else { g };
-            (180.0 - g).to_radians().min(PI)
+        .map(|(k, &g)| {
+            let g = if k == 0 {
+                a
+            } else if k == n_v - 1 {
+                b
+            } else {
+                g
+            };
+            (g, k)
         })
+        .rev()
+        .collect();
+    let theta: Vec<f64> = rows
+        .iter()
+        .map(|&(g, _)| (180.0 - g).to_radians().clamp(0.0, PI))
         .collect();
     let mer = meridians(p.symmetry, &p.horizontal_angles_deg);
     let phi: Vec<f64> = mer.iter().map(|&(c, _)| c.to_radians()).collect();
@@ -328,7 +361,7 @@ fn type_c(p: &Photometry) -> Result<Diagram, crate::Error> {
     let mut values = Vec::with_capacity(total);
     for &(_, plane) in &mer {
         for &(_, row) in &rows {
-            values.push(row.map_or(0.0, |v| p.candela[plane * n_v + v]));
+            values.push(p.candela[plane * n_v + row]);
         }
     }
     Ok(Diagram::new(theta, phi, values)?)
@@ -338,7 +371,10 @@ fn type_c(p: &Photometry) -> Result<Diagram, crate::Error> {
 fn mirrored_axis(angles: &[f64], mirror: bool) -> Vec<(f64, usize)> {
     let mut out = Vec::with_capacity(2 * angles.len());
     if mirror {
-        for k in (1..angles.len()).rev() {
+        // An axis starting at 0° has its own mirror image there; one starting above 0° (outside
+        // LM-63's rule, warned) mirrors its first angle too.
+        let first = usize::from(crate::diagram::snap_deg(angles[0], &[0.0]) == 0.0);
+        for k in (first..angles.len()).rev() {
             out.push((-angles[k], k));
         }
     }

@@ -726,9 +726,10 @@ impl Photometry {
     ///
     /// * **Type C** (and EULUMDAT): θ = 180° − γ (ascending), φ = C. The stored planes and their
     ///   mirror images under [`Photometry::symmetry`] become the meridians, strictly increasing in
-    ///   [0°, 360°); node values are copied, never interpolated. A vertical range that is neither
-    ///   0–90°, 90–180° nor 0–180° is completed with rows of zero intensity at the nearest of γ = 0°,
-    ///   90°, 180° (a warning was issued at reading time).
+    ///   [0°, 360°); node values are copied, never interpolated. The θ range is the measured γ range
+    ///   (ends within 1e-6° of 0°, 90°, 180° snapped there); nothing is added outside it (a range
+    ///   other than 0–90°, 90–180°, 0–180° was warned about at reading time; the maps put no light
+    ///   outside the measured range, docs/MAPPING.md "Completion").
     /// * **Types A and B**: resampled by bilinear interpolation in (H, V) onto a regular grid of
     ///   [`RESAMPLE_STEP_THETA_DEG`] × [`RESAMPLE_STEP_PHI_DEG`], covering θ ∈ [90°, 180°] when
     ///   every measured direction lies in the lower hemisphere, θ ∈ [0°, 180°] otherwise. Type B:

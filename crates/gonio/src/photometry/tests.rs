@@ -311,18 +311,26 @@ fn vertical_ranges() {
     assert_eq!(th, vec![0.0, 45.0, 90.0]);
     let (_, _, th) = range("0 90 180", "1 1 1");
     assert_eq!(th, vec![0.0, 90.0, 180.0]);
-    // 0–60: zero row added at γ = 90 (warning)
+    // 0–60: nothing added (the map completes with zero, issue 9), a warning names the rule
     let (p, d, th) = range("0 30 60", "3 2 1");
-    assert_eq!(th, vec![90.0, 120.0, 150.0, 180.0]);
-    assert_eq!(d.values(), &[0.0, 1.0, 2.0, 3.0]);
-    assert!(has_warning(&p, "zero intensity is added at γ = 90°"));
-    // 100–170: zero rows at 90 and 180
+    assert_eq!(th, vec![120.0, 150.0, 180.0]);
+    assert_eq!(d.values(), &[1.0, 2.0, 3.0]);
+    assert!(has_warning(&p, "do not span 0–90°"));
+    assert!(has_warning(
+        &p,
+        "no light is assumed outside the measured range"
+    ));
     let (_, d, th) = range("100 170", "2 1");
-    assert_eq!(th, vec![0.0, 10.0, 80.0, 90.0]);
-    assert_eq!(d.values(), &[0.0, 1.0, 2.0, 0.0]);
-    // 20–120: zero rows at 0 and 180
+    assert_eq!(th, vec![10.0, 80.0]);
+    assert_eq!(d.values(), &[1.0, 2.0]);
     let (_, _, th) = range("20 120", "1 1");
-    assert_eq!(th, vec![0.0, 60.0, 160.0, 180.0]);
+    assert_eq!(th, vec![60.0, 160.0]);
+    // ends within 1e-6° of 0, 90, 180 are there (no warning)
+    let (p, _, th) = range("0 45 90.0000001", "1 1 1");
+    assert_eq!(th, vec![90.0, 135.0, 180.0]);
+    assert!(!has_warning(&p, "do not span"));
+    let (_, _, th) = range("89.9999999 135 179.9999999", "1 1 1");
+    assert_eq!(th, vec![0.0, 45.0, 90.0]);
     // a single vertical angle is an error
     let e = ies(&ies_c("0", "0", "1")).unwrap_err();
     assert!(e.message.contains("two vertical angles"), "{e}");
@@ -808,7 +816,10 @@ fn tilt_factor_zero_is_kept_and_leaves_no_light() {
 
 #[test]
 fn repeated_warnings_are_aggregated_with_a_count() {
-    let orphans = "[MORE] orphan\n".repeat(200_000);
+    // As many orphan lines as the header may hold (MAX_HEADER_LINES, with the first line and
+    // the [TEST] line).
+    let n = MAX_HEADER_LINES - 2;
+    let orphans = "[MORE] orphan\n".repeat(n);
     let text = ies_c("0 90", "0", "5 1").replacen("[TEST] t\n", &format!("{orphans}[TEST] t\n"), 1);
     let p = ies(&text).unwrap();
     let more: Vec<&Warning> = p
@@ -824,12 +835,20 @@ fn repeated_warnings_are_aggregated_with_a_count() {
     );
     assert_eq!(more[0].line, 2);
     assert!(
-        more[0]
-            .message
-            .contains("(and 199999 more like it, the last at line 200001)"),
+        more[0].message.contains(&format!(
+            "(and {} more like it, the last at line {})",
+            n - 1,
+            n + 1
+        )),
         "{}",
         more[0].message
     );
+    // The issue's 200,000 orphan lines: a header that long is refused with one located error.
+    let orphans = "[MORE] orphan\n".repeat(200_000);
+    let text = ies_c("0 90", "0", "5 1").replacen("[TEST] t\n", &format!("{orphans}[TEST] t\n"), 1);
+    let e = ies(&text).unwrap_err();
+    assert!(e.message.contains("no `TILT=` line"), "{e}");
+    assert_eq!(e.line, MAX_HEADER_LINES + 2);
 }
 
 #[test]

@@ -39,6 +39,11 @@ fn radius_azimuth<T: Lane>(x: &[T; L], y: &[T; L], z: &[T; L]) -> ([T; L], [T; L
             T::ONE - z[l]
         };
         xr[l] = r2.clamp(T::ZERO, T::TWO).sqrt();
+        if x[l] == T::ZERO && y[l] == T::ZERO {
+            // The poles read meridian 0 (φ = 0), whatever the signs of the zeros.
+            p[l] = T::ZERO;
+            continue;
+        }
         let mut phi = y[l].atan2(x[l]);
         phi = if phi < T::ZERO { phi + c(TAU) } else { phi };
         p[l] = if phi >= c(TAU) { T::ZERO } else { phi };
@@ -206,6 +211,12 @@ impl HdsCore {
             ox[l] = s * cp;
             oy[l] = s * sp;
             oz[l] = T::ONE - r2;
+            if ox[l] == T::ZERO && oy[l] == T::ZERO {
+                // A pole: `density` reads meridian 0 there (φ = 0): parallel 0 at the north
+                // pole, the last parallel at the south pole (the rim of the Lambert disk).
+                let j = if oz[l] > T::ZERO { 0 } else { n - 1 };
+                od[l] = c::<T>(self.d[j]).max(T::ZERO);
+            }
         }
     }
 
@@ -241,6 +252,10 @@ impl HdsCore {
             let ra = a0[l] + t[l] * (a1[l] - a0[l]);
             let rb = b0[l] + t[l] * (b1[l] - b0[l]);
             out[l] = ((T::ONE - eps[l]) * ra + eps[l] * rb).max(T::ZERO);
+            if xr[l].to_f64() > self.x[n - 1] * (1.0 + 1e-12) {
+                // Beyond the zone the map covers: no light (`HdsCore::density`).
+                out[l] = T::ZERO;
+            }
         }
     }
 

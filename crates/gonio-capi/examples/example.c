@@ -1,0 +1,241 @@
+/* gonio C example: read photometric files, sample them with every method, check that
+ * pdf(sample(u)) equals the sample's pdf and that invert(sample(u)) == u, and exercise the error
+ * paths (NULL pointers, a missing file, a malformed file, bad enumeration values).
+ *
+ * Build (see scripts/test-c.sh and docs/C_API.md):
+ *   cc -std=c11 -Wall -Wextra -I crates/gonio-capi/include example.c \
+ *      target/release/libgonio_capi.a -lpthread -ldl -lm -o example
+ * Run:  ./example FILE.ies [FILE.ldt ...]      exit status 0 when every check passes.
+ */
+#include "gonio.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int failures = 0;
+
+#define CHECK(cond, ...)                                     \
+    do {                                                     \
+        if (!(cond)) {                                       \
+            fprintf(stderr, "FAIL %s:%d: ", __FILE__, __LINE__); \
+            fprintf(stderr, __VA_ARGS__);                    \
+            fprintf(stderr, "\n");                           \
+            failures++;                                      \
+        }                                                    \
+    } while (0)
+
+/* A small deterministic generator (splitmix64) for points of the unit square. */
+static uint64_t rng_state = 0x9e3779b97f4a7c15ull;
+static double next_unit(void) {
+    uint64_t z = (rng_state += 0x9e3779b97f4a7c15ull);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    z ^= z >> 31;
+    return (double)(z >> 11) * (1.0 / 9007199254740992.0);
+}
+
+#define N 2048
+/* Largest accepted |pdf(sample(u)) - pdf| / pdf and max |invert(sample(u)) - u| (the tolerance of
+ * the library's own round-trip check). */
+#define PDF_REL_TOL 1e-9
+#define ROUND_TRIP_TOL 1e-8
+
+static void check_sampler(const char *path, const GonioSampler *s) {
+    static double u[2 * N], dirs[3 * N], pdfs[N], pdf_again[N], uv[2 * N];
+    static double su[N], sv[N], x[N], y[N], z[N], spdf[N];
+    static float uf[2 * N], dirsf[3 * N], pdfsf[N];
+    const char *method = gonio_sampler_method(s);
+    for (int i = 0; i < 2 * N; i++) u[i] = next_unit();
+
+    /* Batch, array of structs, double. */
+    CHECK(gonio_sample_batch(s, u, N, dirs, pdfs) == GONIO_OK, "%s", gonio_last_error_message());
+    CHECK(gonio_pdf_batch(s, dirs, N, pdf_again) == GONIO_OK, "%s", gonio_last_error_message());
+    int has_inverse = gonio_invert_batch(s, dirs, N, uv) == GONIO_OK;
+    if (!has_inverse)
+        CHECK(strcmp(method, "rejection") == 0, "%s: invert failed: %s", method,
+              gonio_last_error_message());
+    double worst_pdf = 0, worst_uv = 0;
+    int tested = 0;
+    for (int i = 0; i < N; i++) {
+        const double *d = dirs + 3 * i;
+        double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        CHECK(fabs(len - 1.0) < 1e-12, "%s: sample %d is not a unit vector (%g)", method, i, len);
+        double e = fabs(pdf_again[i] - pdfs[i]) / (pdfs[i] > 0 ? pdfs[i] : 1.0);
+        if (e > worst_pdf) worst_pdf = e;
+        if (has_inverse && pdfs[i] > 0) {
+            double du = fabs(uv[2 * i] - u[2 * i]), dv = fabs(uv[2 * i + 1] - u[2 * i + 1]);
+            double m = du > dv ? du : dv;
+            if (!(m <= worst_uv)) worst_uv = m; /* NaN counts as worst */
+            tested++;
+        }
+    }
+    CHECK(worst_pdf <= PDF_REL_TOL, "%s: pdf(sample(u)) differs by %g (relative)", method,
+          worst_pdf);
+    CHECK(!has_inverse || worst_uv <= ROUND_TRIP_TOL, "%s: round trip off by %g", method,
+          worst_uv);
+
+    /* One point at a time agrees with the batch. */
+    GonioSample one;
+    CHECK(gonio_sample(s, u[0], u[1], &one) == GONIO_OK, "%s", gonio_last_error_message());
+    /* The batch path may use SIMD and FMA: equal up to round-off, not bit for bit. */
+    CHECK(fabs(one.direction[0] - dirs[0]) <= 1e-14 && fabs(one.direction[1] - dirs[1]) <= 1e-14 &&
+              fabs(one.direction[2] - dirs[2]) <= 1e-14 && fabs(one.pdf - pdfs[0]) <= 1e-13 * pdfs[0],
+          "%s: gonio_sample differs from the batch", method);
+    double p1;
+    CHECK(gonio_pdf(s, dirs[0], dirs[1], dirs[2], &p1) == GONIO_OK &&
+              fabs(p1 - pdf_again[0]) <= 1e-13 * pdf_again[0],
+          "%s: gonio_pdf differs from the batch", method);
+
+    /* Structure of arrays, double: the same numbers. */
+    for (int i = 0; i < N; i++) {
+        su[i] = u[2 * i];
+        sv[i] = u[2 * i + 1];
+    }
+    CHECK(gonio_sample_batch_soa(s, su, sv, N, x, y, z, spdf) == GONIO_OK, "%s",
+          gonio_last_error_message());
+    int same = 1;
+    for (int i = 0; i < N; i++)
+        same &= x[i] == dirs[3 * i] && y[i] == dirs[3 * i + 1] && z[i] == dirs[3 * i + 2] &&
+                spdf[i] == pdfs[i];
+    CHECK(same, "%s: SoA and AoS batches differ", method);
+
+    /* Float: the double results rounded. */
+    for (int i = 0; i < 2 * N; i++) uf[i] = (float)u[i];
+    CHECK(gonio_sample_batch_f32(s, uf, N, dirsf, pdfsf) == GONIO_OK, "%s",
+          gonio_last_error_message());
+    GonioSample fs;
+    CHECK(gonio_sample(s, (double)uf[0], (double)uf[1], &fs) == GONIO_OK &&
+              fabs(dirsf[0] - fs.direction[0]) <= 1e-7 && fabs(pdfsf[0] - fs.pdf) <= 1e-6 * fs.pdf,
+          "%s: the float batch is not the rounded double result", method);
+
+    double lo, hi;
+    int st = gonio_sampler_ratio_bound(s, &lo, &hi);
+    if (st == GONIO_OK)
+        printf("  %-18s pdf(sample(u)) rel. error %.1e, round trip %.1e (%d points), "
+               "pdf/target in [%.4f, %.4f]\n",
+               method, worst_pdf, worst_uv, tested, lo, hi);
+    else
+        printf("  %-18s pdf(sample(u)) rel. error %.1e, round trip %.1e (%d points), no bound\n",
+               method, worst_pdf, worst_uv, tested);
+    (void)path;
+}
+
+static void check_file(const char *path) {
+    GonioDiagram *d = NULL;
+    if (gonio_diagram_read_path(path, GONIO_FORMAT_AUTO, &d) != GONIO_OK) {
+        CHECK(0, "cannot read %s: %s", path, gonio_last_error_message());
+        return;
+    }
+    double flux = 0;
+    size_t nw = 0;
+    CHECK(gonio_diagram_flux(d, &flux) == GONIO_OK && flux > 0, "flux %g", flux);
+    CHECK(gonio_diagram_warning_count(d, &nw) == GONIO_OK, "warning count");
+    printf("%s: flux %.6g lm, %zu warnings\n", path, flux, nw);
+    for (size_t i = 0; i < nw; i++) {
+        const char *w = NULL;
+        CHECK(gonio_diagram_warning(d, i, &w) == GONIO_OK && w != NULL, "warning %zu", i);
+        printf("  %s\n", w);
+    }
+
+    static const GonioMethod methods[] = {GONIO_METHOD_HDS, GONIO_METHOD_PIECEWISE_CONSTANT,
+                                          GONIO_METHOD_BILINEAR, GONIO_METHOD_REJECTION,
+                                          GONIO_METHOD_UNIFORM};
+    for (size_t m = 0; m < sizeof methods / sizeof methods[0]; m++) {
+        GonioSampler *s = NULL;
+        if (gonio_sampler_build(d, methods[m], GONIO_DOMAIN_AUTO, &s) != GONIO_OK) {
+            /* Rejection may refuse a very peaked distribution; that is an answer, not a bug. */
+            printf("  method %d not built: %s\n", (int)methods[m], gonio_last_error_message());
+            CHECK(methods[m] == GONIO_METHOD_REJECTION, "build failed");
+            continue;
+        }
+        /* The sampler does not borrow the diagram: free the diagram first for the HDS map. */
+        check_sampler(path, s);
+        gonio_sampler_free(s);
+    }
+    gonio_diagram_free(d);
+}
+
+/* Every error path answers with a status and a message, never a crash. */
+static void check_errors(const char *good_path) {
+    GonioDiagram *d = NULL;
+    GonioSampler *s = NULL;
+    double x;
+    GonioSample smp;
+
+    CHECK(gonio_diagram_read_path(NULL, GONIO_FORMAT_AUTO, &d) == GONIO_ERR_NULL_POINTER,
+          "NULL path");
+    CHECK(strstr(gonio_last_error_message(), "path") != NULL, "message names the argument: %s",
+          gonio_last_error_message());
+    CHECK(gonio_diagram_read_path(good_path, GONIO_FORMAT_AUTO, NULL) == GONIO_ERR_NULL_POINTER,
+          "NULL out");
+    CHECK(gonio_diagram_read_path("/nonexistent/lamp.ies", GONIO_FORMAT_AUTO, &d) == GONIO_ERR_IO,
+          "missing file");
+    CHECK(strstr(gonio_last_error_message(), "/nonexistent/lamp.ies") != NULL, "names the file");
+    CHECK(d == NULL, "no handle on failure");
+    CHECK(gonio_diagram_read_path(good_path, 42, &d) == GONIO_ERR_INVALID_ARGUMENT, "format 42");
+
+    /* A malformed file in memory: the message is FILE:LINE:COLUMN as the CLI prints it. */
+    static const char bad[] = "IESNA:LM-63-2002\nTILT=NONE\n1 1000 1 3 1 1 2 0 0 0\n1 1 100\n"
+                              "0 45 x\n0\n10 20 30\n";
+    CHECK(gonio_diagram_read_memory((const uint8_t *)bad, sizeof bad - 1, GONIO_FORMAT_IES,
+                                    "bad.ies", &d) == GONIO_ERR_PARSE,
+          "malformed IES accepted");
+    CHECK(strncmp(gonio_last_error_message(), "bad.ies:5:", 10) == 0,
+          "located message, got: %s", gonio_last_error_message());
+    printf("malformed file: %s\n", gonio_last_error_message());
+    CHECK(gonio_diagram_read_memory(NULL, 3, GONIO_FORMAT_IES, NULL, &d) == GONIO_ERR_NULL_POINTER,
+          "NULL data");
+    CHECK(gonio_diagram_read_memory((const uint8_t *)bad, 3, GONIO_FORMAT_AUTO, NULL, &d) ==
+              GONIO_ERR_INVALID_ARGUMENT,
+          "AUTO format in memory");
+
+    CHECK(gonio_sampler_build(NULL, GONIO_METHOD_HDS, GONIO_DOMAIN_AUTO, &s) ==
+              GONIO_ERR_NULL_POINTER,
+          "NULL diagram");
+    CHECK(gonio_diagram_read_path(good_path, GONIO_FORMAT_AUTO, &d) == GONIO_OK, "%s",
+          gonio_last_error_message());
+    CHECK(gonio_sampler_build(d, 99, GONIO_DOMAIN_AUTO, &s) == GONIO_ERR_INVALID_ARGUMENT,
+          "method 99");
+    CHECK(gonio_sampler_build(d, GONIO_METHOD_HDS, 7, &s) == GONIO_ERR_INVALID_ARGUMENT,
+          "domain 7");
+    CHECK(gonio_sampler_build(d, GONIO_METHOD_HDS, GONIO_DOMAIN_AUTO, NULL) ==
+              GONIO_ERR_NULL_POINTER,
+          "NULL out");
+    CHECK(gonio_sampler_build(d, GONIO_METHOD_HDS, GONIO_DOMAIN_AUTO, &s) == GONIO_OK, "%s",
+          gonio_last_error_message());
+    gonio_diagram_free(d); /* the sampler stays valid */
+
+    CHECK(gonio_sample(NULL, 0.5, 0.5, &smp) == GONIO_ERR_NULL_POINTER, "NULL sampler");
+    CHECK(gonio_sample(s, 0.5, 0.5, NULL) == GONIO_ERR_NULL_POINTER, "NULL out");
+    CHECK(gonio_pdf(s, 0, 0, 0, &x) == GONIO_ERR_INVALID_ARGUMENT, "zero direction");
+    CHECK(gonio_pdf(s, NAN, 0, 1, &x) == GONIO_ERR_INVALID_ARGUMENT, "NaN direction");
+    CHECK(gonio_invert(s, 0, 0, 1, &x, NULL) == GONIO_ERR_NULL_POINTER, "NULL v");
+    CHECK(gonio_sample_batch(s, NULL, 4, &x, &x) == GONIO_ERR_NULL_POINTER, "NULL batch input");
+    CHECK(gonio_pdf_batch(s, &x, SIZE_MAX / 2, &x) == GONIO_ERR_INVALID_ARGUMENT, "huge n");
+    double dirs[6] = {0, 0, 1, 0, 0, 0}, out[2];
+    CHECK(gonio_pdf_batch(s, dirs, 2, out) == GONIO_ERR_INVALID_ARGUMENT, "zero direction #1");
+    CHECK(strstr(gonio_last_error_message(), "#1") != NULL, "names the index: %s",
+          gonio_last_error_message());
+    CHECK(gonio_sampler_method(NULL) == NULL, "method of NULL");
+    gonio_sampler_free(s);
+    gonio_sampler_free(NULL);
+    gonio_diagram_free(NULL);
+}
+
+int main(int argc, char **argv) {
+    if (argc < 2) {
+        fprintf(stderr, "usage: %s FILE.ies|FILE.ldt ...\n", argv[0]);
+        return 2;
+    }
+    printf("gonio %s\n", gonio_version());
+    for (int i = 1; i < argc; i++) check_file(argv[i]);
+    check_errors(argv[1]);
+    if (failures) {
+        fprintf(stderr, "%d check(s) failed\n", failures);
+        return 1;
+    }
+    printf("C example: all checks passed\n");
+    return 0;
+}

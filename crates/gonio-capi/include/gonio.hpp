@@ -1,0 +1,131 @@
+// gonio.hpp: a header-only C++17 RAII wrapper over the C ABI in gonio.h (docs/C_API.md).
+// Failures throw gonio::Error carrying the status code and the library's message.
+// SPDX-License-Identifier: MIT OR Apache-2.0
+#ifndef GONIO_HPP
+#define GONIO_HPP
+
+#include "gonio.h"
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace gonio {
+
+// A failed call: what() is gonio_last_error_message() at the time of the failure.
+class Error : public std::runtime_error {
+  public:
+    Error(GonioStatus status, const char *message) : std::runtime_error(message), status_(status) {}
+    GonioStatus status() const noexcept { return status_; }
+
+  private:
+    GonioStatus status_;
+};
+
+inline void check(GonioStatus status) {
+    if (status != GONIO_OK) throw Error(status, gonio_last_error_message());
+}
+
+using Vec3 = std::array<double, 3>;
+
+// One sample: a unit direction (gonio's frame) and the sampler's exact density there (per sr).
+struct Sample {
+    Vec3 direction;
+    double pdf;
+};
+
+// A sampler of any method and domain. Movable, not copyable; shareable between threads by
+// reference (every member function is const and thread-safe).
+class Sampler {
+  public:
+    Sample sample(double u, double v) const {
+        GonioSample s;
+        check(gonio_sample(ptr_.get(), u, v, &s));
+        return {{s.direction[0], s.direction[1], s.direction[2]}, s.pdf};
+    }
+    double pdf(const Vec3 &d) const {
+        double p;
+        check(gonio_pdf(ptr_.get(), d[0], d[1], d[2], &p));
+        return p;
+    }
+    double target_pdf(const Vec3 &d) const {
+        double p;
+        check(gonio_target_pdf(ptr_.get(), d[0], d[1], d[2], &p));
+        return p;
+    }
+    std::array<double, 2> invert(const Vec3 &d) const {
+        std::array<double, 2> uv;
+        check(gonio_invert(ptr_.get(), d[0], d[1], d[2], &uv[0], &uv[1]));
+        return uv;
+    }
+    // Interleaved batch: uv holds n pairs; returns n directions (3n values) and fills pdfs.
+    std::vector<double> sample_batch(const std::vector<double> &uv, std::vector<double> &pdfs) const {
+        const size_t n = uv.size() / 2;
+        std::vector<double> dirs(3 * n);
+        pdfs.resize(n);
+        check(gonio_sample_batch(ptr_.get(), uv.data(), n, dirs.data(), pdfs.data()));
+        return dirs;
+    }
+    std::string method() const { return gonio_sampler_method(ptr_.get()); }
+    const GonioSampler *get() const noexcept { return ptr_.get(); }
+
+  private:
+    friend class Diagram;
+    explicit Sampler(GonioSampler *p) : ptr_(p) {}
+    struct Free {
+        void operator()(GonioSampler *p) const noexcept { gonio_sampler_free(p); }
+    };
+    std::unique_ptr<GonioSampler, Free> ptr_;
+};
+
+// A read photometric file or diagram. Movable, not copyable.
+class Diagram {
+  public:
+    static Diagram read(const std::string &path, GonioFormat format = GONIO_FORMAT_AUTO) {
+        GonioDiagram *d = nullptr;
+        check(gonio_diagram_read_path(path.c_str(), format, &d));
+        return Diagram(d);
+    }
+    static Diagram read_memory(const std::vector<std::uint8_t> &bytes, GonioFormat format,
+                               const std::string &name = "<memory>") {
+        GonioDiagram *d = nullptr;
+        check(gonio_diagram_read_memory(bytes.data(), bytes.size(), format, name.c_str(), &d));
+        return Diagram(d);
+    }
+    double flux() const {
+        double f;
+        check(gonio_diagram_flux(ptr_.get(), &f));
+        return f;
+    }
+    std::vector<std::string> warnings() const {
+        size_t n = 0;
+        check(gonio_diagram_warning_count(ptr_.get(), &n));
+        std::vector<std::string> out;
+        for (size_t i = 0; i < n; i++) {
+            const char *w = nullptr;
+            check(gonio_diagram_warning(ptr_.get(), i, &w));
+            out.emplace_back(w);
+        }
+        return out;
+    }
+    Sampler build(GonioMethod method = GONIO_METHOD_HDS,
+                  GonioDomain domain = GONIO_DOMAIN_AUTO) const {
+        GonioSampler *s = nullptr;
+        check(gonio_sampler_build(ptr_.get(), method, domain, &s));
+        return Sampler(s);
+    }
+
+  private:
+    explicit Diagram(GonioDiagram *p) : ptr_(p) {}
+    struct Free {
+        void operator()(GonioDiagram *p) const noexcept { gonio_diagram_free(p); }
+    };
+    std::unique_ptr<GonioDiagram, Free> ptr_;
+};
+
+}  // namespace gonio
+
+#endif  // GONIO_HPP

@@ -1,0 +1,446 @@
+//! The C ABI called from Rust, as a C caller would: statuses, messages, NULL pointers, batches
+//! against single points, and sharing a sampler between threads.
+
+use super::*;
+use std::ptr::{null, null_mut};
+
+/// A type C IES file: 3 vertical angles, 1 plane (rotationally symmetric), a downlight.
+const IES: &str =
+    "IESNA:LM-63-2002\nTILT=NONE\n1 1000 1 3 1 1 2 0 0 0\n1 1 100\n0 45 90\n0\n100 60 0\n";
+
+fn last_error() -> String {
+    unsafe { CStr::from_ptr(gonio_last_error_message()) }
+        .to_str()
+        .unwrap()
+        .to_string()
+}
+
+fn read_ies(text: &str, name: &CStr) -> (GonioStatus, *mut GonioDiagram) {
+    let mut d = null_mut();
+    let st = unsafe {
+        gonio_diagram_read_memory(
+            text.as_ptr(),
+            text.len(),
+            GONIO_FORMAT_IES,
+            name.as_ptr(),
+            &mut d,
+        )
+    };
+    (st, d)
+}
+
+fn build(d: *const GonioDiagram, method: GonioMethod) -> *mut GonioSampler {
+    let mut s = null_mut();
+    let st = unsafe { gonio_sampler_build(d, method, GONIO_DOMAIN_AUTO, &mut s) };
+    assert_eq!(st, GONIO_OK, "{}", last_error());
+    s
+}
+
+#[test]
+fn reads_builds_samples_and_inverts() {
+    let (st, d) = read_ies(IES, c"down.ies");
+    assert_eq!(st, GONIO_OK, "{}", last_error());
+    let mut flux = 0.0;
+    assert_eq!(unsafe { gonio_diagram_flux(d, &mut flux) }, GONIO_OK);
+    let want = Diagram::from_degrees(&[90.0, 135.0, 180.0], &[0.0], &[vec![0.0, 60.0, 100.0]])
+        .unwrap()
+        .integral();
+    assert!((flux - want).abs() <= 1e-12 * want, "{flux} vs {want}");
+    let mut dom = -1;
+    assert_eq!(unsafe { gonio_diagram_domain(d, &mut dom) }, GONIO_OK);
+    assert_eq!(dom, GONIO_DOMAIN_SPHERE, "photometric files get the sphere");
+
+    let s = build(d, GONIO_METHOD_HDS);
+    unsafe { gonio_diagram_free(d) }; // the sampler does not borrow the diagram
+    let mut smp = GonioSample::default();
+    assert_eq!(unsafe { gonio_sample(s, 0.3, 0.6, &mut smp) }, GONIO_OK);
+    let [x, y, z] = smp.direction;
+    let mut pdf = 0.0;
+    assert_eq!(unsafe { gonio_pdf(s, x, y, z, &mut pdf) }, GONIO_OK);
+    assert!((pdf - smp.pdf).abs() <= 1e-12 * smp.pdf && smp.pdf > 0.0);
+    // The direction may be given unnormalised.
+    let mut pdf2 = 0.0;
+    assert_eq!(
+        unsafe { gonio_pdf(s, 3.0 * x, 3.0 * y, 3.0 * z, &mut pdf2) },
+        GONIO_OK
+    );
+    assert!((pdf2 - pdf).abs() <= 1e-12 * pdf);
+    let (mut u, mut v) = (0.0, 0.0);
+    assert_eq!(
+        unsafe { gonio_invert(s, x, y, z, &mut u, &mut v) },
+        GONIO_OK
+    );
+    assert!(
+        (u - 0.3).abs() < 1e-9 && (v - 0.6).abs() < 1e-9,
+        "({u}, {v})"
+    );
+    // Straight up, this downlight has density 0: in the domain, but without preimage; a batch
+    // writes NaN there and goes on.
+    assert_eq!(
+        unsafe { gonio_invert(s, 0.0, 0.0, 1.0, &mut u, &mut v) },
+        GONIO_ERR_ZERO_DENSITY
+    );
+    assert!(last_error().contains("density is 0"), "{}", last_error());
+    let dirs = [0.0, 0.0, 1.0, x, y, z];
+    let mut uv = [0.0; 4];
+    assert_eq!(
+        unsafe { gonio_invert_batch(s, dirs.as_ptr(), 2, uv.as_mut_ptr()) },
+        GONIO_OK
+    );
+    assert!(uv[0].is_nan() && uv[1].is_nan(), "{uv:?}");
+    assert!(
+        (uv[2] - 0.3).abs() < 1e-9 && (uv[3] - 0.6).abs() < 1e-9,
+        "{uv:?}"
+    );
+    let mut t = 0.0;
+    assert_eq!(unsafe { gonio_target_pdf(s, x, y, z, &mut t) }, GONIO_OK);
+    assert!(t > 0.0);
+    let m = unsafe { CStr::from_ptr(gonio_sampler_method(s)) };
+    assert_eq!(m.to_str().unwrap(), "hds");
+    // The HDS map states its guaranteed pdf/target range, and the target's power is the flux.
+    let (mut lo, mut hi, mut power) = (0.0, 0.0, 0.0);
+    assert_eq!(
+        unsafe { gonio_sampler_ratio_bound(s, &mut lo, &mut hi) },
+        GONIO_OK
+    );
+    assert!(
+        lo > 0.0 && lo <= 1.0 && hi >= 1.0 && hi.is_finite(),
+        "[{lo}, {hi}]"
+    );
+    let ratio = pdf / t;
+    assert!(
+        ratio >= lo * (1.0 - 1e-12) && ratio <= hi * (1.0 + 1e-12),
+        "{ratio} outside [{lo}, {hi}]"
+    );
+    assert_eq!(
+        unsafe { gonio_sampler_target_power(s, &mut power) },
+        GONIO_OK
+    );
+    assert!((power - want).abs() <= 1e-9 * want, "{power} vs {want}");
+    unsafe { gonio_sampler_free(s) };
+}
+
+#[test]
+fn options_reach_the_factory() {
+    let (_, d) = read_ies(IES, c"down.ies");
+    let mut o = GonioBuildOptions {
+        tolerance: 1.0,
+        resolution: 1,
+        seed: 1,
+        sphere_layout: 9,
+    };
+    assert_eq!(unsafe { gonio_build_options_default(&mut o) }, GONIO_OK);
+    assert_eq!(o.tolerance, 0.0);
+    assert_eq!(o.sphere_layout, GONIO_SPHERE_LAYOUT_SPLIT);
+    let mut s = null_mut();
+    // A resolution the piecewise-constant method refuses shows that the option arrives.
+    o.resolution = usize::MAX;
+    let st = unsafe { gonio_sampler_build_with(d, GONIO_METHOD_PIECEWISE_CONSTANT, 0, &o, &mut s) };
+    assert_eq!(st, GONIO_ERR_BUILD, "{}", last_error());
+    assert!(last_error().contains("resolution"), "{}", last_error());
+    o.resolution = 0;
+    o.tolerance = 2.0;
+    let st = unsafe { gonio_sampler_build_with(d, GONIO_METHOD_HDS, 0, &o, &mut s) };
+    assert_eq!(st, GONIO_ERR_BUILD);
+    o.tolerance = 0.0;
+    o.sphere_layout = 5;
+    let st = unsafe { gonio_sampler_build_with(d, GONIO_METHOD_HDS, 0, &o, &mut s) };
+    assert_eq!(st, GONIO_ERR_INVALID_ARGUMENT);
+    // The Lambert layout needs a diagram on both sides of the horizon: refused, so it arrived.
+    o.sphere_layout = GONIO_SPHERE_LAYOUT_LAMBERT;
+    let st = unsafe { gonio_sampler_build_with(d, GONIO_METHOD_HDS, 0, &o, &mut s) };
+    assert_eq!(st, GONIO_ERR_BUILD);
+    assert!(last_error().contains("Lambert"), "{}", last_error());
+    o.sphere_layout = GONIO_SPHERE_LAYOUT_SPLIT;
+    let st = unsafe { gonio_sampler_build_with(d, GONIO_METHOD_HDS, 0, &o, &mut s) };
+    assert_eq!(st, GONIO_OK, "{}", last_error());
+    let st = unsafe { gonio_sampler_build_with(d, GONIO_METHOD_HDS, 0, null(), &mut s) };
+    assert_eq!(st, GONIO_ERR_NULL_POINTER);
+    // Uniform states no bound.
+    let u = build(d, GONIO_METHOD_UNIFORM);
+    let (mut lo, mut hi) = (0.0, 0.0);
+    assert_eq!(
+        unsafe { gonio_sampler_ratio_bound(u, &mut lo, &mut hi) },
+        GONIO_ERR_UNSUPPORTED
+    );
+    unsafe {
+        gonio_sampler_free(u);
+        gonio_sampler_free(s);
+        gonio_diagram_free(d);
+    }
+}
+
+#[test]
+fn batches_agree_with_single_points_in_every_layout() {
+    let (_, d) = read_ies(IES, c"down.ies");
+    let s = build(d, GONIO_METHOD_HDS);
+    let n = 300; // more than one chunk
+                 // Interior points: on the square's edges a sample may sit on a seam of the density.
+    let uv: Vec<f64> = (0..2 * n)
+        .map(|i| (((i * 7919) % 1000) as f64 + 0.5) / 1000.0)
+        .collect();
+    let (mut dirs, mut pdfs) = (vec![0.0; 3 * n], vec![0.0; n]);
+    assert_eq!(
+        unsafe { gonio_sample_batch(s, uv.as_ptr(), n, dirs.as_mut_ptr(), pdfs.as_mut_ptr()) },
+        GONIO_OK
+    );
+    for i in 0..n {
+        let mut one = GonioSample::default();
+        unsafe { gonio_sample(s, uv[2 * i], uv[2 * i + 1], &mut one) };
+        // The library's batch path may use SIMD and FMA: equal up to round-off, not bit for bit.
+        for c in 0..3 {
+            assert!(
+                (one.direction[c] - dirs[3 * i + c]).abs() <= 1e-14,
+                "point {i}"
+            );
+        }
+        assert!((one.pdf - pdfs[i]).abs() <= 1e-13 * pdfs[i], "point {i}");
+    }
+    // SoA, f64.
+    let (u, v): (Vec<f64>, Vec<f64>) = (0..n).map(|i| (uv[2 * i], uv[2 * i + 1])).unzip();
+    let (mut x, mut y, mut z, mut p) = (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    let st = unsafe {
+        gonio_sample_batch_soa(
+            s,
+            u.as_ptr(),
+            v.as_ptr(),
+            n,
+            x.as_mut_ptr(),
+            y.as_mut_ptr(),
+            z.as_mut_ptr(),
+            p.as_mut_ptr(),
+        )
+    };
+    assert_eq!(st, GONIO_OK);
+    for i in 0..n {
+        assert_eq!(
+            [x[i], y[i], z[i], p[i]],
+            [dirs[3 * i], dirs[3 * i + 1], dirs[3 * i + 2], pdfs[i]]
+        );
+    }
+    // pdf and invert batches, AoS and SoA.
+    let mut pb = vec![0.0; n];
+    assert_eq!(
+        unsafe { gonio_pdf_batch(s, dirs.as_ptr(), n, pb.as_mut_ptr()) },
+        GONIO_OK
+    );
+    let mut pb2 = vec![0.0; n];
+    let st =
+        unsafe { gonio_pdf_batch_soa(s, x.as_ptr(), y.as_ptr(), z.as_ptr(), n, pb2.as_mut_ptr()) };
+    assert_eq!(st, GONIO_OK);
+    assert_eq!(pb, pb2);
+    let mut back = vec![0.0; 2 * n];
+    assert_eq!(
+        unsafe { gonio_invert_batch(s, dirs.as_ptr(), n, back.as_mut_ptr()) },
+        GONIO_OK
+    );
+    for i in 0..n {
+        assert!(
+            (pb[i] - pdfs[i]).abs() <= 1e-12 * pdfs[i],
+            "point {i}: pdf {} of the sample, {} recomputed",
+            pdfs[i],
+            pb[i]
+        );
+        if pdfs[i] > 0.0 {
+            let e = (back[2 * i] - uv[2 * i])
+                .abs()
+                .max((back[2 * i + 1] - uv[2 * i + 1]).abs());
+            assert!(e < 1e-8, "point {i}: round trip off by {e}");
+        }
+    }
+    // f32: the f64 results rounded (inputs rounded first).
+    let uvf: Vec<f32> = uv.iter().map(|&a| a as f32).collect();
+    let (mut df, mut pf) = (vec![0f32; 3 * n], vec![0f32; n]);
+    let st =
+        unsafe { gonio_sample_batch_f32(s, uvf.as_ptr(), n, df.as_mut_ptr(), pf.as_mut_ptr()) };
+    assert_eq!(st, GONIO_OK);
+    for i in 0..n {
+        let mut one = GonioSample::default();
+        unsafe {
+            gonio_sample(
+                s,
+                f64::from(uvf[2 * i]),
+                f64::from(uvf[2 * i + 1]),
+                &mut one,
+            )
+        };
+        // The f64 result rounded (up to the batch path's own round-off).
+        assert!((f64::from(df[3 * i + 2]) - one.direction[2]).abs() <= 1e-7);
+        assert!((f64::from(pf[i]) - one.pdf).abs() <= 1e-6 * one.pdf);
+    }
+    let mut tf = vec![0f32; n];
+    assert_eq!(
+        unsafe { gonio_target_pdf_batch_f32(s, df.as_ptr(), n, tf.as_mut_ptr()) },
+        GONIO_OK
+    );
+    assert!(tf.iter().all(|t| t.is_finite() && *t >= 0.0));
+    // In place: the output may overwrite the input.
+    let mut inplace = dirs.clone();
+    let st = unsafe { gonio_pdf_batch(s, inplace.as_ptr(), n, inplace.as_mut_ptr()) };
+    assert_eq!(st, GONIO_OK);
+    assert_eq!(&inplace[..n], &pb[..]);
+    unsafe {
+        gonio_sampler_free(s);
+        gonio_diagram_free(d);
+    }
+}
+
+#[test]
+fn errors_are_codes_with_located_messages() {
+    let bad = "IESNA:LM-63-2002\nTILT=NONE\n1 1000 1 3 1 1 2 0 0 0\n1 1 100\n0 45 x\n0\n1 2 3\n";
+    let (st, d) = read_ies(bad, c"bad.ies");
+    assert_eq!(st, GONIO_ERR_PARSE);
+    assert!(d.is_null());
+    let msg = last_error();
+    assert!(msg.starts_with("bad.ies:5:6: "), "{msg}");
+
+    let mut out = null_mut();
+    let st = unsafe { gonio_diagram_read_path(null(), GONIO_FORMAT_AUTO, &mut out) };
+    assert_eq!(st, GONIO_ERR_NULL_POINTER);
+    assert!(last_error().contains("path"));
+    let st = unsafe { gonio_diagram_read_path(c"/nonexistent/x.ies".as_ptr(), 0, &mut out) };
+    assert_eq!(st, GONIO_ERR_IO);
+    assert!(
+        last_error().starts_with("cannot read /nonexistent/x.ies: "),
+        "{}",
+        last_error()
+    );
+    let st = unsafe { gonio_diagram_read_path(c"/dev/zero.ies".as_ptr(), 0, &mut out) };
+    assert_eq!(st, GONIO_ERR_IO, "{}", last_error());
+    let st = unsafe { gonio_diagram_read_path(c"lamp.txt".as_ptr(), 0, &mut out) };
+    assert_eq!(st, GONIO_ERR_INVALID_ARGUMENT);
+    assert!(last_error().contains("unknown input format `.txt`"));
+
+    let (_, d) = read_ies(IES, c"down.ies");
+    let mut s = null_mut();
+    assert_eq!(
+        unsafe { gonio_sampler_build(d, 5, 0, &mut s) },
+        GONIO_ERR_INVALID_ARGUMENT
+    );
+    assert_eq!(
+        unsafe { gonio_sampler_build(d, 0, 3, &mut s) },
+        GONIO_ERR_INVALID_ARGUMENT
+    );
+    // A hemisphere sampler for a diagram that lies below the horizon cannot be built.
+    let st =
+        unsafe { gonio_sampler_build(d, GONIO_METHOD_BILINEAR, GONIO_DOMAIN_HEMISPHERE, &mut s) };
+    assert_eq!(st, GONIO_ERR_BUILD);
+    assert!(
+        last_error().starts_with("down.ies: cannot build the bilinear sampler: "),
+        "{}",
+        last_error()
+    );
+    assert!(s.is_null());
+
+    let s = build(d, GONIO_METHOD_REJECTION);
+    let (mut u, mut v) = (0.0, 0.0);
+    assert_eq!(
+        unsafe { gonio_invert(s, 0.0, 0.0, -1.0, &mut u, &mut v) },
+        GONIO_ERR_UNSUPPORTED
+    );
+    let mut p = 0.0;
+    assert_eq!(
+        unsafe { gonio_pdf(s, 0.0, 0.0, 0.0, &mut p) },
+        GONIO_ERR_INVALID_ARGUMENT
+    );
+    assert_eq!(
+        unsafe { gonio_pdf(s, f64::NAN, 0.0, 1.0, &mut p) },
+        GONIO_ERR_INVALID_ARGUMENT
+    );
+    assert_eq!(
+        unsafe { gonio_pdf(null(), 0.0, 0.0, 1.0, &mut p) },
+        GONIO_ERR_NULL_POINTER
+    );
+    assert_eq!(
+        unsafe { gonio_pdf(s, 0.0, 0.0, 1.0, null_mut()) },
+        GONIO_ERR_NULL_POINTER
+    );
+    // Misaligned pointers are refused like NULL ones.
+    let buf = [0u8; 64];
+    let odd = buf.as_ptr().wrapping_add(1) as *mut f64;
+    assert_eq!(
+        unsafe { gonio_pdf(s, 0.0, 0.0, 1.0, odd) },
+        GONIO_ERR_NULL_POINTER
+    );
+    // Lengths whose byte size overflows are refused before anything is read.
+    let st =
+        unsafe { gonio_pdf_batch(s, odd.wrapping_sub(0).cast_const(), usize::MAX / 2, &mut p) };
+    assert_eq!(st, GONIO_ERR_NULL_POINTER);
+    let dirs = [0.0, 0.0, 1.0];
+    let st = unsafe { gonio_pdf_batch(s, dirs.as_ptr(), usize::MAX / 8, &mut p) };
+    assert_eq!(st, GONIO_ERR_INVALID_ARGUMENT);
+    // A zero direction inside a batch names its index.
+    let dirs = [0.0, 0.0, 1.0, 0.0, 0.0, 0.0];
+    let mut out = [0.0; 2];
+    let st = unsafe { gonio_pdf_batch(s, dirs.as_ptr(), 2, out.as_mut_ptr()) };
+    assert_eq!(st, GONIO_ERR_INVALID_ARGUMENT);
+    assert!(
+        last_error().starts_with("direction #1: "),
+        "{}",
+        last_error()
+    );
+    assert!(unsafe { gonio_sampler_method(null()) }.is_null());
+    unsafe {
+        gonio_sampler_free(s);
+        gonio_diagram_free(d);
+        gonio_sampler_free(null_mut());
+        gonio_diagram_free(null_mut());
+    }
+}
+
+#[test]
+fn a_panic_becomes_a_status_and_the_message_is_per_thread() {
+    let st = guard(|| panic!("boom"));
+    assert_eq!(st, GONIO_ERR_PANIC);
+    assert_eq!(last_error(), "internal error: boom");
+    // Another thread has its own (empty) message.
+    let other = std::thread::spawn(last_error).join().unwrap();
+    assert_eq!(other, "");
+    assert_eq!(last_error(), "internal error: boom");
+}
+
+/// A raw pointer that may cross threads (the ABI's promise that makes this sound is under test).
+#[derive(Clone, Copy)]
+struct Shared(*const GonioSampler);
+unsafe impl Send for Shared {}
+
+#[test]
+fn one_sampler_serves_many_threads() {
+    let (_, d) = read_ies(IES, c"down.ies");
+    let s = build(d, GONIO_METHOD_HDS);
+    let shared = Shared(s);
+    let handles: Vec<_> = (0..4)
+        .map(|t| {
+            std::thread::spawn(move || {
+                let s = shared;
+                let mut worst = 0.0f64;
+                for i in 0..500 {
+                    let (u, v) = (
+                        (i as f64 + 0.5) / 500.0,
+                        ((i * 37 + t * 11) % 500) as f64 / 500.0,
+                    );
+                    let mut smp = GonioSample::default();
+                    let mut uv = [0.0; 2];
+                    let [x, y, z] = unsafe {
+                        assert_eq!(gonio_sample(s.0, u, v, &mut smp), GONIO_OK);
+                        smp.direction
+                    };
+                    let st = unsafe { gonio_invert(s.0, x, y, z, &mut uv[0], &mut uv[1]) };
+                    assert_eq!(st, GONIO_OK);
+                    if smp.pdf > 0.0 {
+                        worst = worst.max((uv[0] - u).abs().max((uv[1] - v).abs()));
+                    }
+                }
+                worst
+            })
+        })
+        .collect();
+    for h in handles {
+        let worst = h.join().unwrap();
+        assert!(worst < 1e-8, "round trip off by {worst}");
+    }
+    unsafe {
+        gonio_sampler_free(s);
+        gonio_diagram_free(d);
+    }
+}

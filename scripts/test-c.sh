@@ -1,0 +1,62 @@
+#!/usr/bin/env bash
+# The C ABI from C and C++ (docs/C_API.md): builds crates/gonio-capi in release, compiles the C
+# example and the C++ RAII example with the system cc/c++ against include/gonio.h and the static
+# library, runs both on corpus files, then runs both again under valgrind (no error, no leak).
+# The corpus is $GONIO_CORPUS, else ../shared/data/photometry beside the repository.
+# Whatever cannot run on this machine (no compiler, no valgrind, no corpus) is reported as SKIPPED.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+corpus="${GONIO_CORPUS:-../shared/data/photometry}"
+if [ ! -d "$corpus/ies" ] || [ ! -d "$corpus/ldt" ]; then
+  echo "test-c: SKIPPED: corpus not found at $corpus (set GONIO_CORPUS)"
+  exit 77
+fi
+for tool in cc c++; do
+  if ! command -v "$tool" >/dev/null; then
+    echo "test-c: SKIPPED: no $tool on this machine"
+    exit 77
+  fi
+done
+
+cargo build --release --locked -p gonio-capi
+lib=target/release/libgonio_capi.a
+inc=crates/gonio-capi/include
+ex=crates/gonio-capi/examples
+out=target/c-examples
+mkdir -p "$out"
+# What a static Rust library needs from the system on Linux.
+libs=(-lpthread -ldl -lm)
+
+cc -std=c11 -O1 -g -Wall -Wextra -Werror -pedantic -I "$inc" "$ex/example.c" "$lib" "${libs[@]}" \
+  -o "$out/example_c"
+c++ -std=c++17 -O1 -g -Wall -Wextra -Werror -pedantic -I "$inc" "$ex/example.cpp" "$lib" \
+  "${libs[@]}" -pthread -o "$out/example_cpp"
+
+# A type C IES file with all 360° of planes, a quadrant-symmetric EULUMDAT file with two lamp sets,
+# and a type B IES file (resampled to type C by the library).
+files=(
+  "$corpus/ies/lm63_2002_lithonia_area_full_h0_360.ies"
+  "$corpus/ldt/isym4_two_lamp_sets_144x73.ldt"
+  "$corpus/ies/lm63_2002_lithonia_type_b_flood_quadrant.ies"
+)
+echo "== C example"
+"$out/example_c" "${files[@]}"
+echo "== C++ example"
+"$out/example_cpp" "${files[0]}"
+
+if command -v valgrind >/dev/null; then
+  # One file each (valgrind runs ~50x slower); any memory error or definite/indirect leak fails
+  # the run. "Possibly lost" blocks are not counted: they are the thread-local storage of the
+  # rayon pool's worker threads (the library builds tables in parallel), still running at exit.
+  vg=(valgrind --quiet --error-exitcode=1 --leak-check=full --show-leak-kinds=definite,indirect
+      --errors-for-leak-kinds=definite,indirect)
+  echo "== C example under valgrind"
+  "${vg[@]}" "$out/example_c" "${files[1]}" >/dev/null
+  echo "== C++ example under valgrind"
+  "${vg[@]}" "$out/example_cpp" "${files[1]}" >/dev/null
+  echo "test-c: valgrind found no error and no leak"
+else
+  echo "test-c: SKIPPED the valgrind runs: valgrind is not installed"
+fi
+echo "test-c: ok"
