@@ -625,6 +625,26 @@ fn invert_keeps_one_row_per_input_row() {
         err.contains("2 of 4 directions have no preimage") && err.contains("density is 0"),
         "{err}"
     );
+    // The mirror case (the issue's downlight): light only below, straight up has no preimage.
+    let down = dir.join("down.json");
+    std::fs::write(
+        &down,
+        r#"{"theta_deg": [0, 90, 180], "phi_deg": [0], "values": [[0, 0, 1]]}"#,
+    )
+    .unwrap();
+    let o = run(&["invert", s(&down), "--directions", s(&dirs)]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = String::from_utf8(o.stdout).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), 5, "{text}");
+    assert!(
+        lines[1].ends_with(",,") && lines[3].ends_with(",,"),
+        "{text}"
+    );
+    assert!(
+        !lines[2].ends_with(',') && !lines[4].ends_with(','),
+        "{text}"
+    );
     // pdf: one row per input row too, 0 there.
     let pdf = ok(&["pdf", s(&json), "--directions", s(&dirs)]);
     let (_, rows) = csv(&pdf);

@@ -51,10 +51,11 @@ class Diagram:
         (phi_deg[i], theta_deg[j]). Raises DiagramError."""
     @property
     def theta_deg(self) -> F64Array:
-        """Parallels θ in degrees from +z, shape (N,)."""
+        """Parallels θ in degrees from +z, shape (N,): the shortest decimals that convert back to
+        the stored radians (15.0, not 14.999999999999998), as ``to_json`` writes them."""
     @property
     def phi_deg(self) -> F64Array:
-        """Meridians φ in degrees from +x toward +y, shape (M,)."""
+        """Meridians φ in degrees from +x toward +y, shape (M,); shortest decimals as ``theta_deg``."""
     @property
     def values(self) -> F64Array:
         """Values, shape (M, N); candela for photometric files."""
