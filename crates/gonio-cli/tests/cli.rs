@@ -81,13 +81,13 @@ fn csv(text: &str) -> (Vec<String>, Vec<Vec<f64>>) {
     (header, rows)
 }
 
+#[path = "../../gonio/tests/common/corpus.rs"]
+mod corpus;
+
 /// The photometric corpus as the build script found it; tests that need it are ignored (and say
 /// so in the summary) when it is absent.
 fn corpus() -> PathBuf {
-    match option_env!("GONIO_CORPUS_DIR") {
-        Some(p) if Path::new(p).is_dir() => PathBuf::from(p),
-        other => panic!("the photometric corpus is not available (build found {other:?})"),
-    }
+    corpus::built_corpus_dir()
 }
 
 #[test]

@@ -32,6 +32,7 @@
 
 pub mod baselines;
 pub mod check;
+pub mod clock;
 pub mod decimal;
 pub mod diagram;
 pub mod error;

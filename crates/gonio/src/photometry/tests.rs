@@ -810,7 +810,7 @@ fn tilt_factor_zero_is_kept_and_leaves_no_light() {
     // No light: expanding to a diagram is a typed error (zero total power).
     assert!(matches!(
         p.to_diagram(),
-        Err(crate::Error::Diagram(crate::DiagramError::ZeroPower))
+        Err(crate::DiagramError::ZeroPower)
     ));
 }
 

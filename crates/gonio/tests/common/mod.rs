@@ -1,21 +1,12 @@
 //! Helpers shared by the integration tests.
 #![allow(dead_code)]
 
-use std::path::PathBuf;
-
-/// The photometric test corpus, as the build script found it (`$GONIO_CORPUS`, else
-/// `<workspace>/../shared/data/photometry`). Tests that need it carry
-/// `#[cfg_attr(not(gonio_corpus), ignore = "…")]`, so without the corpus they show as *ignored* in
-/// the test summary; when they do run, a corpus that has gone missing since the build fails them.
-pub fn corpus_dir() -> PathBuf {
-    match option_env!("GONIO_CORPUS_DIR") {
-        Some(p) if PathBuf::from(p).is_dir() => PathBuf::from(p),
-        other => panic!(
-            "the photometric corpus is not available (build found {other:?}); set GONIO_CORPUS \
-             and rebuild"
-        ),
-    }
-}
+#[path = "corpus.rs"]
+mod corpus;
+/// The corpus as the build found it (see `corpus.rs`): tests that call it are marked
+/// `#[cfg_attr(not(gonio_corpus), ignore = "…")]`.
+#[allow(unused_imports)]
+pub use corpus::{built_corpus_dir as corpus_dir, corpus_files};
 
 /// The azimuths (C angles, degrees) at which a stored plane at `c` appears after the symmetry
 /// expansion: itself and its mirror images (for a rotationally symmetric file, a few arbitrary
