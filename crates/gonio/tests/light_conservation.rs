@@ -576,8 +576,14 @@ fn the_square_edge_maps_to_the_end_of_the_lit_zone() {
         ],
     );
     let deg = std::f64::consts::PI / 180.0;
-    let cases: Vec<(&str, Map, Vec<(f64, f64)>)> = vec![
-        ("hemisphere dark beyond 60°", Map::of(&hemi), vec![(0.0, 60.0)]),
+    // (what, map, its lit θ zones in degrees)
+    type Case = (&'static str, Map, Vec<(f64, f64)>);
+    let cases: Vec<Case> = vec![
+        (
+            "hemisphere dark beyond 60°",
+            Map::of(&hemi),
+            vec![(0.0, 60.0)],
+        ),
         (
             "downlight dark in 90°–115°",
             Map::S(SphereMap::new(&down).unwrap()),
@@ -650,7 +656,11 @@ fn the_square_edge_maps_to_the_end_of_the_lit_zone() {
         }
         for k in 0..n {
             let d = [o[0][k], o[1][k], o[2][k]];
-            assert!(inside(d), "{what}: batch f64, u {:?} lands at {d:?}", edge[k]);
+            assert!(
+                inside(d),
+                "{what}: batch f64, u {:?} lands at {d:?}",
+                edge[k]
+            );
             // f32: within f32 round-off of the lit zone (1e-5 rad ≈ 6e-4°).
             let d32 = [o32[0][k] as f64, o32[1][k] as f64, o32[2][k] as f64];
             let (t, _) = spherical(d32);
