@@ -389,9 +389,13 @@ impl HdsCore {
         let d1 = (1.0 - eps) * da[j + 1] + eps * db[j + 1];
         let (x0, x1) = (self.x[j], self.x[j + 1]);
         let xr = solve_radius(x0, x1, d0, d1, w - ut(j)).min(x1);
-        let dens = d0 + (d1 - d0) * ((xr - x0) * self.inv_dx[j]);
         // M_E
         let dir = disk_to_sphere(xr, phi);
+        // The density at the radius the returned direction has (what `density` reads), not at xr:
+        // they differ by the lift's round-off, which a steep segment (a zero guard band) would
+        // turn into a visible disagreement between sample() and pdf().
+        let t = ((sphere_to_disk_radius(dir) - x0) * self.inv_dx[j]).clamp(0.0, 1.0);
+        let dens = d0 + (d1 - d0) * t;
         if dir[0] == 0.0 && dir[1] == 0.0 {
             // The pole: every meridian meets there, and `density` reads meridian 0 (φ = 0);
             // the sample carries that same value, so sample() and pdf() agree at (±0, ±0, 1).
