@@ -375,3 +375,53 @@ fn outside_the_domain() {
     );
     assert!(out[0].is_err() && out[1].is_err() && out[2].is_ok());
 }
+
+/// The split sphere's seam in the batch inverse (f64 and f32): directions just below the horizon
+/// invert to the lower map's rim, u → P_lower from below; rounding must not carry them to
+/// u ≥ P_lower, which `sample` sends to the upper map (its centre, the north pole, 90° away). The
+/// scalar inverse guards this; the batch paths in both precisions must too.
+#[test]
+fn split_seam_holds_in_both_precisions() {
+    let m = SphereMap::new(&example_luminaire()).unwrap();
+    let p_lower = m.lower_probability().expect("split layout");
+    let n = 720;
+    let mut d64 = [vec![0.0; n], vec![0.0; n], vec![0.0; n]];
+    for k in 0..n {
+        let phi = std::f64::consts::TAU * k as f64 / n as f64;
+        // z from -1e-30 to -1e-3: the rim of the lower map
+        let z = -(10f64).powf(-30.0 + 27.0 * (k % 10) as f64 / 9.0);
+        let s = (1.0 - z * z).sqrt();
+        d64[0][k] = s * phi.cos();
+        d64[1][k] = s * phi.sin();
+        d64[2][k] = z;
+    }
+    let d32: Vec<Vec<f32>> = d64
+        .iter()
+        .map(|c| c.iter().map(|&x| x as f32).collect())
+        .collect();
+    let pl32 = p_lower as f32;
+    for b in Backend::available() {
+        let w = m.inv64(b, &d64);
+        let w32 = m.inv32(b, &d32);
+        for k in 0..n {
+            assert!(
+                w[0][k] < p_lower,
+                "{b:?} f64: u = {} ≥ P_lower {p_lower}",
+                w[0][k]
+            );
+            assert!(
+                w32[0][k] < pl32,
+                "{b:?} f32: u = {} ≥ P_lower {pl32}",
+                w32[0][k]
+            );
+        }
+        let back = m.sample32(b, &w32[0], &w32[1]);
+        for k in 0..n {
+            assert!(
+                back[2][k] <= 1e-3,
+                "{b:?} f32: a direction below the horizon came back at z = {}",
+                back[2][k]
+            );
+        }
+    }
+}
