@@ -396,7 +396,6 @@ fn parse(
                         };
                         located(name, line, column, m)
                     }
-                    gonio::Error::Parse(p) => located(name, p.line, p.column, &p.message),
                     other => format!("{name}: invalid diagram: {other}"),
                 };
                 Failure::new(GONIO_ERR_PARSE, msg)

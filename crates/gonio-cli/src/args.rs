@@ -3,7 +3,7 @@
 //! does the rest with [`crate::load::load`] and [`crate::load::build_sampler`].
 
 use clap::{Args, ValueEnum};
-use gonio::baselines::Method;
+use gonio::Method;
 use std::path::PathBuf;
 
 /// What `gonio plot` draws.

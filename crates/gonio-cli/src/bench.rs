@@ -10,12 +10,13 @@
 //! meaningful on an otherwise idle machine.
 
 use anyhow::{Context, Result};
-use gonio::baselines::{Method, Rejection};
+use gonio::baselines::Rejection;
+use gonio::clock::{process_cpu_ns, thread_cpu_ns};
 use gonio::mapping::batch::{invert_soa_par, pdf_soa_par, sample_soa_par, SoaSampler};
 use gonio::mapping::simd::{Backend, BatchFloat};
 use gonio::sampler::sample_batch_par;
 use gonio::sequence::Halton;
-use gonio::{Diagram, Domain, HemisphereMap, Point2, Sample, Sampler, SphereMap, Vec3};
+use gonio::{Diagram, Domain, HemisphereMap, Method, Point2, Sample, Sampler, SphereMap, Vec3};
 use serde::Serialize;
 use std::fmt;
 use std::hint::black_box;
@@ -198,15 +199,7 @@ pub fn run_bench(
     let mut out = Vec::with_capacity(methods.len());
     for &method in methods {
         let t0 = Instant::now();
-        let built: Result<Box<dyn Sampler>, String> = match method {
-            Method::Hds if hemisphere => HemisphereMap::new(diagram)
-                .map(|s| Box::new(s) as Box<dyn Sampler>)
-                .map_err(|e| e.to_string()),
-            Method::Hds => SphereMap::new(diagram)
-                .map(|s| Box::new(s) as Box<dyn Sampler>)
-                .map_err(|e| e.to_string()),
-            m => m.build_baseline(diagram, domain).map_err(|e| e.to_string()),
-        };
+        let built = method.build(diagram, domain).map_err(|e| e.to_string());
         let build_ms = t0.elapsed().as_secs_f64() * 1e3;
         let sampler = match built {
             Ok(s) => s,
@@ -215,13 +208,10 @@ pub fn run_bench(
                 continue;
             }
         };
-        let acceptance = (method == Method::Rejection)
-            .then(|| {
-                Rejection::new(diagram, domain)
-                    .ok()
-                    .map(|r| r.acceptance_rate())
-            })
-            .flatten();
+        let acceptance = sampler
+            .as_any()
+            .and_then(|a| a.downcast_ref::<Rejection>())
+            .map(Rejection::acceptance_rate);
         out.push(measure(
             method,
             sampler.as_ref(),
@@ -240,7 +230,7 @@ pub fn run_bench(
         n_meridians: d.n_meridians(),
         domain: if hemisphere { "hemisphere" } else { "sphere" }.to_owned(),
         samples,
-        paper_table_floats: d.n_meridians() * d.n_parallels() + 2 * d.n_meridians() + 2,
+        paper_table_floats: gonio::mapping::paper_table_floats(d),
         machine: Machine {
             cpu_model: cpu_model(),
             logical_cores,
@@ -477,10 +467,10 @@ fn per_item_wall(repeats: usize, items: usize, mut f: impl FnMut()) -> (f64, f64
     f();
     let (wall, cpu): (Vec<f64>, Vec<f64>) = (0..repeats)
         .map(|_| {
-            let (c0, t0) = (cpu_ns(CLOCK_PROCESS_CPUTIME_ID), Instant::now());
+            let (c0, t0) = (process_cpu_ns(), Instant::now());
             f();
             let wall = t0.elapsed().as_nanos() as f64 / items as f64;
-            let cpu = match (c0, cpu_ns(CLOCK_PROCESS_CPUTIME_ID)) {
+            let cpu = match (c0, process_cpu_ns()) {
                 (Some(a), Some(b)) => b.saturating_sub(a) as f64 / items as f64,
                 _ => f64::NAN,
             };
@@ -488,37 +478,6 @@ fn per_item_wall(repeats: usize, items: usize, mut f: impl FnMut()) -> (f64, f64
         })
         .unzip();
     (median(wall), median(cpu))
-}
-
-const CLOCK_PROCESS_CPUTIME_ID: i32 = 2;
-const CLOCK_THREAD_CPUTIME_ID: i32 = 3;
-
-/// CPU time of the calling thread in nanoseconds.
-fn thread_cpu_ns() -> Option<u64> {
-    cpu_ns(CLOCK_THREAD_CPUTIME_ID)
-}
-
-/// `clock_gettime(clock)` in nanoseconds, for the CPU-time clocks.
-#[cfg(target_os = "linux")]
-fn cpu_ns(clock: i32) -> Option<u64> {
-    #[repr(C)]
-    struct Timespec {
-        sec: i64,
-        nsec: i64,
-    }
-    extern "C" {
-        fn clock_gettime(clock: i32, ts: *mut Timespec) -> i32;
-    }
-    let mut ts = Timespec { sec: 0, nsec: 0 };
-    // SAFETY: `ts` is a valid, writable `struct timespec` (two 64-bit fields on 64-bit Linux).
-    let rc = unsafe { clock_gettime(clock, &mut ts) };
-    (rc == 0 && cfg!(target_pointer_width = "64"))
-        .then(|| ts.sec as u64 * 1_000_000_000 + ts.nsec as u64)
-}
-
-#[cfg(not(target_os = "linux"))]
-fn cpu_ns(_clock: i32) -> Option<u64> {
-    None
 }
 
 fn cpu_model() -> Option<String> {

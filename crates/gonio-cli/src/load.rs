@@ -2,15 +2,12 @@
 //!
 //! * [`load`] reads a `.json` (native diagram), `.ies` or `.ldt` file (extension in any letter
 //!   case), or the special name [`EXAMPLE`] for the built-in luminaire;
-//! * [`build_sampler`] builds the sampler of a [`Method`] for what was loaded, on the domain
-//!   [`domain`] chooses;
-//! * [`build_hds`] builds the HDS map with its concrete type, for `info` and `check`.
+//! * [`build_sampler`] builds the sampler of a [`Method`] for what was loaded (through the
+//!   library's factory, [`Method::build`]), on the domain [`domain`] chooses.
 
 use crate::input::{read_regular, tame, TiltFiles, MAX_INPUT_BYTES};
 use anyhow::Context;
-use gonio::baselines::Method;
-use gonio::mapping::SphereLayout;
-use gonio::{Diagram, Domain, HemisphereMap, Sampler, SphereMap};
+use gonio::{BuildOptions, Diagram, Domain, Method, Sampler};
 use std::fmt;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -165,13 +162,6 @@ pub fn diagram_from_json(name: &str, text: &str) -> anyhow::Result<Diagram> {
             message: tame(strip_serde_location(&message)),
         }
         .into(),
-        gonio::Error::Parse(p) => LocatedError {
-            file: name.to_string(),
-            line: p.line,
-            column: p.column,
-            message: tame(&p.message),
-        }
-        .into(),
         other => anyhow::anyhow!("{name}: invalid diagram: {other}"),
     })
 }
@@ -212,118 +202,14 @@ fn load_photometry(
 }
 
 /// The domain of every sampler built for `loaded`: photometric input (IES, EULUMDAT, the example)
-/// always gets the whole sphere; a JSON diagram gets the upper hemisphere when its last parallel
-/// lies at θ ≤ 90°, the sphere otherwise.
+/// always gets the whole sphere; a JSON diagram gets the library's policy,
+/// [`Domain::for_diagram`] (the upper hemisphere when its last parallel lies at θ ≤ 90°, the
+/// sphere otherwise).
 pub fn domain(loaded: &Loaded) -> Domain {
-    let theta_max = *loaded
-        .diagram
-        .theta()
-        .last()
-        .expect("a diagram has parallels");
-    if loaded.kind.is_photometric() || theta_max > std::f64::consts::FRAC_PI_2 {
+    if loaded.kind.is_photometric() {
         Domain::Sphere
     } else {
-        Domain::Hemisphere
-    }
-}
-
-/// The HDS map, with its concrete type (for `info` and `check`, which need more than the
-/// [`Sampler`] trait offers).
-// One map per run: the size difference of the variants does not matter.
-#[allow(clippy::large_enum_variant)]
-#[derive(Debug, Clone)]
-pub enum Hds {
-    /// The hemisphere map (JSON diagrams within θ ≤ 90°).
-    Hemisphere(HemisphereMap),
-    /// The sphere map, split layout.
-    Sphere(SphereMap),
-}
-
-impl Hds {
-    /// Guaranteed (min, max) of pdf / target_pdf.
-    pub fn ratio_bound(&self) -> (f64, f64) {
-        match self {
-            Hds::Hemisphere(m) => m.ratio_bound(),
-            Hds::Sphere(m) => m.ratio_bound(),
-        }
-    }
-    /// What refinement to `--tolerance` asked, reached and cost (`None` without a tolerance).
-    pub fn refinement(&self) -> Option<&gonio::mapping::Refinement> {
-        match self {
-            Hds::Hemisphere(m) => m.refinement(),
-            Hds::Sphere(m) => m.refinement(),
-        }
-    }
-    /// The data's integral over the domain (zero outside its measured range), in diagram units ×
-    /// sr (lumens for candela): the map's target power.
-    pub fn target_power(&self) -> f64 {
-        match self {
-            Hds::Hemisphere(m) => m.target_power(),
-            Hds::Sphere(m) => m.target_power(),
-        }
-    }
-    /// The power of the completed diagram the map samples (data plus zero guard bands).
-    pub fn completed_power(&self) -> f64 {
-        match self {
-            Hds::Hemisphere(m) => m.completed_power(),
-            Hds::Sphere(m) => m.completed_power(),
-        }
-    }
-    /// Map power / data power (1 + the zero guard bands' share).
-    pub fn power_ratio(&self) -> f64 {
-        match self {
-            Hds::Hemisphere(m) => m.power_ratio(),
-            Hds::Sphere(m) => m.power_ratio(),
-        }
-    }
-    /// The map's target power divided by the data's largest value (always finite).
-    pub fn normalised_target_power(&self) -> f64 {
-        match self {
-            Hds::Hemisphere(m) => m.normalised_target_power(),
-            Hds::Sphere(m) => m.normalised_target_power(),
-        }
-    }
-    /// The data's largest value.
-    pub fn value_scale(&self) -> f64 {
-        match self {
-            Hds::Hemisphere(m) => m.value_scale(),
-            Hds::Sphere(m) => m.value_scale(),
-        }
-    }
-    /// Probability of a sample outside the data's measured θ range (exact, from the tables).
-    pub fn probability_outside_measured(&self) -> f64 {
-        match self {
-            Hds::Hemisphere(m) => m.probability_outside_measured(),
-            Hds::Sphere(m) => m.probability_outside_measured(),
-        }
-    }
-    /// The zones without data that the map completed with zero light, as warning texts.
-    pub fn completion_warnings(&self) -> Vec<String> {
-        let c = match self {
-            Hds::Hemisphere(m) => m.completions(),
-            Hds::Sphere(m) => m.completions(),
-        };
-        c.iter().map(|c| c.to_string()).collect()
-    }
-    /// Prints [`Hds::completion_warnings`] to stderr as `gonio: warning: NAME: …`.
-    pub fn warn_completions(&self, name: &str) {
-        for w in self.completion_warnings() {
-            eprintln!("gonio: warning: {name}: {w}");
-        }
-    }
-    /// The map as a sampler.
-    pub fn as_sampler(&self) -> &dyn Sampler {
-        match self {
-            Hds::Hemisphere(m) => m,
-            Hds::Sphere(m) => m,
-        }
-    }
-    /// The map as a boxed sampler.
-    pub fn into_sampler(self) -> Box<dyn Sampler> {
-        match self {
-            Hds::Hemisphere(m) => Box::new(m),
-            Hds::Sphere(m) => Box::new(m),
-        }
+        Domain::for_diagram(&loaded.diagram)
     }
 }
 
@@ -345,35 +231,35 @@ pub fn tolerance() -> Option<f64> {
     (!t.is_nan()).then_some(t)
 }
 
-/// Builds the HDS map for `loaded` on [`domain`] (refined to [`tolerance`] when one is set, with a
-/// warning on stderr when it was not reached), and the time the build took.
-pub fn build_hds(loaded: &Loaded) -> anyhow::Result<(Hds, Duration)> {
-    let start = Instant::now();
-    let d = &loaded.diagram;
-    let map = match (domain(loaded), tolerance()) {
-        (Domain::Hemisphere, None) => Hds::Hemisphere(HemisphereMap::new(d)?),
-        (Domain::Hemisphere, Some(t)) => Hds::Hemisphere(HemisphereMap::with_tolerance(d, t)?),
-        (Domain::Sphere, None) => Hds::Sphere(SphereMap::with_layout(d, SphereLayout::Split)?),
-        (Domain::Sphere, Some(t)) => Hds::Sphere(SphereMap::with_tolerance(d, t)?),
-    };
-    if let Some(w) = map.refinement().and_then(|r| r.warning()) {
-        eprintln!("gonio: warning: {}: {w}", loaded.name);
+/// The sampler of `method` for `loaded`, built by the library's factory ([`Method::build_with`])
+/// on the domain [`domain`] chooses, with the global `--tolerance` (which only the HDS map reads;
+/// a warning goes to stderr when refinement did not reach it). Every zone the sampler completed
+/// with zero light ([`Sampler::completions`]) is a warning on stderr too.
+pub fn build_sampler(method: Method, loaded: &Loaded) -> anyhow::Result<Box<dyn Sampler>> {
+    let (sampler, _) = build_sampler_timed(method, loaded)?;
+    for c in sampler.completions() {
+        eprintln!("gonio: warning: {}: {c}", loaded.name);
     }
-    Ok((map, start.elapsed()))
+    Ok(sampler)
 }
 
-/// The sampler of `method` for `loaded`: the HDS map for [`Method::Hds`], the baseline otherwise,
-/// on the domain [`domain`] chooses.
-pub fn build_sampler(method: Method, loaded: &Loaded) -> anyhow::Result<Box<dyn Sampler>> {
-    match method {
-        Method::Hds => {
-            let (hds, _) = build_hds(loaded)
-                .with_context(|| format!("{}: cannot build the HDS map", loaded.name))?;
-            hds.warn_completions(&loaded.name);
-            Ok(hds.into_sampler())
-        }
-        m => m
-            .build_baseline(&loaded.diagram, domain(loaded))
-            .with_context(|| format!("{}: cannot build the {m} sampler", loaded.name)),
+/// [`build_sampler`] and the wall-clock time the build took, without the completion warnings
+/// (`gonio info` lists them in its report).
+pub fn build_sampler_timed(
+    method: Method,
+    loaded: &Loaded,
+) -> anyhow::Result<(Box<dyn Sampler>, Duration)> {
+    let start = Instant::now();
+    let options = BuildOptions::default().tolerance(tolerance());
+    let sampler = method
+        .build_with(&loaded.diagram, domain(loaded), &options)
+        .with_context(|| match method {
+            Method::Hds => format!("{}: cannot build the HDS map", loaded.name),
+            m => format!("{}: cannot build the {m} sampler", loaded.name),
+        })?;
+    let took = start.elapsed();
+    if let Some(w) = sampler.refinement().and_then(|r| r.warning()) {
+        eprintln!("gonio: warning: {}: {w}", loaded.name);
     }
+    Ok((sampler, took))
 }

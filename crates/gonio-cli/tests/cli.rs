@@ -81,27 +81,11 @@ fn csv(text: &str) -> (Vec<String>, Vec<Vec<f64>>) {
     (header, rows)
 }
 
+#[path = "../../gonio/tests/common/corpus.rs"]
+mod corpus;
+
 fn corpus() -> Option<PathBuf> {
-    let candidates: Vec<PathBuf> = std::env::var_os("GONIO_CORPUS")
-        .map(PathBuf::from)
-        .into_iter()
-        .chain(
-            [
-                "../../../shared/data/photometry",
-                "../../../../shared/data/photometry",
-            ]
-            .iter()
-            .map(|r| Path::new(env!("CARGO_MANIFEST_DIR")).join(r)),
-        )
-        .collect();
-    let found = candidates
-        .iter()
-        .find(|c| c.join("ies").is_dir() && c.join("ldt").is_dir())
-        .cloned();
-    if found.is_none() {
-        eprintln!("skipping: photometric corpus not found (set GONIO_CORPUS)");
-    }
-    found
+    corpus::corpus_dir()
 }
 
 #[test]

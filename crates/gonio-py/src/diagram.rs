@@ -138,7 +138,6 @@ fn load(bytes: &[u8], source: Source, name: &str, tilt: &dyn TiltResolver) -> Py
                     column,
                     message,
                 } => parse_error(name, line, column, strip_serde_location(&message)),
-                gonio::Error::Parse(p) => parse_error(name, p.line, p.column, &p.message),
                 gonio::Error::Diagram(d) => DiagramError::new_err(format!("{name}: {d}")),
             })?;
             Ok(PyDiagram {

@@ -8,23 +8,19 @@
 //! `-- soa` for the SIMD structure-of-arrays batch paths only).
 
 use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use gonio::baselines::Method;
 use gonio::mapping::batch::{sample_soa_par, SoaSampler};
 use gonio::mapping::simd::Backend;
 use gonio::sampler::sample_batch_par;
 use gonio::sequence::Halton;
 use gonio::synthetic::{random_hemisphere, Family};
-use gonio::{Diagram, Domain, HemisphereMap, Point2, Sample, Sampler, Vec3};
+use gonio::{Diagram, Domain, HemisphereMap, Method, Point2, Sample, Sampler, Vec3};
 use std::time::Duration;
 
 const BATCH: usize = 4096;
 const GRIDS: [(usize, usize); 3] = [(19, 36), (181, 361), (1024, 1024)];
 
 fn build(method: Method, d: &Diagram) -> Option<Box<dyn Sampler>> {
-    match method {
-        Method::Hds => Some(Box::new(HemisphereMap::new(d).ok()?)),
-        m => m.build_baseline(d, Domain::Hemisphere).ok(),
-    }
+    method.build(d, Domain::Hemisphere).ok()
 }
 
 fn points(n: usize) -> Vec<Point2> {

@@ -26,11 +26,10 @@
 mod common;
 
 use common::{loglog_slope, loglog_svg, Series, Table};
-use gonio::baselines::Method;
 use gonio::photometry::{read, DirTiltResolver, FileFormat};
 use gonio::sampler::spherical;
 use gonio::sequence::{Halton, Random};
-use gonio::{Diagram, Domain, Point2, Sampler, SphereMap, Vec3};
+use gonio::{Diagram, Domain, Method, Point2, Sampler, Vec3};
 use rayon::prelude::*;
 
 const FLOOR_Z: f64 = -3.0;
@@ -264,12 +263,7 @@ fn study(name: &str, title: &str, d: &Diagram, log2_max: u32) {
     let samplers: Vec<(Method, Box<dyn Sampler>)> = Method::ALL
         .iter()
         .filter_map(|&m| {
-            let s: Option<Box<dyn Sampler>> = match m {
-                Method::Hds => SphereMap::new(d)
-                    .ok()
-                    .map(|s| Box::new(s) as Box<dyn Sampler>),
-                m => m.build_baseline(d, Domain::Sphere).ok(),
-            };
+            let s = m.build(d, Domain::Sphere).ok();
             if s.is_none() {
                 println!("{name}: {m} could not be built, skipped");
             }

@@ -7,18 +7,16 @@
 mod common;
 
 use common::{machine, ns_per_item, Table};
-use gonio::baselines::Method;
 use gonio::sequence::Halton;
 use gonio::synthetic::{random_hemisphere, Family};
-use gonio::{Domain, HemisphereMap, Sample, Sampler, Vec3};
+use gonio::{Domain, Method, Sample, Sampler, Vec3};
 use std::hint::black_box;
 use std::time::Instant;
 
 fn build(method: Method, d: &gonio::Diagram) -> Box<dyn Sampler> {
-    match method {
-        Method::Hds => Box::new(HemisphereMap::new(d).expect("valid diagram")),
-        m => m.build_baseline(d, Domain::Hemisphere).expect("baseline"),
-    }
+    method
+        .build(d, Domain::Hemisphere)
+        .unwrap_or_else(|e| panic!("{method}: {e}"))
 }
 
 fn main() {

@@ -110,6 +110,24 @@ pub enum DiagramError {
     /// The diagram carries no light in its measured range: every value is 0.
     #[error("the diagram carries no light in its measured range: every value is 0")]
     ZeroPower,
+    /// The diagram reaches beyond the polar range the map covers (e.g. past θ = 90° for a
+    /// hemisphere map).
+    #[error("the diagram reaches θ = {theta_deg}°, beyond the {limit_deg}° this map covers")]
+    BeyondDomain {
+        /// The diagram's last parallel, in degrees.
+        theta_deg: f64,
+        /// The largest θ the map covers, in degrees.
+        limit_deg: f64,
+    },
+    /// A map was asked for a tolerance that is not a finite number > 0.
+    #[error("the tolerance must be a finite number > 0, got {tolerance}")]
+    BadTolerance {
+        /// The tolerance asked for.
+        tolerance: f64,
+    },
+    /// The Lambert sphere layout was asked for a diagram that lies on one side of the horizon.
+    #[error("the Lambert sphere layout needs a diagram that spans the horizon")]
+    NotSpanningHorizon,
     /// The diagram has a single parallel: a line of directions of zero solid angle carries no power,
     /// and there is no range of θ to sample.
     #[error("the diagram has a single parallel (θ = {theta_deg}°): it covers no solid angle, so it carries no light to sample; give at least two parallels")]
@@ -130,9 +148,6 @@ pub enum DiagramError {
     /// (e.g. between θ = 89.99999999999999° and 90°): no map can place it.
     #[error("the diagram's light lies only in cells too thin for double precision to resolve (parallels closer than about 1e-15 rad); nothing can be sampled")]
     UnresolvedLight,
-    /// The diagram does not fit the domain of the sampler it was given to.
-    #[error("{0}")]
-    Domain(String),
 }
 
 /// A validated goniometric diagram. See the [module documentation](self) for the frame and layout.

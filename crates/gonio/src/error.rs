@@ -1,8 +1,11 @@
-//! The crate-wide error type. Every error from outside input says what is wrong and where.
+//! The error of reading a diagram from its JSON text. Every error from outside input says what is
+//! wrong and where.
 
 use crate::diagram::DiagramError;
 
-/// Anything that can go wrong when turning outside input into a sampler.
+/// What [`crate::Diagram::from_json_str`] returns: the JSON text could not be read, or the diagram
+/// it holds is not valid. (Photometric files have their own error,
+/// [`crate::photometry::ParseError`]; building a sampler has [`crate::BuildError`].)
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum Error {
     /// The diagram is not valid (see [`DiagramError`]).
@@ -18,7 +21,4 @@ pub enum Error {
         /// What serde_json said.
         message: String,
     },
-    /// A photometric file could not be read (see [`crate::photometry::ParseError`]).
-    #[error(transparent)]
-    Parse(#[from] crate::photometry::ParseError),
 }

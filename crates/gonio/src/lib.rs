@@ -32,6 +32,7 @@
 
 pub mod baselines;
 pub mod check;
+pub mod clock;
 pub mod diagram;
 pub mod error;
 pub mod mapping;

@@ -132,21 +132,6 @@ impl Method {
             Method::Uniform => Box::new(Uniform::new(diagram, domain)?),
         })
     }
-
-    /// Builds the baseline sampler of this method with its default options.
-    ///
-    /// [`Method::Hds`] gives [`BuildError::NotABaseline`]. Kept for existing callers; new code calls
-    /// [`Method::build`], which builds every method.
-    pub fn build_baseline(
-        self,
-        diagram: &Diagram,
-        domain: Domain,
-    ) -> Result<Box<dyn Sampler>, BuildError> {
-        match self {
-            Method::Hds => Err(BuildError::NotABaseline(self)),
-            m => m.build(diagram, domain),
-        }
-    }
 }
 
 impl fmt::Display for Method {
@@ -289,9 +274,6 @@ pub enum BuildError {
         /// The requested tolerance.
         tolerance: f64,
     },
-    /// [`Method::build_baseline`] was asked for [`Method::Hds`], which is not a baseline.
-    #[error("method `{0}` is not a baseline")]
-    NotABaseline(Method),
 }
 
 #[cfg(test)]
@@ -381,10 +363,6 @@ mod tests {
             .unwrap();
         let s = Method::Hds.build(&d, Domain::Sphere).unwrap();
         assert_ne!(l.sample([0.2, 0.9]), s.sample([0.2, 0.9]));
-        assert_eq!(
-            Method::Hds.build_baseline(&d, Domain::Sphere).err(),
-            Some(BuildError::NotABaseline(Method::Hds))
-        );
     }
 
     #[test]

@@ -130,10 +130,24 @@ pub trait Sampler: Send + Sync {
         None
     }
 
+    /// The zones without data that the sampler completed with zero light (the HDS maps, issue 9),
+    /// each a warning for the user; empty (the default) for samplers that complete nothing.
+    fn completions(&self) -> &[crate::mapping::Completion] {
+        &[]
+    }
+
     /// The intermediate points of the forward map at `u` (for the warp plot and tests), for
     /// methods built from stages (the HDS map); `None` (the default) otherwise.
     fn stages(&self, u: Point2) -> Option<crate::mapping::Stages> {
         let _ = u;
+        None
+    }
+
+    /// The sampler as [`std::any::Any`], for the few consumers that need what only one concrete
+    /// type offers (e.g. [`crate::SphereMap::lower_probability`] for `gonio info`): downcast with
+    /// `sampler.as_any().and_then(|a| a.downcast_ref::<SphereMap>())`. `None` (the default) for
+    /// samplers that do not offer it; every sampler of the library does.
+    fn as_any(&self) -> Option<&dyn std::any::Any> {
         None
     }
 

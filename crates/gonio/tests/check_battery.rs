@@ -1,47 +1,30 @@
 //! The battery through the public API on a non-trivial warp written here: cosine-weighted
-//! hemisphere sampling through the Shirley–Chiu concentric disk (Malley's method), with its inverse.
+//! hemisphere sampling through the library's Shirley–Chiu concentric disk (Malley's method), with
+//! its inverse.
 
 use gonio::check::{
     chi_square_points, run_battery, BatteryOptions, ChiSquareOptions, RatioOptions, Status,
 };
+use gonio::mapping::concentric;
 use gonio::sequence::{Sequence, SequenceKind};
 use gonio::{Domain, InvertError, Point2, Sample, Sampler, Vec3};
-use std::f64::consts::{FRAC_1_PI, FRAC_PI_2, FRAC_PI_4, PI, TAU};
+use std::f64::consts::{FRAC_1_PI, TAU};
 
 struct ConcentricCosine;
 
-/// Square [0,1]² → unit disk, Shirley & Chiu's concentric map.
+/// Square [0,1]² → unit disk as `[x, y]`: the library's concentric map (M_B of the HDS mapping).
 fn square_to_disk(u: Point2) -> [f64; 2] {
-    let (a, b) = (2.0 * u[0] - 1.0, 2.0 * u[1] - 1.0);
-    if a == 0.0 && b == 0.0 {
-        return [0.0, 0.0];
-    }
-    let (r, phi) = if a.abs() > b.abs() {
-        (a, FRAC_PI_4 * b / a)
-    } else {
-        (b, FRAC_PI_2 - FRAC_PI_4 * a / b)
-    };
+    let (r, phi) = concentric::square_to_disk(u);
     [r * phi.cos(), r * phi.sin()]
 }
 
-/// Its inverse, by the polar angle ψ of the disk point in [−π/4, 7π/4).
+/// Its inverse, through the library's polar inverse.
 fn disk_to_square(p: [f64; 2]) -> Point2 {
-    let rho = p[0].hypot(p[1]);
-    let mut psi = p[1].atan2(p[0]);
-    if psi < -FRAC_PI_4 {
-        psi += TAU;
+    let mut phi = p[1].atan2(p[0]);
+    if phi < 0.0 {
+        phi += TAU;
     }
-    let k = 4.0 / PI;
-    let (a, b) = if psi < FRAC_PI_4 {
-        (rho, psi * k * rho)
-    } else if psi < 3.0 * FRAC_PI_4 {
-        ((FRAC_PI_2 - psi) * k * rho, rho)
-    } else if psi < 5.0 * FRAC_PI_4 {
-        (-rho, (psi - PI) * k * -rho)
-    } else {
-        ((FRAC_PI_2 - (psi - PI)) * k * -rho, -rho)
-    };
-    [0.5 * (a + 1.0), 0.5 * (b + 1.0)]
+    concentric::disk_to_square(p[0].hypot(p[1]).min(1.0), phi)
 }
 
 impl Sampler for ConcentricCosine {

@@ -11,24 +11,7 @@ use gonio::check::{chi_square_test, ChiSquareOptions};
 use gonio::photometry::{read, DirTiltResolver, FileFormat, PhotometricType, Photometry};
 use gonio::{Sampler, SphereMap};
 use rand::{Rng, SeedableRng};
-use std::path::{Path, PathBuf};
-
-fn corpus_files(dir: &Path) -> Vec<PathBuf> {
-    let mut files = Vec::new();
-    for sub in ["ies", "ldt"] {
-        if let Ok(rd) = std::fs::read_dir(dir.join(sub)) {
-            for e in rd.flatten() {
-                let p = e.path();
-                let name = p.file_name().unwrap().to_string_lossy().to_string();
-                if !name.starts_with("invalid_") && FileFormat::from_path_extension(&p).is_some() {
-                    files.push(p);
-                }
-            }
-        }
-    }
-    files.sort();
-    files
-}
+use std::path::Path;
 
 fn load(path: &Path) -> Photometry {
     let bytes = std::fs::read(path).unwrap();
@@ -43,7 +26,7 @@ fn pdf_at_measured_nodes_is_candela_times_one_constant() {
         return;
     };
     let mut files = 0;
-    for path in corpus_files(&dir) {
+    for path in common::corpus_files(&dir) {
         let p = load(&path);
         if p.photometric_type != PhotometricType::C {
             continue;
@@ -96,7 +79,7 @@ fn every_file_samples_correctly() {
     let Some(dir) = common::corpus_dir() else {
         return;
     };
-    let files = corpus_files(&dir);
+    let files = common::corpus_files(&dir);
     let k = files.len();
     for (i, path) in files.iter().enumerate() {
         let p = load(path);

@@ -1,9 +1,8 @@
 //! `gonio check`: the whole test battery on the chosen sampler.
 
 use crate::args::CheckArgs;
-use crate::load::{build_hds, build_sampler, load};
+use crate::load::{build_sampler, load};
 use crate::progress::Progress;
-use gonio::baselines::Method;
 use gonio::check::{cell_boundary_points, run_battery_with_progress, BatteryOptions};
 
 /// Runs `gonio check`; `Ok(true)` when every item passed.
@@ -20,21 +19,13 @@ pub fn run(a: &CheckArgs) -> anyhow::Result<bool> {
         opts.chi_square.samples = n;
         opts.flux.samples = n;
     }
-    let mut refinement = None;
-    let sampler = if a.method == Method::Hds {
-        let (hds, _) = build_hds(&loaded)?;
-        hds.warn_completions(&loaded.name);
-        // The map claims its guaranteed bound; the flux check integrates the DATA's power (the
-        // map's target is the data, zero outside its measured range): a map that invents or
-        // drops light fails it.
-        refinement = hds.refinement().cloned();
-        opts.ratio.claimed_bound = Some(hds.ratio_bound());
-        opts.flux_total = hds.target_power();
-        hds.into_sampler()
-    } else {
-        opts.flux_total = loaded.diagram.integral();
-        build_sampler(a.method, &loaded)?
-    };
+    let sampler = build_sampler(a.method, &loaded)?;
+    let refinement = sampler.refinement().cloned();
+    // A method with a guaranteed bound (the HDS map) claims it; the flux check integrates the power
+    // of the target the sampler normalises: the DATA's power for every method (the HDS map's target
+    // is the data, zero outside its measured range), so a map that invents or drops light fails it.
+    opts.ratio.claimed_bound = sampler.ratio_bound();
+    opts.flux_total = sampler.target_power();
     // The round trip also runs on the preimages of the diagram's cell boundaries.
     opts.round_trip.extra_points = cell_boundary_points(
         sampler.as_ref(),

@@ -2,9 +2,9 @@
 //! files every header field that matters and every warning.
 
 use crate::args::InfoArgs;
-use crate::load::{build_hds, load, Hds, InputKind, Loaded};
+use crate::load::{build_sampler_timed, load, InputKind, Loaded};
 use gonio::photometry::Photometry;
-use gonio::Diagram;
+use gonio::{Diagram, Domain, HemisphereMap, Method, SphereMap};
 use serde::Serialize;
 
 /// Angle range of one axis.
@@ -252,16 +252,29 @@ pub struct Info {
 
 /// Collects the information about `loaded`.
 pub fn collect(loaded: &Loaded) -> anyhow::Result<Info> {
-    let (hds, took) = build_hds(loaded)?;
-    let sampler = hds.as_sampler();
-    let paper = match &hds {
-        Hds::Hemisphere(m) => m.paper_table_floats(),
-        Hds::Sphere(_) => {
-            let d = &loaded.diagram;
-            d.n_meridians() * d.n_parallels() + 2 * d.n_meridians() + 2
-        }
+    let (sampler, took) = build_sampler_timed(Method::Hds, loaded)?;
+    // What only the map has: the completed grid of a hemisphere map, the lower-hemisphere
+    // probability of a sphere map.
+    let any = sampler.as_any();
+    let hemisphere = any.and_then(|a| a.downcast_ref::<HemisphereMap>());
+    let sphere = any.and_then(|a| a.downcast_ref::<SphereMap>());
+    // The target and completion figures of issue 9, which only the two maps report.
+    macro_rules! map_only {
+        ($f:ident) => {
+            match (hemisphere, sphere) {
+                (Some(m), _) => m.$f(),
+                (_, Some(m)) => m.$f(),
+                _ => anyhow::bail!("{}: the HDS sampler is neither map", loaded.name),
+            }
+        };
+    }
+    let paper = match hemisphere {
+        Some(m) => m.paper_table_floats(),
+        None => gonio::mapping::paper_table_floats(&loaded.diagram),
     };
-    let (lo, hi) = hds.ratio_bound();
+    let (lo, hi) = sampler
+        .ratio_bound()
+        .expect("the HDS map has a guaranteed ratio bound");
     let integral = loaded.diagram.integral();
     Ok(Info {
         input: loaded.name.clone(),
@@ -274,27 +287,28 @@ pub fn collect(loaded: &Loaded) -> anyhow::Result<Info> {
         grid: Grid::of(&loaded.diagram),
         diagram_integral: integral,
         map: MapInfo {
-            domain: match &hds {
-                Hds::Hemisphere(_) => "hemisphere",
-                Hds::Sphere(_) => "sphere",
+            domain: match sampler.domain() {
+                Domain::Hemisphere => "hemisphere",
+                Domain::Sphere => "sphere",
             },
-            target_power: hds.target_power(),
-            completed_power: hds.completed_power(),
-            power_ratio: hds.power_ratio(),
-            normalised_target_power: hds.normalised_target_power(),
-            value_scale: hds.value_scale(),
-            probability_outside_measured: hds.probability_outside_measured(),
-            completions: hds.completion_warnings(),
+            target_power: sampler.target_power(),
+            completed_power: map_only!(completed_power),
+            power_ratio: map_only!(power_ratio),
+            normalised_target_power: map_only!(normalised_target_power),
+            value_scale: map_only!(value_scale),
+            probability_outside_measured: map_only!(probability_outside_measured),
+            completions: sampler
+                .completions()
+                .iter()
+                .map(|c| c.to_string())
+                .collect(),
             memory_bytes: sampler.memory_bytes(),
             paper_table_floats: paper,
             build_time_ms: took.as_secs_f64() * 1e3,
             ratio_bound: [lo, hi],
-            tolerance: hds.refinement().map(|r| r.tolerance),
-            refinement: hds.refinement().map(RefinementInfo::of),
-            lower_probability: match &hds {
-                Hds::Sphere(m) => m.lower_probability(),
-                Hds::Hemisphere(_) => None,
-            },
+            tolerance: sampler.refinement().map(|r| r.tolerance),
+            refinement: sampler.refinement().map(RefinementInfo::of),
+            lower_probability: sphere.and_then(SphereMap::lower_probability),
         },
         photometry: loaded
             .photometry

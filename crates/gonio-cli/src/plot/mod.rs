@@ -26,7 +26,6 @@ mod warp;
 use crate::args::PlotArgs;
 use crate::load;
 use anyhow::{bail, Context, Result};
-use gonio::baselines::Method;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::register_font;
@@ -127,17 +126,10 @@ pub struct PlotInput<'a> {
     pub title: String,
     /// The (expanded) diagram in the gonio frame: θ from +z, φ from +x; values e.g. in candela.
     pub diagram: &'a gonio::Diagram,
-    /// The sampler whose pdf, samples and target are drawn.
+    /// The sampler whose pdf, samples and target are drawn. `warp` draws the intermediate stages
+    /// of samplers that have them ([`gonio::Sampler::stages`]); `ratio` marks the guaranteed range
+    /// of pdf / target of samplers that have one ([`gonio::Sampler::ratio_bound`]).
     pub sampler: &'a dyn gonio::Sampler,
-    /// The HDS hemisphere map whose intermediate stages `warp` draws. `None`: `warp` draws the
-    /// square and the sampler's directions only (e.g. for a baseline or a sphere map).
-    pub hemisphere_map: Option<&'a gonio::HemisphereMap>,
-    /// The HDS sphere map whose stages `warp` draws when there is no hemisphere map: those of its
-    /// more probable hemisphere's map (split layout), or of its single map (Lambert layout).
-    pub sphere_map: Option<&'a gonio::SphereMap>,
-    /// The sampler's guaranteed range of pdf / target (e.g. [`gonio::HemisphereMap::ratio_bound`]),
-    /// marked on the `ratio` plot; `None` when the method guarantees none.
-    pub ratio_bound: Option<(f64, f64)>,
     /// Number of points: Halton points for `warp`, iid samples for `density` (0: the kind's default).
     pub samples: usize,
     /// Seed of the iid samples of `density`.
@@ -279,31 +271,7 @@ fn encode_png(rgb: &[u8], width: u32, height: u32) -> Result<Vec<u8>> {
 pub fn run(args: &PlotArgs) -> Result<()> {
     let loaded = load::load(&args.input)?;
     let kind = PlotKind::from(args.kind);
-    let hds = match args.method {
-        Method::Hds => Some(
-            load::build_hds(&loaded)
-                .with_context(|| format!("{}: cannot build the HDS map", loaded.name))?
-                .0,
-        ),
-        _ => None,
-    };
-    let baseline = match hds {
-        Some(_) => None,
-        None => Some(load::build_sampler(args.method, &loaded)?),
-    };
-    let sampler: &dyn gonio::Sampler = match (&hds, &baseline) {
-        (Some(h), _) => h.as_sampler(),
-        (None, Some(b)) => b.as_ref(),
-        (None, None) => unreachable!("one of the two is built above"),
-    };
-    let hemisphere_map = match &hds {
-        Some(load::Hds::Hemisphere(m)) => Some(m),
-        _ => None,
-    };
-    let sphere_map = match &hds {
-        Some(load::Hds::Sphere(m)) => Some(m),
-        _ => None,
-    };
+    let sampler = load::build_sampler(args.method, &loaded)?;
     let title = match loaded.kind {
         load::InputKind::Example => loaded.name.clone(),
         _ => Path::new(&loaded.name)
@@ -314,10 +282,7 @@ pub fn run(args: &PlotArgs) -> Result<()> {
     let input = PlotInput {
         title,
         diagram: &loaded.diagram,
-        sampler,
-        hemisphere_map,
-        sphere_map,
-        ratio_bound: hds.as_ref().map(|h| h.ratio_bound()),
+        sampler: sampler.as_ref(),
         samples: args.samples.unwrap_or(0),
         seed: args.seed,
         photometric: loaded.kind.is_photometric(),

@@ -18,20 +18,10 @@ pub fn quick() -> bool {
     std::env::args().any(|a| a == "--quick")
 }
 
-/// The photometric corpus directory: `$GONIO_CORPUS`, else `shared/data/photometry` beside the
-/// workspace (`../shared/data/photometry`; also `shared/` inside it or two levels up, for git
-/// worktrees), if one exists.
-pub fn corpus_dir() -> Option<PathBuf> {
-    if let Ok(p) = std::env::var("GONIO_CORPUS") {
-        let p = PathBuf::from(p);
-        return p.is_dir().then_some(p);
-    }
-    let ws = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..");
-    ["shared", "../shared", "../../shared"]
-        .iter()
-        .map(|s| ws.join(s).join("data/photometry"))
-        .find(|p| p.is_dir())
-}
+#[path = "../../tests/common/corpus.rs"]
+mod corpus;
+#[allow(unused_imports)]
+pub use corpus::corpus_dir;
 
 /// A simple table: a header and rows of already formatted cells.
 pub struct Table {
@@ -90,30 +80,7 @@ pub fn median(v: &[f64]) -> f64 {
     }
 }
 
-/// CPU time of the calling thread in nanoseconds (`clock_gettime(CLOCK_THREAD_CPUTIME_ID)` on
-/// Linux), or `None` elsewhere.
-#[cfg(target_os = "linux")]
-pub fn thread_cpu_ns() -> Option<u64> {
-    #[repr(C)]
-    struct Timespec {
-        sec: i64,
-        nsec: i64,
-    }
-    extern "C" {
-        fn clock_gettime(clock: i32, ts: *mut Timespec) -> i32;
-    }
-    const CLOCK_THREAD_CPUTIME_ID: i32 = 3;
-    let mut ts = Timespec { sec: 0, nsec: 0 };
-    // SAFETY: `ts` is a valid, writable timespec (two C longs on the 64-bit Linux targets).
-    let rc = unsafe { clock_gettime(CLOCK_THREAD_CPUTIME_ID, &mut ts) };
-    (rc == 0).then(|| ts.sec as u64 * 1_000_000_000 + ts.nsec as u64)
-}
-
-/// CPU time of the calling thread: unavailable off Linux.
-#[cfg(not(target_os = "linux"))]
-pub fn thread_cpu_ns() -> Option<u64> {
-    None
-}
+pub use gonio::clock::thread_cpu_ns;
 
 /// Median over `repeats` runs of `f` of the nanoseconds per item (`items` per run), measured in
 /// the thread's CPU time where the OS reports it (so that time the thread spends descheduled on a

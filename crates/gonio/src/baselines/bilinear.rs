@@ -39,6 +39,19 @@ const THETA_TOLERANCE: f64 = 1e-12;
 /// the direction has density 0).
 ///
 /// u₀ → φ, u₁ → θ: the map is continuous in u₁ and, across sectors, in u₀.
+///
+/// ```
+/// use gonio::baselines::Bilinear;
+/// use gonio::{Diagram, Domain, Sampler};
+/// let d = Diagram::from_degrees(&[0.0, 45.0, 90.0], &[0.0, 180.0], &[vec![1.0, 0.7, 0.0], vec![2.0, 1.0, 0.0]])
+///     .unwrap();
+/// let b = Bilinear::new(&d, Domain::Hemisphere).unwrap();
+/// let s = b.sample([0.6, 0.3]);
+/// // The density is the target itself.
+/// assert!((s.pdf - b.target_pdf(s.direction)).abs() <= 1e-12 * s.pdf);
+/// let u = b.invert(s.direction).unwrap();
+/// assert!((u[0] - 0.6).abs() < 1e-9 && (u[1] - 0.3).abs() < 1e-9);
+/// ```
 #[derive(Debug, Clone)]
 pub struct Bilinear {
     target: Target,
@@ -312,6 +325,9 @@ impl Sampler for Bilinear {
     }
     fn target_power(&self) -> f64 {
         self.target.integral
+    }
+    fn as_any(&self) -> Option<&dyn std::any::Any> {
+        Some(self)
     }
     fn memory_bytes(&self) -> usize {
         self.target.diagram_bytes()

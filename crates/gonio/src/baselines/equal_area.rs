@@ -5,15 +5,17 @@
 //!   |u'| + |v'| ≤ 1 (u' = 2u − 1, v' = 2v − 1) is the upper hemisphere, the four outer corners fold
 //!   onto the lower one. Jacobian |∂ω/∂(u, v)| = 4π everywhere.
 //! * [`equal_area_square_to_hemisphere`]: Shirley–Chiu's concentric square → disk map followed by
-//!   the Lambert lift (x, y) ↦ (x√(2 − r²), y√(2 − r²), 1 − r²). Jacobian 2π everywhere.
+//!   the Lambert lift (x, y) ↦ (x√(2 − r²), y√(2 − r²), 1 − r²), both the HDS mapping's own
+//!   stages ([`crate::mapping::concentric`], [`crate::mapping::lift`]). Jacobian 2π everywhere.
 //!
 //! Both are bijective up to measure-zero seams (the square's boundary and, for the sphere map, the
 //! axes u' = 0, v' = 0), continuous, and their inverses use `atan2` (no polynomial approximation).
 //! Directions are unit vectors `[x, y, z]` (the inverses expect unit length); square points are
 //! `[u, v]` in [0, 1]², and the inverses clamp their result into it.
 
+use crate::mapping::{concentric, lift};
 use crate::sampler::{Point2, Vec3};
-use std::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI};
+use std::f64::consts::{FRAC_PI_2, FRAC_PI_4};
 
 /// Clarberg's equal-area map from the unit square to the unit sphere (area 4π, so a density q on the
 /// square becomes q / 4π per steradian).
@@ -62,66 +64,21 @@ pub fn equal_area_sphere_to_square(w: Vec3) -> Point2 {
     ]
 }
 
-/// Shirley–Chiu concentric map from the unit square to the unit disk (area π), as `[x, y]`.
-///
-/// With a = 2u − 1, b = 2v − 1: if |a| > |b| then (r, φ) = (a, (π/4)(b/a)), else
-/// (r, φ) = (b, π/2 − (π/4)(a/b)); the point is r(cos φ, sin φ) (r may be negative).
-pub fn concentric_square_to_disk(p: Point2) -> [f64; 2] {
-    let (a, b) = (2.0 * p[0] - 1.0, 2.0 * p[1] - 1.0);
-    if a == 0.0 && b == 0.0 {
-        return [0.0, 0.0];
-    }
-    let (r, phi) = if a.abs() > b.abs() {
-        (a, FRAC_PI_4 * (b / a))
-    } else {
-        (b, FRAC_PI_2 - FRAC_PI_4 * (a / b))
-    };
-    let (s, c) = phi.sin_cos();
-    [r * c, r * s]
-}
-
-/// Inverse of [`concentric_square_to_disk`] for a point `[x, y]` of the unit disk.
-///
-/// With r = √(x² + y²) and φ = atan2(y, x) moved to [−π/4, 7π/4): φ < π/4 → (a, b) = (r, r φ/(π/4));
-/// φ < 3π/4 → (a, b) = (−r(φ − π/2)/(π/4), r); φ < 5π/4 → (a, b) = (−r, −r(φ − π)/(π/4));
-/// else (a, b) = (r(φ − 3π/2)/(π/4), −r); then (u, v) = ((a + 1)/2, (b + 1)/2).
-pub fn concentric_disk_to_square(q: [f64; 2]) -> Point2 {
-    let (x, y) = (q[0], q[1]);
-    let r = (x * x + y * y).sqrt().min(1.0);
-    let mut phi = y.atan2(x);
-    if phi < -FRAC_PI_4 {
-        phi += 2.0 * PI;
-    }
-    let (a, b) = if phi < FRAC_PI_4 {
-        (r, r * phi / FRAC_PI_4)
-    } else if phi < 3.0 * FRAC_PI_4 {
-        (-r * (phi - FRAC_PI_2) / FRAC_PI_4, r)
-    } else if phi < 5.0 * FRAC_PI_4 {
-        (-r, -r * (phi - PI) / FRAC_PI_4)
-    } else {
-        (r * (phi - 3.0 * FRAC_PI_2) / FRAC_PI_4, -r)
-    };
-    [
-        (0.5 * (a + 1.0)).clamp(0.0, 1.0),
-        (0.5 * (b + 1.0)).clamp(0.0, 1.0),
-    ]
-}
-
 /// Equal-area map from the unit square to the upper hemisphere z ≥ 0 (area 2π, so a density q on
-/// the square becomes q / 2π per steradian): [`concentric_square_to_disk`] followed by the Lambert
-/// lift ω = (x√(2 − r²), y√(2 − r²), 1 − r²), r² = x² + y² (ALGORITHM §3, M_E).
+/// the square becomes q / 2π per steradian): the HDS mapping's own M_B, the concentric map
+/// ([`concentric::square_to_disk`]), followed by its M_E, the Lambert lift
+/// ([`lift::disk_to_sphere`]) (ALGORITHM §2, §3).
 pub fn equal_area_square_to_hemisphere(p: Point2) -> Vec3 {
-    let [x, y] = concentric_square_to_disk(p);
-    let r2 = (x * x + y * y).min(1.0);
-    let s = (2.0 - r2).sqrt();
-    [x * s, y * s, 1.0 - r2]
+    let (r, phi) = concentric::square_to_disk(p);
+    lift::disk_to_sphere(r, phi)
 }
 
-/// Inverse of [`equal_area_square_to_hemisphere`] for a unit direction with z ≥ 0:
-/// (x, y) = (ω_x, ω_y)/√(1 + ω_z), then [`concentric_disk_to_square`].
+/// Inverse of [`equal_area_square_to_hemisphere`] for a unit direction with z ≥ 0: the inverse
+/// lift ([`lift::sphere_to_disk_radius`], [`lift::sphere_to_disk_azimuth`]), then
+/// [`concentric::disk_to_square`].
 pub fn equal_area_hemisphere_to_square(w: Vec3) -> Point2 {
-    let s = 1.0 / (1.0 + w[2].max(0.0)).sqrt();
-    concentric_disk_to_square([w[0] * s, w[1] * s])
+    let r = lift::sphere_to_disk_radius(w).min(1.0);
+    concentric::disk_to_square(r, lift::sphere_to_disk_azimuth(w))
 }
 
 #[cfg(test)]
@@ -130,6 +87,7 @@ mod tests {
     use rand::Rng;
     use rand::SeedableRng;
     use rand_xoshiro::Xoshiro256PlusPlus;
+    use std::f64::consts::PI;
 
     fn cross_norm(a: Vec3, b: Vec3) -> f64 {
         let c = [

@@ -50,6 +50,18 @@ pub const SUPERSAMPLING: usize = 4;
 /// the rounding of m⁻¹(m(p)) would otherwise give the neighbouring pixel, so [`Sampler::pdf`] and
 /// `invert` always see the sampled pixel: `pdf(sample(u).direction) == sample(u).pdf` exactly and
 /// `invert(sample(u)) = u` to ~1e-13. `invert` is discontinuous across row boundaries in u₀.
+///
+/// ```
+/// use gonio::baselines::PiecewiseConstant;
+/// use gonio::{Diagram, Domain, Sampler};
+/// let d = Diagram::from_degrees(&[0.0, 90.0, 180.0], &[0.0], &[vec![1.0, 0.5, 0.2]]).unwrap();
+/// let pc = PiecewiseConstant::with_resolution(&d, Domain::Sphere, 64).unwrap();
+/// assert_eq!(pc.resolution(), 64);
+/// let s = pc.sample([0.2, 0.9]);
+/// assert!((pc.pdf(s.direction) - s.pdf).abs() <= 1e-12 * s.pdf); // constant on its pixel
+/// let u = pc.invert(s.direction).unwrap();
+/// assert!((u[0] - 0.2).abs() < 1e-9 && (u[1] - 0.9).abs() < 1e-9);
+/// ```
 #[derive(Debug, Clone)]
 pub struct PiecewiseConstant {
     target: Target,
@@ -277,6 +289,9 @@ impl Sampler for PiecewiseConstant {
     }
     fn target_power(&self) -> f64 {
         self.target.integral
+    }
+    fn as_any(&self) -> Option<&dyn std::any::Any> {
+        Some(self)
     }
     fn memory_bytes(&self) -> usize {
         std::mem::size_of::<f64>() * (self.pdf.len() + self.marginal.len() + self.conditional.len())

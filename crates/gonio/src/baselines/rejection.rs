@@ -32,6 +32,18 @@ pub const MAX_TV_ERROR: f64 = 1e-15;
 ///   variation, and the reported pdf is always `pdf(direction)`. Diagrams with a < [`MIN_ACCEPTANCE`]
 ///   are refused.
 /// * **Inverse**: none ([`InvertError::Unsupported`]).
+///
+/// ```
+/// use gonio::baselines::Rejection;
+/// use gonio::{Diagram, Domain, InvertError, Sampler};
+/// let d = Diagram::from_degrees(&[0.0, 60.0, 90.0], &[0.0], &[vec![1.0, 0.5, 0.0]]).unwrap();
+/// let r = Rejection::new(&d, Domain::Hemisphere).unwrap();
+/// let s = r.sample([0.3, 0.7]);
+/// assert_eq!(s, r.sample([0.3, 0.7])); // deterministic in u
+/// assert_eq!(s.pdf, r.target_pdf(s.direction));
+/// assert_eq!(r.invert(s.direction), Err(InvertError::Unsupported));
+/// assert!(r.acceptance_rate() > 0.0 && r.acceptance_rate() <= 1.0);
+/// ```
 #[derive(Debug, Clone)]
 pub struct Rejection {
     target: Target,
@@ -155,6 +167,9 @@ impl Sampler for Rejection {
     }
     fn target_power(&self) -> f64 {
         self.target.integral
+    }
+    fn as_any(&self) -> Option<&dyn std::any::Any> {
+        Some(self)
     }
     fn memory_bytes(&self) -> usize {
         self.target.diagram_bytes()

@@ -16,6 +16,17 @@ use std::f64::consts::TAU;
 ///
 /// The diagram is used only for [`Sampler::target_pdf`], which lets the checks measure how far a
 /// uniform density is from the target.
+///
+/// ```
+/// use gonio::baselines::Uniform;
+/// use gonio::{Diagram, Domain, Sampler};
+/// let d = Diagram::from_degrees(&[0.0, 90.0], &[0.0], &[vec![1.0, 0.0]]).unwrap();
+/// let u = Uniform::new(&d, Domain::Hemisphere).unwrap();
+/// let s = u.sample([0.5, 0.25]);
+/// assert_eq!(s.pdf, 1.0 / Domain::Hemisphere.solid_angle());
+/// let back = u.invert(s.direction).unwrap();
+/// assert!((back[0] - 0.5).abs() < 1e-12 && (back[1] - 0.25).abs() < 1e-12);
+/// ```
 #[derive(Debug, Clone)]
 pub struct Uniform {
     target: Target,
@@ -92,6 +103,9 @@ impl Sampler for Uniform {
     }
     fn target_power(&self) -> f64 {
         self.target.integral
+    }
+    fn as_any(&self) -> Option<&dyn std::any::Any> {
+        Some(self)
     }
     fn memory_bytes(&self) -> usize {
         0

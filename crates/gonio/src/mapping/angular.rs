@@ -14,8 +14,192 @@
 //! The stage inverts the marginal CDF in φ of the disk density; it preserves area pointwise
 //! (dφ_C/dφ_B = 1/ρ², ∂r_C/∂r_B = ρ, so the area ratio is 1).
 
+use super::guided_search;
+use crate::diagram::segment;
+use std::f64::consts::TAU;
+
 /// Area factor of the angular stage: dA_C = 1 · dA_B.
 pub const ANGULAR_AREA: f64 = 1.0;
+
+/// The tables of M_C for one map (ALGORITHM §4.4): the meridians, the squared star radii and the
+/// cumulative wedge angles, with the forward map (B-disk azimuth → sector and fraction), its inverse
+/// and the sector lookup of a D-disk azimuth.
+#[derive(Debug, Clone)]
+pub(crate) struct Angular {
+    pub(super) m: usize,
+    /// Meridian azimuths, M + 1 entries with φ_M = 2π.
+    pub(super) phi: Vec<f64>,
+    /// Sector widths β_i, M entries.
+    pub(super) beta: Vec<f64>,
+    /// 1/β when the meridians are uniform (O(1) sector lookup), else 0.
+    pub(super) inv_uniform_beta: f64,
+    /// Squared star radii R_i² = U(i, N−1)/s, M + 1 entries (R_M = R_0).
+    pub(super) r2: Vec<f64>,
+    /// Cumulative wedge angles Γ_i, M + 1 entries, Γ_0 = 0, Γ_M = 2π exactly.
+    pub(super) cum: Vec<f64>,
+    /// Γ_M / Σγ^i (1 up to round-off): keeps Γ exactly cumulative.
+    pub(super) kappa: f64,
+    /// Guide table of the wedge search: entry k is the wedge that holds φ_B = 2πk/K (K = the
+    /// table's length, 2M), so the search starts at most a step or two below its answer (O(1)
+    /// for all but pathological Γ).
+    pub(super) wedge_guide: Vec<u32>,
+    /// K / 2π for [`Angular::wedge_guide`].
+    pub(super) guide_scale: f64,
+}
+
+impl Angular {
+    /// Builds the tables from the meridians `phi` (M entries, φ_0 = 0) and each meridian's total
+    /// radial mass U(i, N−1) (`mass(i)`, i < M). Returns them with T = ∫_disk D dA (§4.3).
+    pub(crate) fn build(phi: &[f64], mass: impl Fn(usize) -> f64) -> (Self, f64) {
+        let m = phi.len();
+        let mut phi = phi.to_vec();
+        phi.push(TAU);
+        let beta: Vec<f64> = (0..m).map(|i| phi[i + 1] - phi[i]).collect();
+        let uniform = beta.iter().all(|b| (b - TAU / m as f64).abs() <= 1e-12);
+        let last = |i: usize| mass(i % m);
+        let total: f64 = (0..m)
+            .map(|i| beta[i] * (last(i) + last(i + 1)) / 4.0)
+            .sum();
+        let s = total / std::f64::consts::PI;
+        let mut r2: Vec<f64> = (0..=m).map(|i| last(i) / s).collect();
+        r2[m] = r2[0];
+        let mut cum = vec![0.0; m + 1];
+        for i in 0..m {
+            cum[i + 1] = cum[i] + beta[i] * (r2[i] + r2[i + 1]) / 2.0;
+        }
+        let kappa = TAU / cum[m];
+        for c in cum.iter_mut() {
+            *c *= kappa;
+        }
+        cum[m] = TAU;
+        let guide_len = 2 * m;
+        let wedge_guide: Vec<u32> = (0..guide_len)
+            .map(|k| {
+                let p = k as f64 * TAU / guide_len as f64;
+                (cum.partition_point(|&g| g <= p).clamp(1, m) - 1) as u32
+            })
+            .collect();
+        let angular = Angular {
+            m,
+            phi,
+            beta,
+            inv_uniform_beta: if uniform { m as f64 / TAU } else { 0.0 },
+            r2,
+            cum,
+            kappa,
+            wedge_guide,
+            guide_scale: guide_len as f64 / TAU,
+        };
+        (angular, total)
+    }
+
+    /// Number of meridians M.
+    #[cfg(test)]
+    pub(crate) fn meridians(&self) -> usize {
+        self.m
+    }
+
+    /// The meridian after `i`, wrapping around.
+    #[inline]
+    pub(crate) fn next(&self, i: usize) -> usize {
+        if i + 1 == self.m {
+            0
+        } else {
+            i + 1
+        }
+    }
+
+    /// The wedge of B-disk azimuth `phib`: the largest i ≤ M − 1 with Γ_i ≤ φ_B (empty wedges are
+    /// skipped by taking the last such i), found from the guide table.
+    #[inline]
+    pub(super) fn wedge(&self, phib: f64) -> usize {
+        guided_search(
+            &self.cum,
+            &self.wedge_guide,
+            self.guide_scale,
+            phib,
+            self.m - 1,
+        )
+    }
+
+    /// Forward M_C: the wedge i with Γ_i ≤ φ_B < Γ_{i+1}, the fraction ε of sector i that has the
+    /// wedge's area, and φ_C = φ_i + εβ_i (the radius scales by ρ(φ_C), see
+    /// [`Angular::star_radius2`]).
+    #[inline]
+    pub(crate) fn forward(&self, phib: f64) -> (usize, f64, f64) {
+        let i = self.wedge(phib);
+        let eps = solve_wedge(
+            self.beta[i],
+            self.r2[i],
+            self.r2[i + 1],
+            (phib - self.cum[i]) / self.kappa,
+        );
+        (i, eps, self.phi[i] + eps * self.beta[i])
+    }
+
+    /// Inverse M_C: the B-disk azimuth of fraction `eps` of sector `i`.
+    #[inline]
+    pub(crate) fn inverse(&self, i: usize, eps: f64) -> f64 {
+        (self.cum[i] + self.kappa * wedge_angle(self.beta[i], self.r2[i], self.r2[i + 1], eps))
+            .min(self.cum[i + 1])
+    }
+
+    /// Sector of azimuth `p` ∈ [0, 2π) and the fraction ε within it (the azimuth is the same on the
+    /// C- and D-disks).
+    #[inline]
+    pub(crate) fn sector(&self, p: f64) -> (usize, f64) {
+        let i = if self.inv_uniform_beta > 0.0 {
+            let mut i = ((p * self.inv_uniform_beta) as usize).min(self.m - 1);
+            if p < self.phi[i] {
+                i -= 1;
+            } else if p >= self.phi[i + 1] && i + 1 < self.m {
+                i += 1;
+            }
+            i
+        } else {
+            segment(&self.phi, p)
+        };
+        let eps = ((p - self.phi[i]) / self.beta[i]).clamp(0.0, 1.0);
+        (i, eps)
+    }
+
+    /// ρ² at fraction `eps` of sector `i`: the squared radius of the star domain there.
+    #[inline]
+    pub(crate) fn star_radius2(&self, i: usize, eps: f64) -> f64 {
+        star_radius2(self.r2[i], self.r2[i + 1], eps)
+    }
+
+    /// Bytes of the tables' contents (f64 and u32 entries).
+    pub(crate) fn table_bytes(&self) -> usize {
+        8 * (self.phi.len() + self.beta.len() + self.r2.len() + self.cum.len())
+            + 4 * self.wedge_guide.len()
+    }
+
+    /// Γ_i, M + 1 entries.
+    #[cfg(test)]
+    pub(crate) fn wedge_cumulative(&self) -> &[f64] {
+        &self.cum
+    }
+    /// Γ_M / Σγ^i.
+    #[cfg(test)]
+    pub(crate) fn kappa(&self) -> f64 {
+        self.kappa
+    }
+    /// Sector widths β_i.
+    pub(crate) fn beta(&self) -> &[f64] {
+        &self.beta
+    }
+    /// R_i², M + 1 entries.
+    #[cfg(test)]
+    pub(crate) fn r2(&self) -> &[f64] {
+        &self.r2
+    }
+    /// Meridian azimuths, M + 1 entries.
+    #[cfg(test)]
+    pub(crate) fn phi(&self) -> &[f64] {
+        &self.phi
+    }
+}
 
 /// Area of the wedge of sector width `beta` between ε = 0 and `eps`, per unit ½ (that is, the angle
 /// of the B-disk wedge with the same area): βR_a²ε + (β/2)(R_b² − R_a²)ε².

@@ -138,11 +138,10 @@ pub(crate) fn complete(
     let (n, m) = (diagram.n_parallels(), diagram.n_meridians());
     let theta = diagram.theta();
     if theta[n - 1] > theta_max {
-        return Err(DiagramError::Domain(format!(
-            "the diagram reaches θ = {}°, beyond the {}° this map covers",
-            theta[n - 1].to_degrees(),
-            theta_max.to_degrees()
-        )));
+        return Err(DiagramError::BeyondDomain {
+            theta_deg: theta[n - 1].to_degrees(),
+            limit_deg: theta_max.to_degrees(),
+        });
     }
     let zero_parallel = |j: usize| (0..m).all(|i| diagram.value(i, j) == 0.0);
     let add_pole = theta[0] > 0.0;

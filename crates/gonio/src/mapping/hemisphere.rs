@@ -33,6 +33,26 @@ use std::f64::consts::FRAC_PI_2;
 /// a direction there inverts to either side of that seam.
 ///
 /// Cost: O(log M + log N) per sample (O(1) sector lookup for uniform meridians in `pdf`/`invert`).
+///
+/// ```
+/// use gonio::{Diagram, HemisphereMap, Sampler};
+/// // A lobe on 4 parallels × 4 meridians in candela (completed at the pole and at φ = 0 as above).
+/// let d = Diagram::from_degrees(
+///     &[10.0, 30.0, 60.0, 90.0],
+///     &[20.0, 110.0, 200.0, 290.0],
+///     &vec![vec![5.0, 3.0, 1.0, 0.0]; 4],
+/// )
+/// .unwrap();
+/// let map = HemisphereMap::new(&d).unwrap();
+/// let s = map.sample([0.25, 0.8]);
+/// assert!(s.direction[2] >= 0.0);
+/// assert!((map.pdf(s.direction) - s.pdf).abs() <= 1e-12 * s.pdf);
+/// let u = map.invert(s.direction).unwrap();
+/// assert!((u[0] - 0.25).abs() < 1e-10 && (u[1] - 0.8).abs() < 1e-10);
+/// let (lo, hi) = map.ratio_bound(); // guaranteed range of pdf / target_pdf
+/// let r = map.pdf(s.direction) / map.target_pdf(s.direction);
+/// assert!(lo * (1.0 - 1e-9) <= r && r <= hi * (1.0 + 1e-9));
+/// ```
 #[derive(Debug, Clone)]
 pub struct HemisphereMap {
     core: HdsCore,
@@ -110,9 +130,7 @@ impl HemisphereMap {
         limits: &RefineLimits,
     ) -> Result<Self, DiagramError> {
         if !valid_tolerance(tolerance) {
-            return Err(DiagramError::Domain(format!(
-                "the tolerance must be a finite number > 0, got {tolerance}"
-            )));
+            return Err(DiagramError::BadTolerance { tolerance });
         }
         let start = std::time::Instant::now();
         let c = complete(diagram, FRAC_PI_2, false, diagram.max_value())?;
@@ -249,8 +267,7 @@ impl HemisphereMap {
 
     /// The slide's count of additional precomputed floats, M·N + 2M + 2 (§4, A10), for this grid.
     pub fn paper_table_floats(&self) -> usize {
-        let d = self.diagram();
-        d.n_meridians() * d.n_parallels() + 2 * d.n_meridians() + 2
+        super::paper_table_floats(self.diagram())
     }
 }
 
@@ -302,8 +319,14 @@ impl Sampler for HemisphereMap {
     fn refinement(&self) -> Option<&Refinement> {
         HemisphereMap::refinement(self)
     }
+    fn completions(&self) -> &[super::Completion] {
+        HemisphereMap::completions(self)
+    }
     fn stages(&self, u: Point2) -> Option<super::Stages> {
         Some(HemisphereMap::stages(self, u))
+    }
+    fn as_any(&self) -> Option<&dyn std::any::Any> {
+        Some(self)
     }
     fn memory_bytes(&self) -> usize {
         self.core.memory_bytes()

@@ -37,6 +37,24 @@ pub fn sphere_to_disk_radius(d: [f64; 3]) -> f64 {
     r2.clamp(0.0, 2.0).sqrt()
 }
 
+/// Disk azimuth φ ∈ [0, 2π) of a direction (the inverse of [`disk_to_sphere`] in φ), as
+/// [`crate::sampler::spherical`] computes it, without the polar angle: 0 at the poles (x = y = 0,
+/// any signs of zero), where every meridian meets and meridian 0 is read.
+#[inline]
+pub fn sphere_to_disk_azimuth(d: [f64; 3]) -> f64 {
+    if d[0] == 0.0 && d[1] == 0.0 {
+        return 0.0;
+    }
+    let mut phi = d[1].atan2(d[0]);
+    if phi < 0.0 {
+        phi += std::f64::consts::TAU;
+    }
+    if phi >= std::f64::consts::TAU {
+        phi = 0.0;
+    }
+    phi
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -8,9 +8,15 @@
 //! | M_D | [`radial`] | star domain → unit disk (conditional CDF in r) | s/D |
 //! | M_E | [`lift`] | disk → hemisphere (Lambert, equal-area) | 2 |
 //!
-//! The product of the area factors gives the exact density p(ω) = D(ω)/(2T) per steradian (§7).
-//! [`HemisphereMap`] and [`SphereMap`] compose them over the tables of §4; `bound` computes the
-//! guaranteed pdf/target range at build time.
+//! Each stage is one room: its module holds the forward map, the inverse and the area factor, and
+//! for the two stages with tables (M_C, M_D) the tables themselves (`angular::Angular`,
+//! `radial::Radial`). The private `core` composes them: `sample` is
+//! M_E(M_D(M_C(M_B(u)))), `invert` runs the four inverses back, and the density is the radial
+//! room's D over the constant 2T. The product of the area factors, π · 1 · (s/D) · 2 = 2T/D, gives
+//! the exact density p(ω) = D(ω)/(2T) per steradian (§7), with T = πs. [`HemisphereMap`] and
+//! [`SphereMap`] are built on that core; `bound` computes the guaranteed pdf/target range at build
+//! time. The equal-area baseline's hemisphere map ([`crate::baselines::equal_area`]) reuses M_B
+//! and M_E.
 
 pub mod angular;
 pub mod batch;
@@ -48,4 +54,34 @@ pub struct Stages {
     /// Whether the point went through the lower-hemisphere map of a split sphere layout (the disk
     /// coordinates are then those of that map, whose pole is the nadir).
     pub lower: bool,
+}
+
+/// The paper's count of additional precomputed floats for a grid of M meridians × N parallels,
+/// M·N + 2M + 2 (§4, A10), the one place the formula is written. (This crate's tables hold more,
+/// e.g. guide tables and the nodal densities: see [`crate::Sampler::memory_bytes`].)
+///
+/// ```
+/// let d = gonio::Diagram::from_degrees(&[0.0, 90.0], &[0.0, 180.0], &vec![vec![1.0, 0.0]; 2]).unwrap();
+/// assert_eq!(gonio::mapping::paper_table_floats(&d), 2 * 2 + 2 * 2 + 2);
+/// ```
+pub fn paper_table_floats(diagram: &crate::Diagram) -> usize {
+    let (m, n) = (diagram.n_meridians(), diagram.n_parallels());
+    m * n + 2 * m + 2
+}
+
+/// The largest i ≤ `last` with a_i ≤ x (0 if none), for non-decreasing `a`, starting from the guess
+/// of a guide table whose cell k covers [k, k + 1)/`scale`. The guess may round to either side of x:
+/// step back, then forward; on a well-built guide both loops run at most a step or two. Shared by
+/// the searches of M_C (wedges) and M_D (parallels).
+#[inline]
+pub(crate) fn guided_search(a: &[f64], guide: &[u32], scale: f64, x: f64, last: usize) -> usize {
+    let k = ((x * scale) as usize).min(guide.len() - 1);
+    let mut i = (guide[k] as usize).min(last);
+    while i > 0 && a[i] > x {
+        i -= 1;
+    }
+    while i < last && a[i + 1] <= x {
+        i += 1;
+    }
+    i
 }

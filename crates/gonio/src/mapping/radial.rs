@@ -15,6 +15,9 @@
 //!
 //! The stage maps the constant density s of the C-domain to D: the area ratio is dA_D/dA_C = s/D.
 
+use super::guided_search;
+use crate::diagram::segment;
+
 /// Mass ∫_{x0}^{x0+τ} 2x d(x) dx of the density d(x) = d0 + k(x − x0): the radial cumulative
 /// between a parallel at radius `x0` and radius x0 + τ.
 #[inline]
@@ -27,6 +30,15 @@ pub fn partial_mass(x0: f64, d0: f64, k: f64, tau: f64) -> f64 {
 pub fn segment_mass(x0: f64, x1: f64, d0: f64, d1: f64) -> f64 {
     let h = x1 - x0;
     h / 3.0 * (d0 * (2.0 * x0 + x1) + d1 * (x0 + 2.0 * x1))
+}
+
+/// The radial segment [x_j, x_{j+1}] a forward solve landed in, with its end densities
+/// interpolated between the two meridians.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Segment {
+    j: usize,
+    d0: f64,
+    d1: f64,
 }
 
 /// The radius X ∈ [x0, x1] with [`partial_mass`] = `m` on the segment with end densities d0, d1.
@@ -133,6 +145,208 @@ pub(crate) fn cardano_radius(x0: f64, x1: f64, d0: f64, d1: f64, m: f64) -> f64 
 #[inline]
 pub fn radial_area(s: f64, d: f64) -> f64 {
     s / d
+}
+
+/// The tables of M_D for one map (ALGORITHM §4.1–§4.2): the parallel radii, the nodal disk
+/// densities and the cumulative radial masses of every meridian, with the forward map (B-disk
+/// radius → D-disk radius on the meridian pair of an angular fraction), its inverse and the disk
+/// density D that the map's pdf is made of.
+#[derive(Debug, Clone)]
+pub(crate) struct Radial {
+    pub(super) n: usize,
+    /// Parallel radii x_j = √(1 − cos θ_j) on the disk, N entries.
+    pub(super) x: Vec<f64>,
+    /// Nodal disk densities d_{i,j} = p_{i,j}, row-major M × N.
+    pub(super) d: Vec<f64>,
+    /// Cumulative radial masses U(i, j) = 2∫₀^{x_j} d_i(x) x dx, row-major M × N.
+    pub(super) u: Vec<f64>,
+    /// Guide table of the parallel search: entry k is the segment of x that holds radius
+    /// k·x_{N−1}/K (K = the table's length, 2N), for `pdf` and `invert`.
+    pub(super) radius_guide: Vec<u32>,
+    /// K / x_{N−1} for [`Radial::radius_guide`].
+    pub(super) radius_scale: f64,
+    /// 1 / (x_{j+1} − x_j), N − 1 entries (0 for an empty segment).
+    pub(super) inv_dx: Vec<f64>,
+    /// Radial guide tables, row-major M × (K + 1) with K = [`Radial::radial_k`]: entry (i, k) is
+    /// the largest j ≤ N − 2 with U(i, j) ≤ (k/K)·U(i, N−1), the segment of meridian i's own radial
+    /// CDF at r_B² = k/K. They bracket the forward map's radial search.
+    pub(super) radial_guide: Vec<u32>,
+    /// K = ⌈N/2⌉ cells per radial guide table.
+    pub(super) radial_k: usize,
+}
+
+impl Radial {
+    /// Builds the tables from the parallel radii `x` (N ≥ 2, x_0 = 0) and the nodal densities `d`
+    /// (row-major M × N).
+    pub(crate) fn build(x: Vec<f64>, d: Vec<f64>) -> Self {
+        let n = x.len();
+        let m = d.len() / n;
+        let mut u = vec![0.0; m * n];
+        for i in 0..m {
+            let (row, dr) = (&mut u[i * n..(i + 1) * n], &d[i * n..(i + 1) * n]);
+            for j in 0..n - 1 {
+                row[j + 1] = row[j] + segment_mass(x[j], x[j + 1], dr[j], dr[j + 1]);
+            }
+        }
+        let radius_len = 2 * n;
+        let x_max = x[n - 1];
+        let radius_guide: Vec<u32> = (0..radius_len)
+            .map(|k| segment(&x, k as f64 * x_max / radius_len as f64) as u32)
+            .collect();
+        let inv_dx: Vec<f64> = x
+            .windows(2)
+            .map(|w| {
+                if w[1] > w[0] {
+                    1.0 / (w[1] - w[0])
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        let radial_k = n.div_ceil(2).max(1);
+        let mut radial_guide = Vec::with_capacity(m * (radial_k + 1));
+        for i in 0..m {
+            let row = &u[i * n..(i + 1) * n];
+            for k in 0..=radial_k {
+                let level = k as f64 / radial_k as f64 * row[n - 1];
+                let j = row.partition_point(|&v| v <= level).max(1) - 1;
+                radial_guide.push(j.min(n - 2) as u32);
+            }
+        }
+        Radial {
+            n,
+            radius_scale: radius_len as f64 / x_max,
+            x,
+            d,
+            u,
+            radius_guide,
+            inv_dx,
+            radial_guide,
+            radial_k,
+        }
+    }
+
+    /// U(i, N−1): the total radial mass of meridian `i`.
+    #[inline]
+    pub(crate) fn meridian_mass(&self, i: usize) -> f64 {
+        self.u[i * self.n + self.n - 1]
+    }
+
+    /// U(i, j + 1) − U(i, j): the radial mass of meridian `i` between parallels `j` and `j + 1`.
+    #[inline]
+    pub(crate) fn segment_mass_of(&self, i: usize, j: usize) -> f64 {
+        self.u[i * self.n + j + 1] - self.u[i * self.n + j]
+    }
+
+    /// Bytes of the tables' contents (f64 and u32 entries).
+    pub(crate) fn table_bytes(&self) -> usize {
+        8 * (self.x.len() + self.d.len() + self.u.len() + self.inv_dx.len())
+            + 4 * (self.radius_guide.len() + self.radial_guide.len())
+    }
+
+    /// The segment of the parallel radii that holds disk radius `xr` (as `diagram::segment`: the
+    /// largest j ≤ N − 2 with x_j ≤ xr), found from the guide table.
+    #[inline]
+    pub(super) fn segment_of(&self, xr: f64) -> usize {
+        guided_search(
+            &self.x,
+            &self.radius_guide,
+            self.radius_scale,
+            xr,
+            self.n - 2,
+        )
+    }
+
+    /// Forward M_D on the tables interpolated at fraction `eps` between meridians `i` and `i1`
+    /// (§6, A6): the D-disk radius whose radial CDF equals r_B², and the segment it lies in (for
+    /// the disk density D there, [`Radial::density_on`]).
+    #[inline]
+    pub(crate) fn forward(&self, rb: f64, i: usize, i1: usize, eps: f64) -> (f64, Segment) {
+        let n = self.n;
+        let (ua, ub) = (&self.u[i * n..i * n + n], &self.u[i1 * n..i1 * n + n]);
+        let (da, db) = (&self.d[i * n..i * n + n], &self.d[i1 * n..i1 * n + n]);
+        let ut = |j: usize| (1.0 - eps) * ua[j] + eps * ub[j];
+        let w = rb * rb * ut(n - 1);
+        // Largest j ≤ N−2 with Ũ_j ≤ w. Ũ/Ũ_{N−1} is a convex combination of the two rows'
+        // normalised cumulatives, so the answer lies between the rows' own answers for r_B², which
+        // the radial guide tables bracket: j ∈ [min(g_a[k], g_b[k]), max(g_a[k+1], g_b[k+1])].
+        let kg = self.radial_k;
+        let k = ((rb * rb * kg as f64) as usize).min(kg - 1);
+        let (ga, gb) = (
+            &self.radial_guide[i * (kg + 1)..(i + 1) * (kg + 1)],
+            &self.radial_guide[i1 * (kg + 1)..(i1 + 1) * (kg + 1)],
+        );
+        let (mut lo, mut hi) = (ga[k].min(gb[k]) as usize, ga[k + 1].max(gb[k + 1]) as usize);
+        while hi > lo {
+            let mid = (lo + hi).div_ceil(2);
+            if ut(mid) <= w {
+                lo = mid;
+            } else {
+                hi = mid - 1;
+            }
+        }
+        let mut j = lo;
+        // Round-off may move the answer just outside the bracket: settle it exactly.
+        while j > 0 && ut(j) > w {
+            j -= 1;
+        }
+        while j + 2 < n && ut(j + 1) <= w {
+            j += 1;
+        }
+        let d0 = (1.0 - eps) * da[j] + eps * db[j];
+        let d1 = (1.0 - eps) * da[j + 1] + eps * db[j + 1];
+        let (x0, x1) = (self.x[j], self.x[j + 1]);
+        let xr = solve_radius(x0, x1, d0, d1, w - ut(j)).min(x1);
+        (xr, Segment { j, d0, d1 })
+    }
+
+    /// The density on the segment the forward map landed in, at D-disk radius `xr` (clamped to
+    /// the segment): linear between its end densities.
+    #[inline]
+    pub(crate) fn density_on(&self, seg: Segment, xr: f64) -> f64 {
+        let t = ((xr - self.x[seg.j]) * self.inv_dx[seg.j]).clamp(0.0, 1.0);
+        (seg.d0 + (seg.d1 - seg.d0) * t).max(0.0)
+    }
+
+    /// Inverse M_D: the B-disk radius r_B = √(Ũ(x_r)/Ũ_{N−1}) of D-disk radius `xr` on the tables
+    /// interpolated at fraction `eps` between meridians `i` and `i1` (closed form, §6–§7a).
+    #[inline]
+    pub(crate) fn inverse(&self, xr: f64, i: usize, i1: usize, eps: f64) -> f64 {
+        let n = self.n;
+        let (ua, ub) = (&self.u[i * n..i * n + n], &self.u[i1 * n..i1 * n + n]);
+        let (da, db) = (&self.d[i * n..i * n + n], &self.d[i1 * n..i1 * n + n]);
+        let j = self.segment_of(xr);
+        let (x0, x1) = (self.x[j], self.x[j + 1]);
+        let d0 = (1.0 - eps) * da[j] + eps * db[j];
+        let d1 = (1.0 - eps) * da[j + 1] + eps * db[j + 1];
+        let k = (d1 - d0) * self.inv_dx[j];
+        let tau = (xr - x0).clamp(0.0, x1 - x0);
+        let w = (1.0 - eps) * ua[j] + eps * ub[j] + partial_mass(x0, d0, k, tau);
+        let wn = (1.0 - eps) * ua[n - 1] + eps * ub[n - 1];
+        if wn > 0.0 {
+            (w / wn).clamp(0.0, 1.0).sqrt()
+        } else {
+            0.0
+        }
+    }
+
+    /// The disk density D at D-disk radius `xr` between meridians `i` and `i1` at fraction `eps`
+    /// (bilinear in (x, φ)): the area factor of M_D there is s/D ([`radial_area`]).
+    #[inline]
+    pub(crate) fn density(&self, xr: f64, i: usize, i1: usize, eps: f64) -> f64 {
+        let n = self.n;
+        if xr > self.x[n - 1] * (1.0 + 1e-12) {
+            // Beyond the zone the map covers (a diagram ending before θ_max): no light.
+            return 0.0;
+        }
+        let j = self.segment_of(xr);
+        let t = ((xr - self.x[j]) * self.inv_dx[j]).clamp(0.0, 1.0);
+        let row = |r: usize| {
+            let a = &self.d[r * n..r * n + n];
+            a[j] + t * (a[j + 1] - a[j])
+        };
+        ((1.0 - eps) * row(i) + eps * row(i1)).max(0.0)
+    }
 }
 
 #[cfg(test)]

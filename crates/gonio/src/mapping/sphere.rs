@@ -68,6 +68,26 @@ pub(crate) enum CoresRef<'a> {
 ///
 /// In both, every sample's pdf is D/(2T) with T the total disk power of the map(s), so at every
 /// node the pdf is the node value times one constant.
+///
+/// ```
+/// use gonio::{Diagram, Sampler, SphereLayout, SphereMap};
+/// // Light both down (θ > 90°) and up, 5 parallels × 3 meridians.
+/// let d = Diagram::from_degrees(
+///     &[0.0, 40.0, 90.0, 130.0, 180.0],
+///     &[0.0, 120.0, 240.0],
+///     &vec![vec![1.0, 0.5, 0.3, 2.0, 4.0]; 3],
+/// )
+/// .unwrap();
+/// for layout in [SphereLayout::Split, SphereLayout::Lambert] {
+///     let map = SphereMap::with_layout(&d, layout).unwrap();
+///     let s = map.sample([0.1, 0.4]);
+///     assert!((map.pdf(s.direction) - s.pdf).abs() <= 1e-12 * s.pdf);
+///     let u = map.invert(s.direction).unwrap();
+///     assert!((u[0] - 0.1).abs() < 1e-9 && (u[1] - 0.4).abs() < 1e-9);
+/// }
+/// // Most of the power is below the horizon, so most of the square maps there.
+/// assert!(SphereMap::new(&d).unwrap().lower_probability().unwrap() > 0.5);
+/// ```
 #[derive(Debug, Clone)]
 pub struct SphereMap {
     layout: Layout,
@@ -138,9 +158,7 @@ impl SphereMap {
         limits: &RefineLimits,
     ) -> Result<Self, DiagramError> {
         if !valid_tolerance(tolerance) {
-            return Err(DiagramError::Domain(format!(
-                "the tolerance must be a finite number > 0, got {tolerance}"
-            )));
+            return Err(DiagramError::BadTolerance { tolerance });
         }
         Self::build(diagram, layout, Some((tolerance, limits)))
     }
@@ -172,9 +190,7 @@ impl SphereMap {
             SphereLayout::Lambert => {
                 let theta = diagram.theta();
                 if !(theta[0] < FRAC_PI_2 && theta[theta.len() - 1] > FRAC_PI_2) {
-                    return Err(DiagramError::Domain(
-                        "the Lambert sphere layout needs a diagram that spans the horizon".into(),
-                    ));
+                    return Err(DiagramError::NotSpanningHorizon);
                 }
                 let c = complete(diagram, PI, false, scale)?;
                 completions.extend(c.completions);
@@ -606,8 +622,14 @@ impl Sampler for SphereMap {
     fn refinement(&self) -> Option<&Refinement> {
         SphereMap::refinement(self)
     }
+    fn completions(&self) -> &[super::Completion] {
+        SphereMap::completions(self)
+    }
     fn stages(&self, u: Point2) -> Option<super::Stages> {
         Some(SphereMap::stages(self, u))
+    }
+    fn as_any(&self) -> Option<&dyn std::any::Any> {
+        Some(self)
     }
     fn memory_bytes(&self) -> usize {
         match &self.layout {

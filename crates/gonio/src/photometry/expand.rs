@@ -297,15 +297,14 @@ pub(crate) fn meridians(sym: Symmetry, horiz: &[f64]) -> Vec<(f64, usize)> {
 }
 
 /// The expanded diagram (see [`Photometry::to_diagram`]).
-pub(crate) fn to_diagram(p: &Photometry) -> Result<Diagram, crate::Error> {
+pub(crate) fn to_diagram(p: &Photometry) -> Result<Diagram, crate::DiagramError> {
     // The fields are public: check the shape before indexing.
     let (n_v, n_h) = (p.vertical_angles_deg.len(), p.horizontal_angles_deg.len());
     if n_v == 0 || n_h == 0 {
         return Err(crate::DiagramError::Empty {
             parallels: n_v,
             meridians: n_h,
-        }
-        .into());
+        });
     }
     let expected = n_v.saturating_mul(n_h);
     if p.candela.len() != expected {
@@ -313,8 +312,7 @@ pub(crate) fn to_diagram(p: &Photometry) -> Result<Diagram, crate::Error> {
             what: "candela (stored planes × vertical angles)".into(),
             expected,
             found: p.candela.len(),
-        }
-        .into());
+        });
     }
     match p.photometric_type {
         PhotometricType::C => type_c(p),
@@ -322,7 +320,7 @@ pub(crate) fn to_diagram(p: &Photometry) -> Result<Diagram, crate::Error> {
     }
 }
 
-fn type_c(p: &Photometry) -> Result<Diagram, crate::Error> {
+fn type_c(p: &Photometry) -> Result<Diagram, crate::DiagramError> {
     let vert = &p.vertical_angles_deg;
     let n_v = vert.len();
     // The measured rows only, θ = 180° − γ ascending; the ends snapped to 0°, 90° or 180° (interior
@@ -355,8 +353,7 @@ fn type_c(p: &Photometry) -> Result<Diagram, crate::Error> {
         return Err(crate::DiagramError::TooLarge {
             parallels: n,
             meridians: phi.len(),
-        }
-        .into());
+        });
     }
     let mut values = Vec::with_capacity(total);
     for &(_, plane) in &mer {
@@ -364,7 +361,7 @@ fn type_c(p: &Photometry) -> Result<Diagram, crate::Error> {
             values.push(p.candela[plane * n_v + row]);
         }
     }
-    Ok(Diagram::new(theta, phi, values)?)
+    Diagram::new(theta, phi, values)
 }
 
 /// One axis of a type A/B table, mirrored about 0 when asked: (angle, stored index), increasing.
@@ -480,7 +477,7 @@ fn ab_eval(
     (1.0 - th) * a + th * b
 }
 
-fn type_ab(p: &Photometry, t: PhotometricType) -> Result<Diagram, crate::Error> {
+fn type_ab(p: &Photometry, t: PhotometricType) -> Result<Diagram, crate::DiagramError> {
     let (ha, hx, va, vx) = ab_axes(p);
     // Lower hemisphere only when every measured direction has z ≤ 0.
     let lower_only = match t {
@@ -505,5 +502,5 @@ fn type_ab(p: &Photometry, t: PhotometricType) -> Result<Diagram, crate::Error> 
     }
     let theta = theta_deg.iter().map(|t| t.to_radians().min(PI)).collect();
     let phi = phi_deg.iter().map(|c| c.to_radians()).collect();
-    Ok(Diagram::new(theta, phi, values)?)
+    Diagram::new(theta, phi, values)
 }

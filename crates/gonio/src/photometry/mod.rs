@@ -632,7 +632,7 @@ impl Photometry {
     ///   cos V (sin H·ŷ − cos H·ẑ). Directions outside the measured (H, V) ranges carry zero.
     ///
     /// Fails only when the diagram would be empty of power (every value 0) or too large.
-    pub fn to_diagram(&self) -> Result<Diagram, crate::Error> {
+    pub fn to_diagram(&self) -> Result<Diagram, crate::DiagramError> {
         expand::to_diagram(self)
     }
 

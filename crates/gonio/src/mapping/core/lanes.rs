@@ -55,16 +55,16 @@ impl HdsCore {
     /// Sector index of azimuth `p` (as `HdsCore::sector`, without ε).
     #[inline(always)]
     fn sector_index(&self, p: f64) -> usize {
-        if self.inv_uniform_beta > 0.0 {
-            let mut i = ((p * self.inv_uniform_beta) as usize).min(self.m - 1);
-            if p < self.phi[i] {
+        if self.angular.inv_uniform_beta > 0.0 {
+            let mut i = ((p * self.angular.inv_uniform_beta) as usize).min(self.angular.m - 1);
+            if p < self.angular.phi[i] {
                 i -= 1;
-            } else if p >= self.phi[i + 1] && i + 1 < self.m {
+            } else if p >= self.angular.phi[i + 1] && i + 1 < self.angular.m {
                 i += 1;
             }
             i
         } else {
-            crate::diagram::segment(&self.phi, p)
+            crate::diagram::segment(&self.angular.phi, p)
         }
     }
 
@@ -78,9 +78,9 @@ impl HdsCore {
         for l in 0..L {
             let s = self.sector_index(p[l].to_f64());
             i[l] = s;
-            i1[l] = self.next(s);
-            phi0[l] = c(self.phi[s]);
-            beta[l] = c(self.beta[s]);
+            i1[l] = self.angular.next(s);
+            phi0[l] = c(self.angular.phi[s]);
+            beta[l] = c(self.angular.beta[s]);
         }
         let mut eps = [T::ZERO; L];
         for l in 0..L {
@@ -92,7 +92,7 @@ impl HdsCore {
     /// The forward map on one block: directions and the disk density D at each sample.
     #[inline(always)]
     pub(crate) fn sample_block<T: Lane>(&self, u: &[T; L], v: &[T; L], out: [&mut [T; L]; 4]) {
-        let n = self.n;
+        let n = self.radial.n;
         // M_B (concentric::square_to_disk), branch-free.
         let mut rb = [T::ZERO; L];
         let mut pb = [T::ZERO; L];
@@ -126,15 +126,15 @@ impl HdsCore {
             [T::ZERO; L],
         );
         for l in 0..L {
-            let i = self.wedge(pb[l].to_f64());
+            let i = self.angular.wedge(pb[l].to_f64());
             wi[l] = i;
-            beta[l] = c(self.beta[i]);
-            ra[l] = c(self.r2[i]);
-            rbb[l] = c(self.r2[i + 1]);
-            cum[l] = c(self.cum[i]);
-            phi0[l] = c(self.phi[i]);
+            beta[l] = c(self.angular.beta[i]);
+            ra[l] = c(self.angular.r2[i]);
+            rbb[l] = c(self.angular.r2[i + 1]);
+            cum[l] = c(self.angular.cum[i]);
+            phi0[l] = c(self.angular.phi[i]);
         }
-        let kappa: T = c(self.kappa);
+        let kappa: T = c(self.angular.kappa);
         let mut eps = [T::ZERO; L];
         let mut phic = [T::ZERO; L];
         for l in 0..L {
@@ -152,7 +152,7 @@ impl HdsCore {
             phic[l] = phi0[l] + e * beta[l];
         }
         // M_D: the radial search per lane (as HdsCore::sample), gathers for the solve.
-        let kg = self.radial_k;
+        let kg = self.radial.radial_k;
         let (mut x0, mut x1, mut inv_dx, mut d0, mut d1, mut m) = (
             [T::ZERO; L],
             [T::ZERO; L],
@@ -163,16 +163,19 @@ impl HdsCore {
         );
         for l in 0..L {
             let i = wi[l];
-            let i1 = self.next(i);
+            let i1 = self.angular.next(i);
             let e = eps[l];
-            let (ua, ub) = (&self.u[i * n..i * n + n], &self.u[i1 * n..i1 * n + n]);
+            let (ua, ub) = (
+                &self.radial.u[i * n..i * n + n],
+                &self.radial.u[i1 * n..i1 * n + n],
+            );
             let ut = |j: usize| (T::ONE - e) * c::<T>(ua[j]) + e * c::<T>(ub[j]);
             let r2b = rb[l] * rb[l];
             let w = r2b * ut(n - 1);
             let k = (r2b * c::<T>(kg as f64)).to_usize().min(kg - 1);
             let (ga, gb) = (
-                &self.radial_guide[i * (kg + 1)..(i + 1) * (kg + 1)],
-                &self.radial_guide[i1 * (kg + 1)..(i1 + 1) * (kg + 1)],
+                &self.radial.radial_guide[i * (kg + 1)..(i + 1) * (kg + 1)],
+                &self.radial.radial_guide[i1 * (kg + 1)..(i1 + 1) * (kg + 1)],
             );
             let (mut lo, mut hi) = (ga[k].min(gb[k]) as usize, ga[k + 1].max(gb[k + 1]) as usize);
             while hi > lo {
@@ -190,12 +193,15 @@ impl HdsCore {
             while j + 2 < n && ut(j + 1) <= w {
                 j += 1;
             }
-            let (da, db) = (&self.d[i * n..i * n + n], &self.d[i1 * n..i1 * n + n]);
+            let (da, db) = (
+                &self.radial.d[i * n..i * n + n],
+                &self.radial.d[i1 * n..i1 * n + n],
+            );
             d0[l] = (T::ONE - e) * c::<T>(da[j]) + e * c::<T>(db[j]);
             d1[l] = (T::ONE - e) * c::<T>(da[j + 1]) + e * c::<T>(db[j + 1]);
-            x0[l] = c(self.x[j]);
-            x1[l] = c(self.x[j + 1]);
-            inv_dx[l] = c(self.inv_dx[j]);
+            x0[l] = c(self.radial.x[j]);
+            x1[l] = c(self.radial.x[j + 1]);
+            inv_dx[l] = c(self.radial.inv_dx[j]);
             m[l] = w - ut(j);
         }
         let xr = solve_radius_block(&x0, &x1, &d0, &d1, &m);
@@ -223,7 +229,7 @@ impl HdsCore {
                 // A pole: `density` reads meridian 0 there (φ = 0): parallel 0 at the north
                 // pole, the last parallel at the south pole (the rim of the Lambert disk).
                 let j = if oz[l] > T::ZERO { 0 } else { n - 1 };
-                od[l] = c::<T>(self.d[j]).max(T::ZERO);
+                od[l] = c::<T>(self.radial.d[j]).max(T::ZERO);
             }
         }
     }
@@ -237,7 +243,7 @@ impl HdsCore {
         z: &[T; L],
         out: &mut [T; L],
     ) {
-        let n = self.n;
+        let n = self.radial.n;
         let (xr, p) = radius_azimuth(x, y, z);
         let (i, i1, eps) = self.sectors(&p);
         let (mut t, mut a0, mut a1, mut b0, mut b1) = (
@@ -248,19 +254,19 @@ impl HdsCore {
             [T::ZERO; L],
         );
         for l in 0..L {
-            let j = self.radial_segment(xr[l].to_f64());
-            let (xj, idx) = (c::<T>(self.x[j]), c::<T>(self.inv_dx[j]));
+            let j = self.radial.segment_of(xr[l].to_f64());
+            let (xj, idx) = (c::<T>(self.radial.x[j]), c::<T>(self.radial.inv_dx[j]));
             t[l] = ((xr[l] - xj) * idx).clamp(T::ZERO, T::ONE);
-            a0[l] = c(self.d[i[l] * n + j]);
-            a1[l] = c(self.d[i[l] * n + j + 1]);
-            b0[l] = c(self.d[i1[l] * n + j]);
-            b1[l] = c(self.d[i1[l] * n + j + 1]);
+            a0[l] = c(self.radial.d[i[l] * n + j]);
+            a1[l] = c(self.radial.d[i[l] * n + j + 1]);
+            b0[l] = c(self.radial.d[i1[l] * n + j]);
+            b1[l] = c(self.radial.d[i1[l] * n + j + 1]);
         }
         for l in 0..L {
             let ra = a0[l] + t[l] * (a1[l] - a0[l]);
             let rb = b0[l] + t[l] * (b1[l] - b0[l]);
             out[l] = ((T::ONE - eps[l]) * ra + eps[l] * rb).max(T::ZERO);
-            if xr[l].to_f64() > self.x[n - 1] * (1.0 + 1e-12) {
+            if xr[l].to_f64() > self.radial.x[n - 1] * (1.0 + 1e-12) {
                 // Beyond the zone the map covers: no light (`HdsCore::density`).
                 out[l] = T::ZERO;
             }
@@ -277,7 +283,7 @@ impl HdsCore {
         ou: &mut [T; L],
         ov: &mut [T; L],
     ) {
-        let n = self.n;
+        let n = self.radial.n;
         let (xr, p) = radius_azimuth(x, y, z);
         let (i, i1, eps) = self.sectors(&p);
         let (mut x0, mut x1, mut idx, mut da0, mut da1, mut db0, mut db1) = (
@@ -299,27 +305,27 @@ impl HdsCore {
             [T::ZERO; L],
         );
         for l in 0..L {
-            let j = self.radial_segment(xr[l].to_f64());
+            let j = self.radial.segment_of(xr[l].to_f64());
             let (a, b) = (i[l] * n, i1[l] * n);
-            x0[l] = c(self.x[j]);
-            x1[l] = c(self.x[j + 1]);
-            idx[l] = c(self.inv_dx[j]);
-            da0[l] = c(self.d[a + j]);
-            da1[l] = c(self.d[a + j + 1]);
-            db0[l] = c(self.d[b + j]);
-            db1[l] = c(self.d[b + j + 1]);
-            ua[l] = c(self.u[a + j]);
-            ub[l] = c(self.u[b + j]);
-            uan[l] = c(self.u[a + n - 1]);
-            ubn[l] = c(self.u[b + n - 1]);
+            x0[l] = c(self.radial.x[j]);
+            x1[l] = c(self.radial.x[j + 1]);
+            idx[l] = c(self.radial.inv_dx[j]);
+            da0[l] = c(self.radial.d[a + j]);
+            da1[l] = c(self.radial.d[a + j + 1]);
+            db0[l] = c(self.radial.d[b + j]);
+            db1[l] = c(self.radial.d[b + j + 1]);
+            ua[l] = c(self.radial.u[a + j]);
+            ub[l] = c(self.radial.u[b + j]);
+            uan[l] = c(self.radial.u[a + n - 1]);
+            ubn[l] = c(self.radial.u[b + n - 1]);
             let s = i[l];
-            cum0[l] = c(self.cum[s]);
-            cum1[l] = c(self.cum[s + 1]);
-            beta[l] = c(self.beta[s]);
-            r2a[l] = c(self.r2[s]);
-            r2b[l] = c(self.r2[s + 1]);
+            cum0[l] = c(self.angular.cum[s]);
+            cum1[l] = c(self.angular.cum[s + 1]);
+            beta[l] = c(self.angular.beta[s]);
+            r2a[l] = c(self.angular.r2[s]);
+            r2b[l] = c(self.angular.r2[s + 1]);
         }
-        let kappa: T = c(self.kappa);
+        let kappa: T = c(self.angular.kappa);
         for l in 0..L {
             let e = eps[l];
             let d0 = (T::ONE - e) * da0[l] + e * db0[l];
