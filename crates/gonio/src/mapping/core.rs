@@ -147,9 +147,9 @@ impl HdsCore {
         let i1 = self.angular.next(i);
         let (xr, seg) = self.radial.forward(rb, i, i1, eps); // M_D
         let dir = disk_to_sphere(xr, phi); // M_E
-        // The density at the radius the returned direction has (what `density` reads), not at xr:
-        // they differ by the lift's round-off, which a steep segment (a zero guard band) would
-        // turn into a visible disagreement between sample() and pdf().
+                                           // The density at the radius the returned direction has (what `density` reads), not at xr:
+                                           // they differ by the lift's round-off, which a steep segment (a zero guard band) would
+                                           // turn into a visible disagreement between sample() and pdf().
         let dens = self.radial.density_on(seg, sphere_to_disk_radius(dir));
         if dir[0] == 0.0 && dir[1] == 0.0 {
             // The pole: every meridian meets there, and `density` reads meridian 0 (φ = 0);

@@ -331,12 +331,19 @@ pub(crate) fn read_ldt(bytes: &[u8]) -> Result<Photometry, ParseError> {
         });
     }
     let candela: Vec<f64> = raw.iter().map(|v| v * scale).collect();
-    if !candela.iter().all(|v| v.is_finite()) {
-        return Err(ParseError::new(
-            0,
-            0,
-            format!("the intensities times the scale factor {scale} overflow"),
-        ));
+    if let Some(k) = candela.iter().position(|v| !v.is_finite()) {
+        // Named at the first value whose product overflows (a located, typed error; the
+        // product is not representable, so nothing is clamped or dropped).
+        let msg = format!(
+            "intensity #{} = {:e} times the scale factor {scale:e} (lamp flux / 1000 × conversion factor) overflows the largest \
+             double (1.8e308)",
+            k + 1,
+            raw[k]
+        );
+        return Err(match cur.token_after(raw_at, k) {
+            Some(t) => cur.err_at(&t, msg),
+            None => ParseError::new(0, 0, msg),
+        });
     }
     Ok(Photometry {
         format: FileFormat::Eulumdat,
