@@ -774,7 +774,9 @@ fn inconsistent_public_fields_do_not_panic() {
     let big = ies(&ies_c("0 90", "0", "1e308 1")).unwrap();
     assert!(big.to_diagram().is_ok());
     let t = "IESNA91\nTILT=NONE\n1 1000 10 2 1 1 2 0 0 0\n1 1 10\n0 90\n0\n1e308 1\n";
-    assert_eq!(ies(t).unwrap_err().line, 0);
+    // 1e308 × 10 overflows: the error names the value's line and column.
+    let e = ies(t).unwrap_err();
+    assert_eq!((e.line, e.column), (7, 1), "{e}");
 }
 
 #[test]
