@@ -1,9 +1,9 @@
 //! IES LM-63 reader (1986, 1991, 1995, 2002, 2019 and the variants met in practice).
 
-use super::tokens::{check_angles, excerpt, strip_bom, text, Cursor, Lines};
+use super::tokens::{check_angles, excerpt, strip_bom, text, Cursor, Lines, Token};
 use super::{
-    expand, IesInfo, Keyword, LampSet, ParseError, PhotometricType, Photometry, Tilt, TiltResolver,
-    TiltTable, Version, Warning, MAX_ANGLES, MAX_HEADER_LINES,
+    validate, IesInfo, Keyword, LampSet, ParseError, PhotometricType, Photometry, Tilt,
+    TiltResolver, TiltTable, Version, Warning, MAX_ANGLES, MAX_HEADER_LINES,
 };
 use crate::diagram::MAX_NODES;
 
@@ -74,16 +74,115 @@ fn tilt_line(line: &[u8]) -> Option<(usize, String)> {
     Some((lead + 4 + sp + 1 + vs + 1, text(val)))
 }
 
+/// Reads an IES LM-63 file in its four steps: [`read_header`] (version line, keywords, the `TILT=`
+/// line), [`read_tilt`] and [`read_fields`] (the thirteen numbers of the luminaire line),
+/// [`read_angles`] (counts against caps and against what is present, then the angles and their
+/// ranges), [`read_values`] (the candela table), then the validation of the whole
+/// ([`validate::classify`]: symmetry and vertical range) and the intensity scale
+/// ([`intensity_scale`]). Warnings come in the order of the file.
 pub(crate) fn read_ies(
     bytes: &[u8],
     resolver: &dyn TiltResolver,
 ) -> Result<Photometry, ParseError> {
-    // Lines are taken one at a time: nothing is stored per line or per token of the file.
+    let mut warnings = Vec::new();
+    let head = read_header(bytes, &mut warnings)?;
+    let mut cur = Cursor::new(head.rest, head.tilt_line + 1, true, false);
+    let tilt = read_tilt(&mut cur, &head, resolver, &mut warnings)?;
+    let fields = read_fields(&mut cur, head.version, &mut warnings)?;
+    let angles = read_angles(&mut cur, &fields)?;
+    let raw = read_values(&mut cur, angles.values, &mut warnings)?;
+    let symmetry = validate::classify(
+        angles.photometric_type,
+        &angles.vert,
+        &angles.horiz,
+        &raw,
+        (angles.vt.first(), angles.vt.last()),
+        (angles.ht.first(), angles.ht.last()),
+        &cur,
+        &mut warnings,
+    )?;
+    let (scale, candela) = intensity_scale(&fields, &head, &tilt, &raw, &mut warnings)?;
+
+    let lamp_description = head
+        .keywords
+        .iter()
+        .find(|k| k.key.eq_ignore_ascii_case("LAMP"))
+        .map(|k| k.value.clone())
+        .unwrap_or_default();
+    let flux = if fields.lumens_per_lamp > 0.0 {
+        fields.lamps as f64 * fields.lumens_per_lamp
+    } else {
+        -1.0
+    };
+    Ok(Photometry {
+        format: super::FileFormat::Ies,
+        version: head.version,
+        photometric_type: angles.photometric_type,
+        header: head.header,
+        keywords: head.keywords,
+        lamp_sets: vec![LampSet {
+            count: fields.lamps,
+            description: lamp_description,
+            flux_lm: flux,
+            color: String::new(),
+            color_rendering: String::new(),
+            watts: fields.input_watts,
+        }],
+        tilt,
+        tilt_angle_deg: TILT_ANGLE_DEG,
+        vertical_angles_deg: angles.vert,
+        horizontal_angles_deg: angles.horiz,
+        raw_values: raw,
+        intensity_scale: scale,
+        candela,
+        symmetry,
+        ies: Some(IesInfo {
+            version_line: head.version_line,
+            lamps: fields.lamps,
+            lumens_per_lamp: fields.lumens_per_lamp,
+            multiplier: fields.multiplier,
+            units_type: fields.units_type as i64,
+            width: fields.width,
+            length: fields.length,
+            height: fields.height,
+            ballast_factor: fields.ballast_factor,
+            second_ballast_field: fields.second,
+            input_watts: fields.input_watts,
+        }),
+        ldt: None,
+        warnings,
+    })
+}
+
+/// The lamp tilt the intensities are given for: the TILT factor is read at this angle.
+const TILT_ANGLE_DEG: f64 = 0.0;
+
+/// What precedes the numbers of an IES file: the version, the keywords and free text, and the
+/// `TILT=` line with the bytes after it.
+struct Header<'a> {
+    version: Version,
+    /// The version line as written (empty for LM-63-1986).
+    version_line: String,
+    /// Free-text header lines.
+    header: Vec<String>,
+    keywords: Vec<Keyword>,
+    /// 1-based line of the `TILT=` line.
+    tilt_line: usize,
+    /// 1-based byte column of its value.
+    tilt_col: usize,
+    /// Its value (`NONE`, `INCLUDE` or a file name).
+    tilt_value: String,
+    /// The bytes after the `TILT=` line.
+    rest: &'a [u8],
+}
+
+/// Step 1: the version line, the keyword lines (with `[MORE]`) and free text, up to the `TILT=`
+/// line. Lines are taken one at a time: nothing is stored per line or per token of the file.
+fn read_header<'a>(bytes: &'a [u8], warnings: &mut Vec<Warning>) -> Result<Header<'a>, ParseError> {
     let mut lines = Lines::new(strip_bom(bytes));
     let Some(first_line) = lines.clone().next() else {
         return Err(ParseError::new(0, 0, "the file is empty"));
     };
-    let mut warnings = Vec::new();
     let first = text(first_line);
     let (version, version_line, header_start) = match version_of(&first) {
         Some((v, w)) => {
@@ -99,7 +198,6 @@ pub(crate) fn read_ies(
         None => (Version::Ies1986, String::new(), 0),
     };
 
-    // Header: keywords / free text up to the TILT line.
     let mut header = Vec::new();
     let mut keywords: Vec<Keyword> = Vec::new();
     let mut tilt_at = None;
@@ -175,13 +273,30 @@ pub(crate) fn read_ies(
             "no `TILT=` line found: this is not an IES LM-63 file",
         ));
     };
-    let tilt_line_no = tilt_idx + 1;
+    Ok(Header {
+        version,
+        version_line,
+        header,
+        keywords,
+        tilt_line: tilt_idx + 1,
+        tilt_col,
+        tilt_value,
+        rest: lines.rest(),
+    })
+}
 
-    let mut cur = Cursor::new(lines.rest(), tilt_line_no + 1, true, false);
-
-    let tilt = match tilt_value.to_ascii_uppercase().as_str() {
+/// Step 2: the tilt: none, a table that follows the `TILT=INCLUDE` line, or a table in the file
+/// the `TILT=` line names (read through `resolver`).
+fn read_tilt(
+    cur: &mut Cursor,
+    head: &Header,
+    resolver: &dyn TiltResolver,
+    warnings: &mut Vec<Warning>,
+) -> Result<Tilt, ParseError> {
+    let (tilt_line_no, tilt_col) = (head.tilt_line, head.tilt_col);
+    Ok(match head.tilt_value.to_ascii_uppercase().as_str() {
         "NONE" => Tilt::None,
-        "INCLUDE" => Tilt::Include(read_tilt_table(&mut cur)?),
+        "INCLUDE" => Tilt::Include(read_tilt_table(cur)?),
         "" => {
             return Err(ParseError::new(
                 tilt_line_no,
@@ -190,7 +305,7 @@ pub(crate) fn read_ies(
             ))
         }
         _ => {
-            let name = tilt_value.clone();
+            let name = head.tilt_value.clone();
             let shown = excerpt(name.as_bytes());
             let bytes = resolver.resolve(&name).map_err(|m| {
                 ParseError::new(tilt_line_no, tilt_col, format!("TILT file `{shown}`: {m}"))
@@ -221,8 +336,38 @@ pub(crate) fn read_ies(
             }
             Tilt::File { name, table }
         }
-    };
+    })
+}
 
+/// The thirteen numbers after the tilt: lamps, the scale, the counts, the type and the opening.
+struct Fields<'a> {
+    lamps: i64,
+    lumens_per_lamp: f64,
+    multiplier: f64,
+    n_v: usize,
+    /// The token of the number of vertical angles (where count errors point).
+    nvt: Token<'a>,
+    n_h: usize,
+    ptype: i64,
+    units_type: f64,
+    width: f64,
+    length: f64,
+    height: f64,
+    ballast_factor: f64,
+    bt: Token<'a>,
+    /// The second ballast field (ballast-lamp photometric factor before LM-63-2002).
+    second: f64,
+    st: Token<'a>,
+    input_watts: f64,
+}
+
+/// Step 3: the luminaire's numbers, each checked on its own (a positive multiplier, a photometric
+/// type 1–3; a units type other than 1 or 2 is a warning).
+fn read_fields<'a>(
+    cur: &mut Cursor<'a>,
+    version: Version,
+    warnings: &mut Vec<Warning>,
+) -> Result<Fields<'a>, ParseError> {
     let (lamps, _) = cur.integer("number of lamps", i64::MIN / 2, i64::MAX / 2)?;
     let (lumens_per_lamp, _) = cur.number("lumens per lamp")?;
     let (multiplier, mt) = cur.number("candela multiplier")?;
@@ -253,21 +398,55 @@ pub(crate) fn read_ies(
         _ => "ballast-lamp photometric factor",
     })?;
     let (input_watts, _) = cur.number("input watts")?;
+    Ok(Fields {
+        lamps,
+        lumens_per_lamp,
+        multiplier,
+        n_v,
+        nvt,
+        n_h,
+        ptype,
+        units_type,
+        width,
+        length,
+        height,
+        ballast_factor,
+        bt,
+        second,
+        st,
+        input_watts,
+    })
+}
 
-    // Counts against caps and against what is present, before allocating for them.
+/// The angles of the table, with their tokens (where errors point).
+struct Angles<'a> {
+    photometric_type: PhotometricType,
+    vert: Vec<f64>,
+    vt: Vec<Token<'a>>,
+    horiz: Vec<f64>,
+    ht: Vec<Token<'a>>,
+    /// Number of candela values that follow (vertical × horizontal).
+    values: usize,
+}
+
+/// Step 4: the counts against [`MAX_NODES`] and against what is present (before anything
+/// proportional to them is allocated), then the vertical and horizontal angles, each in the range
+/// of its photometric type and strictly increasing.
+fn read_angles<'a>(cur: &mut Cursor<'a>, f: &Fields<'a>) -> Result<Angles<'a>, ParseError> {
+    let (n_v, n_h) = (f.n_v, f.n_h);
     let values = n_v
         .checked_mul(n_h)
         .filter(|&c| c <= MAX_NODES)
         .ok_or_else(|| {
             cur.err_at(
-                &nvt,
+                &f.nvt,
                 format!("{n_v} × {n_h} candela values exceed the limit of {MAX_NODES}"),
             )
         })?;
     let needed = values + n_v + n_h;
     if !cur.has_at_least(needed) {
         return Err(cur.err_at(
-            &nvt,
+            &f.nvt,
             format!(
                 "the file declares {n_v} vertical × {n_h} horizontal angles ({needed} numbers), \
                  but only {} values follow",
@@ -275,7 +454,7 @@ pub(crate) fn read_ies(
             ),
         ));
     }
-    let photometric_type = match ptype {
+    let photometric_type = match f.ptype {
         1 => PhotometricType::C,
         2 => PhotometricType::B,
         _ => PhotometricType::A,
@@ -284,27 +463,43 @@ pub(crate) fn read_ies(
     let (horiz, ht) = cur.numbers(n_h, "horizontal angle")?;
     match photometric_type {
         PhotometricType::C => {
-            check_angles(&cur, &vert, &vt, "vertical angle", 0.0, 180.0)?;
+            check_angles(cur, &vert, &vt, "vertical angle", 0.0, 180.0)?;
             // A closing plane at first + 360° is allowed even when the first angle is not 0.
-            let hi = if expand::is_closing(&horiz) {
+            let hi = if validate::is_closing(&horiz) {
                 horiz[0] + 360.0
             } else {
                 360.0
             };
-            check_angles(&cur, &horiz, &ht, "horizontal angle", 0.0, hi)?;
+            check_angles(cur, &horiz, &ht, "horizontal angle", 0.0, hi)?;
         }
         PhotometricType::B => {
-            check_angles(&cur, &vert, &vt, "vertical angle", -180.0, 180.0)?;
-            check_angles(&cur, &horiz, &ht, "horizontal angle", -90.0, 90.0)?;
+            check_angles(cur, &vert, &vt, "vertical angle", -180.0, 180.0)?;
+            check_angles(cur, &horiz, &ht, "horizontal angle", -90.0, 90.0)?;
         }
         PhotometricType::A => {
-            check_angles(&cur, &vert, &vt, "vertical angle", -90.0, 90.0)?;
-            check_angles(&cur, &horiz, &ht, "horizontal angle", -180.0, 180.0)?;
+            check_angles(cur, &vert, &vt, "vertical angle", -90.0, 90.0)?;
+            check_angles(cur, &horiz, &ht, "horizontal angle", -180.0, 180.0)?;
         }
     }
-    let (mut raw, start) = cur.values(values, "candela value")?;
-    expand::clamp_negative(&cur, &mut raw, start, &mut warnings)?;
+    Ok(Angles {
+        photometric_type,
+        vert,
+        vt,
+        horiz,
+        ht,
+        values,
+    })
+}
 
+/// Step 5: the candela table (round-off negatives clamped with a warning, real ones refused);
+/// tokens after it are a warning.
+fn read_values(
+    cur: &mut Cursor,
+    count: usize,
+    warnings: &mut Vec<Warning>,
+) -> Result<Vec<f64>, ParseError> {
+    let (mut raw, start) = cur.values(count, "candela value")?;
+    validate::clamp_negative(cur, &mut raw, start, warnings)?;
     if let Some(t) = cur.peek() {
         warnings.push(Warning {
             line: t.line,
@@ -316,55 +511,58 @@ pub(crate) fn read_ies(
             ),
         });
     }
+    Ok(raw)
+}
 
-    let symmetry = expand::classify(
-        photometric_type,
-        &vert,
-        &horiz,
-        &raw,
-        (vt.first(), vt.last()),
-        (ht.first(), ht.last()),
-        &cur,
-        &mut warnings,
-    )?;
-
-    // The intensity scale.
-    let mut scale = multiplier;
-    if ballast_factor > 0.0 {
-        scale *= ballast_factor;
+/// Step 6: the intensity scale (multiplier × ballast factor × the ballast-lamp factor before
+/// LM-63-2002 × the TILT factor at [`TILT_ANGLE_DEG`]; a factor that is not positive counts as 1
+/// with a warning) and the candela values it gives, refused if they overflow.
+fn intensity_scale(
+    f: &Fields,
+    head: &Header,
+    tilt: &Tilt,
+    raw: &[f64],
+    warnings: &mut Vec<Warning>,
+) -> Result<(f64, Vec<f64>), ParseError> {
+    let mut scale = f.multiplier;
+    if f.ballast_factor > 0.0 {
+        scale *= f.ballast_factor;
     } else {
         warnings.push(Warning {
-            line: bt.line,
-            column: bt.column,
-            message: format!("ballast factor {ballast_factor} is not positive; 1 used"),
+            line: f.bt.line,
+            column: f.bt.column,
+            message: format!(
+                "ballast factor {} is not positive; 1 used",
+                f.ballast_factor
+            ),
         });
     }
     if matches!(
-        version,
+        head.version,
         Version::Ies1986 | Version::Ies1991 | Version::Ies1995
     ) {
-        if second > 0.0 {
-            scale *= second;
+        if f.second > 0.0 {
+            scale *= f.second;
         } else {
             warnings.push(Warning {
-                line: st.line,
-                column: st.column,
+                line: f.st.line,
+                column: f.st.column,
                 message: format!(
-                    "ballast-lamp photometric factor {second} is not positive; 1 used"
+                    "ballast-lamp photometric factor {} is not positive; 1 used",
+                    f.second
                 ),
             });
         }
     }
-    let tilt_angle_deg = 0.0;
     if let Some(t) = tilt.table() {
-        let f = t.factor_at(tilt_angle_deg);
-        if f > 0.0 {
-            scale *= f;
+        let factor = t.factor_at(TILT_ANGLE_DEG);
+        if factor > 0.0 {
+            scale *= factor;
         } else {
             warnings.push(Warning {
-                line: tilt_line_no,
-                column: tilt_col,
-                message: format!("TILT factor at 0° is {f}, not positive; 1 used"),
+                line: head.tilt_line,
+                column: head.tilt_col,
+                message: format!("TILT factor at 0° is {factor}, not positive; 1 used"),
             });
         }
     }
@@ -383,54 +581,7 @@ pub(crate) fn read_ies(
             None => ParseError::new(0, 0, msg),
         });
     }
-    let lamp_description = keywords
-        .iter()
-        .find(|k| k.key.eq_ignore_ascii_case("LAMP"))
-        .map(|k| k.value.clone())
-        .unwrap_or_default();
-    let flux = if lumens_per_lamp > 0.0 {
-        lamps as f64 * lumens_per_lamp
-    } else {
-        -1.0
-    };
-    Ok(Photometry {
-        format: super::FileFormat::Ies,
-        version,
-        photometric_type,
-        header,
-        keywords,
-        lamp_sets: vec![LampSet {
-            count: lamps,
-            description: lamp_description,
-            flux_lm: flux,
-            color: String::new(),
-            color_rendering: String::new(),
-            watts: input_watts,
-        }],
-        tilt,
-        tilt_angle_deg,
-        vertical_angles_deg: vert,
-        horizontal_angles_deg: horiz,
-        raw_values: raw,
-        intensity_scale: scale,
-        candela,
-        symmetry,
-        ies: Some(IesInfo {
-            version_line,
-            lamps,
-            lumens_per_lamp,
-            multiplier,
-            units_type: units_type as i64,
-            width,
-            length,
-            height,
-            ballast_factor,
-            second_ballast_field: second,
-            input_watts,
-        }),
-        ldt: None,
-        warnings,
-    })
+    Ok((scale, candela))
 }
 
 /// Reads a TILT table: geometry, number of pairs, angles, factors.

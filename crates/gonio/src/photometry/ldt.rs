@@ -1,9 +1,9 @@
 //! EULUMDAT reader.
 
-use super::tokens::{check_angles, excerpt, parse_number, strip_bom, text, Cursor, Lines};
+use super::tokens::{check_angles, excerpt, parse_number, strip_bom, text, Cursor, Lines, Token};
 use super::{
-    expand, FileFormat, LampSet, LdtInfo, ParseError, PhotometricType, Photometry, Symmetry, Tilt,
-    Version, Warning, MAX_ANGLES, MAX_LAMP_SETS,
+    validate, FileFormat, LampSet, LdtInfo, ParseError, PhotometricType, Photometry, Symmetry,
+    Tilt, Version, Warning, MAX_ANGLES, MAX_LAMP_SETS,
 };
 use crate::diagram::MAX_NODES;
 
@@ -95,26 +95,114 @@ impl<'a> Fields<'a> {
     }
 }
 
+/// Reads an EULUMDAT file in its four steps: [`read_header`] (the 26 + 6·n header lines, one
+/// field a line), [`read_angles`] (direct ratios, the stored planes Isym implies, counts against
+/// caps and against what is present, the C and γ angles), [`read_values`] (the intensity table),
+/// then the validation of the whole ([`validate_table`]: vertical range, Ityp against Isym, the
+/// stored planes) and the scale to candela ([`intensity_scale`]). Warnings come in the order of
+/// the file.
 pub(crate) fn read_ldt(bytes: &[u8]) -> Result<Photometry, ParseError> {
     let bytes = strip_bom(bytes);
     if Lines::new(bytes).all(|l| l.trim_ascii().is_empty()) {
         return Err(ParseError::new(0, 0, "the file is empty"));
     }
     let mut w = Vec::new();
+    let (h, rest, first_data_line) = read_header(bytes, &mut w)?;
+    let mut cur = Cursor::new(rest, first_data_line, false, true);
+    let a = read_angles(&mut cur, &h)?;
+    let raw = read_values(&mut cur, a.values, &mut w)?;
+    let (horiz, symmetry) = validate_table(&cur, &h, &a, &raw, &mut w)?;
+    let (scale, candela) = intensity_scale(&h, &raw, &mut w)?;
+    Ok(Photometry {
+        format: FileFormat::Eulumdat,
+        version: Version::Eulumdat,
+        photometric_type: PhotometricType::C,
+        header: Vec::new(),
+        keywords: Vec::new(),
+        lamp_sets: h.lamp_sets,
+        tilt: Tilt::None,
+        tilt_angle_deg: 0.0,
+        vertical_angles_deg: a.gamma,
+        horizontal_angles_deg: horiz,
+        raw_values: raw,
+        intensity_scale: scale,
+        candela,
+        symmetry,
+        ies: None,
+        ldt: Some(LdtInfo {
+            company: h.company,
+            ityp: h.ityp.0,
+            isym: h.isym.0,
+            mc: h.mc.0,
+            dc: h.dc,
+            ng: h.ng.0,
+            dg: h.dg,
+            report_number: h.report_number,
+            luminaire_name: h.luminaire_name,
+            luminaire_number: h.luminaire_number,
+            file_name: h.file_name,
+            date_user: h.date_user,
+            luminaire_dimensions_mm: h.dims,
+            luminous_area_mm: h.area,
+            luminous_area_heights_mm: h.heights,
+            downward_flux_fraction_pct: h.dff,
+            light_output_ratio_pct: h.lorl,
+            conversion_factor: h.cfli.0,
+            measurement_tilt_deg: h.tilt_deg,
+            direct_ratios: a.direct_ratios,
+            c_angles_deg: a.c_angles,
+        }),
+        warnings: w,
+    })
+}
+
+/// A header field with the 1-based (line, column) it was read at (where messages point).
+type At<T> = (T, usize, usize);
+
+/// The header lines of an EULUMDAT file (lines 1 to 26 + 6·n).
+struct Header {
+    company: String,
+    ityp: At<i64>,
+    isym: At<i64>,
+    mc: At<usize>,
+    dc: f64,
+    ng: At<usize>,
+    dg: f64,
+    report_number: String,
+    luminaire_name: String,
+    luminaire_number: String,
+    file_name: String,
+    date_user: String,
+    dims: [f64; 3],
+    area: [f64; 2],
+    heights: [f64; 4],
+    dff: f64,
+    lorl: f64,
+    cfli: At<f64>,
+    tilt_deg: f64,
+    /// The number of lamp sets, where it was read.
+    n_sets: At<usize>,
+    lamp_sets: Vec<LampSet>,
+}
+
+/// Step 1: the header, one field a line (fields not needed for the distribution may be empty,
+/// read as 0 with a warning). Returns it with the bytes after it and their first line's number.
+fn read_header<'a>(
+    bytes: &'a [u8],
+    w: &mut Vec<Warning>,
+) -> Result<(Header, &'a [u8], usize), ParseError> {
     let mut f = Fields {
         bytes,
         lines: Lines::new(bytes),
         next: 0,
     };
     let company = f.text("company identification (line 1)")?;
-    let (ityp, il, ic) = f.integer("type indicator Ityp", i64::MIN / 2, i64::MAX / 2)?;
-    let (isym, sl, sc) = f.integer("symmetry indicator Isym", 0, 4)?;
+    let ityp = f.integer("type indicator Ityp", i64::MIN / 2, i64::MAX / 2)?;
+    let isym = f.integer("symmetry indicator Isym", 0, 4)?;
     let (mc, mcl, mcc) = f.integer("number of C planes Mc", 1, MAX_ANGLES as i64)?;
-    let mc = mc as usize;
-    let dc = f.lenient("distance between C planes Dc", &mut w)?;
+    let dc = f.lenient("distance between C planes Dc", w)?;
     let (ng, ngl, ngc) = f.integer("number of γ angles Ng", 1, MAX_ANGLES as i64)?;
-    let ng = ng as usize;
-    let dg = f.lenient("distance between γ angles Dg", &mut w)?;
+    let dg = f.lenient("distance between γ angles Dg", w)?;
     let report_number = f.text("measurement report number")?;
     let luminaire_name = f.text("luminaire name")?;
     let luminaire_number = f.text("luminaire number")?;
@@ -125,14 +213,14 @@ pub(crate) fn read_ldt(bytes: &[u8]) -> Result<Photometry, ParseError> {
         dims.iter_mut()
             .zip(["luminaire length", "luminaire width", "luminaire height"])
     {
-        *d = f.lenient(what, &mut w)?;
+        *d = f.lenient(what, w)?;
     }
     let mut area = [0.0; 2];
     for (d, what) in area
         .iter_mut()
         .zip(["luminous area length", "luminous area width"])
     {
-        *d = f.lenient(what, &mut w)?;
+        *d = f.lenient(what, w)?;
     }
     let mut heights = [0.0; 4];
     for (d, what) in heights.iter_mut().zip([
@@ -141,12 +229,12 @@ pub(crate) fn read_ldt(bytes: &[u8]) -> Result<Photometry, ParseError> {
         "luminous area height C180",
         "luminous area height C270",
     ]) {
-        *d = f.lenient(what, &mut w)?;
+        *d = f.lenient(what, w)?;
     }
-    let dff = f.lenient("downward flux fraction DFF", &mut w)?;
-    let lorl = f.lenient("light output ratio LORL", &mut w)?;
-    let (cfli, cl, cc) = f.number("conversion factor for luminous intensities")?;
-    let tilt_deg = f.lenient("tilt during measurement", &mut w)?;
+    let dff = f.lenient("downward flux fraction DFF", w)?;
+    let lorl = f.lenient("light output ratio LORL", w)?;
+    let cfli = f.number("conversion factor for luminous intensities")?;
+    let tilt_deg = f.lenient("tilt during measurement", w)?;
     let (n_sets, nl, nc) = f.integer("number of lamp sets", 0, MAX_LAMP_SETS as i64)?;
     let n_sets = n_sets as usize;
     if f.lines.clone().take(6 * n_sets).count() < 6 * n_sets {
@@ -170,7 +258,7 @@ pub(crate) fn read_ldt(bytes: &[u8]) -> Result<Photometry, ParseError> {
         let (flux, _, _) = f.number(&format!("total luminous flux of lamp set {s}"))?;
         let color = f.text("colour appearance")?;
         let color_rendering = f.text("colour rendering group")?;
-        let watts = f.lenient("wattage including ballast", &mut w)?;
+        let watts = f.lenient("wattage including ballast", w)?;
         lamp_sets.push(LampSet {
             count,
             description,
@@ -180,10 +268,54 @@ pub(crate) fn read_ldt(bytes: &[u8]) -> Result<Photometry, ParseError> {
             watts,
         });
     }
-
+    let header = Header {
+        company,
+        ityp,
+        isym,
+        mc: (mc as usize, mcl, mcc),
+        dc,
+        ng: (ng as usize, ngl, ngc),
+        dg,
+        report_number,
+        luminaire_name,
+        luminaire_number,
+        file_name,
+        date_user,
+        dims,
+        area,
+        heights,
+        dff,
+        lorl,
+        cfli,
+        tilt_deg,
+        n_sets: (n_sets, nl, nc),
+        lamp_sets,
+    };
     // The rest is read as white-space separated numbers (one per line in the standard layout).
-    let first_data_line = f.next + 1;
-    let mut cur = Cursor::new(f.lines.rest(), first_data_line, false, true);
+    Ok((header, f.lines.rest(), f.next + 1))
+}
+
+/// The direct ratios and the angles of the table, with the stored planes Isym implies.
+struct Angles<'a> {
+    direct_ratios: [f64; 10],
+    /// Index (0-based) of the first stored plane among the Mc C angles.
+    start: usize,
+    /// Number of stored planes.
+    planes: usize,
+    c_angles: Vec<f64>,
+    ct: Vec<Token<'a>>,
+    gamma: Vec<f64>,
+    gt: Vec<Token<'a>>,
+    /// Number of intensity values that follow (planes × Ng).
+    values: usize,
+}
+
+/// Step 2: the ten direct ratios; the stored planes for Isym (Mc must split as Isym requires);
+/// the counts against [`MAX_NODES`] and against what is present (before anything proportional to
+/// them is allocated); the C angles in [0°, 360°] and the γ angles in [0°, 180°], each strictly
+/// increasing.
+fn read_angles<'a>(cur: &mut Cursor<'a>, h: &Header) -> Result<Angles<'a>, ParseError> {
+    let ((mc, mcl, mcc), (ng, ngl, ngc), isym) = (h.mc, h.ng, h.isym.0);
     let (dr, _) = cur.numbers(10, "direct ratio")?;
     let mut direct_ratios = [0.0; 10];
     direct_ratios.copy_from_slice(&dr);
@@ -231,11 +363,30 @@ pub(crate) fn read_ldt(bytes: &[u8]) -> Result<Photometry, ParseError> {
         ));
     }
     let (c_angles, ct) = cur.numbers(mc, "C angle")?;
-    check_angles(&cur, &c_angles, &ct, "C angle", 0.0, 360.0)?;
+    check_angles(cur, &c_angles, &ct, "C angle", 0.0, 360.0)?;
     let (gamma, gt) = cur.numbers(ng, "γ angle")?;
-    check_angles(&cur, &gamma, &gt, "γ angle", 0.0, 180.0)?;
-    let (mut raw, raw_at) = cur.values(values, "luminous intensity (cd/klm)")?;
-    expand::clamp_negative(&cur, &mut raw, raw_at, &mut w)?;
+    check_angles(cur, &gamma, &gt, "γ angle", 0.0, 180.0)?;
+    Ok(Angles {
+        direct_ratios,
+        start,
+        planes,
+        c_angles,
+        ct,
+        gamma,
+        gt,
+        values,
+    })
+}
+
+/// Step 3: the intensity table in cd/klm (round-off negatives clamped with a warning, real ones
+/// refused); tokens after it are a warning.
+fn read_values(
+    cur: &mut Cursor,
+    count: usize,
+    w: &mut Vec<Warning>,
+) -> Result<Vec<f64>, ParseError> {
+    let (mut raw, raw_at) = cur.values(count, "luminous intensity (cd/klm)")?;
+    validate::clamp_negative(cur, &mut raw, raw_at, w)?;
     if let Some(t) = cur.peek() {
         w.push(Warning {
             line: t.line,
@@ -247,7 +398,21 @@ pub(crate) fn read_ldt(bytes: &[u8]) -> Result<Photometry, ParseError> {
             ),
         });
     }
-    expand::check_vertical_c(&cur, &gamma, gt.first(), &mut w)?;
+    Ok(raw)
+}
+
+/// Step 4: the table as a whole: the γ range ([`validate::check_vertical_c`]), Ityp against Isym,
+/// a closing plane that differs from the first, stored planes other than those Isym names.
+/// Returns the stored planes' angles and the symmetry.
+fn validate_table(
+    cur: &Cursor,
+    h: &Header,
+    a: &Angles,
+    raw: &[f64],
+    w: &mut Vec<Warning>,
+) -> Result<(Vec<f64>, Symmetry), ParseError> {
+    let ((ityp, il, ic), (isym, sl, sc), mc, ng) = (h.ityp, h.isym, h.mc.0, h.ng.0);
+    validate::check_vertical_c(cur, &a.gamma, a.gt.first(), w)?;
 
     if (ityp == 1) != (isym == 1) {
         w.push(Warning {
@@ -266,14 +431,15 @@ pub(crate) fn read_ldt(bytes: &[u8]) -> Result<Photometry, ParseError> {
     }
 
     // The stored planes' angles.
-    let horiz: Vec<f64> = (0..planes).map(|k| c_angles[(start + k) % mc]).collect();
+    let (start, planes) = (a.start, a.planes);
+    let horiz: Vec<f64> = (0..planes).map(|k| a.c_angles[(start + k) % mc]).collect();
     let symmetry = match isym {
         0 => {
             if mc == 1 {
                 Symmetry::Rotational
             } else {
-                if expand::is_closing(&horiz) {
-                    expand::check_duplicate_plane(&raw, ng, mc, ct.last(), &mut w);
+                if validate::is_closing(&horiz) {
+                    validate::check_duplicate_plane(raw, ng, mc, a.ct.last(), w);
                 }
                 Symmetry::None
             }
@@ -289,23 +455,33 @@ pub(crate) fn read_ldt(bytes: &[u8]) -> Result<Photometry, ParseError> {
         4 => Some((0.0, 90.0)),
         _ => None,
     };
-    if let Some((a, b)) = expected {
-        if horiz[0] != a || horiz[planes - 1] != b {
+    if let Some((lo, hi)) = expected {
+        if horiz[0] != lo || horiz[planes - 1] != hi {
             w.push(Warning {
                 line: sl,
                 column: sc,
                 message: format!(
-                    "Isym {isym} stores C{a}–C{b}, but the stored planes are at C{}–C{}",
+                    "Isym {isym} stores C{lo}–C{hi}, but the stored planes are at C{}–C{}",
                     horiz[0],
                     horiz[planes - 1]
                 ),
             });
         }
     }
+    Ok((horiz, symmetry))
+}
 
-    // cd/klm → cd with the first lamp set.
+/// Step 5: cd/klm → cd with the first lamp set's flux and the conversion factor (a factor that is
+/// not positive counts as 1 with a warning), and the candela values it gives, refused if they
+/// overflow.
+fn intensity_scale(
+    h: &Header,
+    raw: &[f64],
+    w: &mut Vec<Warning>,
+) -> Result<(f64, Vec<f64>), ParseError> {
+    let ((n_sets, nl, nc), (cfli, cl, cc)) = (h.n_sets, h.cfli);
     let mut scale = 1.0;
-    match lamp_sets.first() {
+    match h.lamp_sets.first() {
         Some(s) if s.flux_lm > 0.0 => scale *= s.flux_lm / 1000.0,
         _ => w.push(Warning {
             line: nl,
@@ -345,45 +521,5 @@ pub(crate) fn read_ldt(bytes: &[u8]) -> Result<Photometry, ParseError> {
             None => ParseError::new(0, 0, msg),
         });
     }
-    Ok(Photometry {
-        format: FileFormat::Eulumdat,
-        version: Version::Eulumdat,
-        photometric_type: PhotometricType::C,
-        header: Vec::new(),
-        keywords: Vec::new(),
-        lamp_sets,
-        tilt: Tilt::None,
-        tilt_angle_deg: 0.0,
-        vertical_angles_deg: gamma,
-        horizontal_angles_deg: horiz,
-        raw_values: raw,
-        intensity_scale: scale,
-        candela,
-        symmetry,
-        ies: None,
-        ldt: Some(LdtInfo {
-            company,
-            ityp,
-            isym,
-            mc,
-            dc,
-            ng,
-            dg,
-            report_number,
-            luminaire_name,
-            luminaire_number,
-            file_name,
-            date_user,
-            luminaire_dimensions_mm: dims,
-            luminous_area_mm: area,
-            luminous_area_heights_mm: heights,
-            downward_flux_fraction_pct: dff,
-            light_output_ratio_pct: lorl,
-            conversion_factor: cfli,
-            measurement_tilt_deg: tilt_deg,
-            direct_ratios,
-            c_angles_deg: c_angles,
-        }),
-        warnings: w,
-    })
+    Ok((scale, candela))
 }

@@ -36,6 +36,7 @@ mod expand;
 mod ies;
 mod ldt;
 mod tokens;
+mod validate;
 mod write;
 
 pub use expand::direction_of_hv;
