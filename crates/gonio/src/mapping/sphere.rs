@@ -592,7 +592,8 @@ impl Sampler for SphereMap {
                 p_lower,
             } => {
                 if lower_side(d, upper.is_some()) {
-                    let l = lower.as_ref().ok_or(InvertError::OutsideDomain)?;
+                    // No light on that side: no preimage.
+                    let l = lower.as_ref().ok_or(InvertError::ZeroDensity)?;
                     let w = l.invert(mirror(d));
                     let mut u0 = w[0] * p_lower;
                     if upper.is_some() && u0 >= *p_lower {
@@ -602,7 +603,7 @@ impl Sampler for SphereMap {
                     }
                     Ok([u0, w[1]])
                 } else {
-                    let up = upper.as_ref().ok_or(InvertError::OutsideDomain)?;
+                    let up = upper.as_ref().ok_or(InvertError::ZeroDensity)?;
                     let w = up.invert(d);
                     Ok([(p_lower + w[0] * (1.0 - p_lower)).min(1.0), w[1]])
                 }
