@@ -90,6 +90,10 @@ typedef struct GonioSample {
 // An internal error of gonio (a caught panic). Please report it with the message.
 #define GONIO_ERR_PANIC 8
 
+// The direction lies in the sampler's domain, but the density is 0 there, so no point of the
+// square maps to it (e.g. below the horizon of a luminaire that emits no light downwards).
+#define GONIO_ERR_ZERO_DENSITY 9
+
 // By the path's extension: `.ies`, `.ldt` or `.json` in any letter case (paths only).
 #define GONIO_FORMAT_AUTO 0
 
@@ -315,7 +319,8 @@ GonioStatus gonio_target_pdf(const struct GonioSampler *sampler,
 
 // The point (u, v) of the unit square that the sampler maps to direction (x, y, z).
 // [`GONIO_ERR_UNSUPPORTED`] for a method without inverse, [`GONIO_ERR_OUTSIDE_DOMAIN`] for a
-// direction outside the domain.
+// direction outside the domain, [`GONIO_ERR_ZERO_DENSITY`] for a direction in the domain where
+// the density is 0 (no point maps to it).
 //
 // # Safety
 // `sampler` must be NULL or a live handle; `u` and `v` NULL or valid for writing a double.
@@ -414,7 +419,7 @@ GonioStatus gonio_target_pdf_batch_soa(const struct GonioSampler *sampler,
                                        double *out);
 
 // Inverts `n` directions given as interleaved triples `directions[3i..3i+3]` (double)
-// into interleaved points `uv[2i], uv[2i+1]`. A direction outside the domain gives (NaN, NaN)
+// into interleaved points `uv[2i], uv[2i+1]`. A direction outside the domain or of density 0 gives (NaN, NaN)
 // and the batch goes on; a method without inverse is [`GONIO_ERR_UNSUPPORTED`]; a zero or
 // non-finite direction stops the batch with [`GONIO_ERR_INVALID_ARGUMENT`], naming its index.
 //
@@ -510,7 +515,7 @@ GonioStatus gonio_target_pdf_batch_soa_f32(const struct GonioSampler *sampler,
                                            float *out);
 
 // Inverts `n` directions given as interleaved triples `directions[3i..3i+3]` (float; computed in double, results rounded)
-// into interleaved points `uv[2i], uv[2i+1]`. A direction outside the domain gives (NaN, NaN)
+// into interleaved points `uv[2i], uv[2i+1]`. A direction outside the domain or of density 0 gives (NaN, NaN)
 // and the batch goes on; a method without inverse is [`GONIO_ERR_UNSUPPORTED`]; a zero or
 // non-finite direction stops the batch with [`GONIO_ERR_INVALID_ARGUMENT`], naming its index.
 //

@@ -65,6 +65,9 @@ pub const GONIO_ERR_UNSUPPORTED: GonioStatus = 6;
 pub const GONIO_ERR_OUTSIDE_DOMAIN: GonioStatus = 7;
 /// An internal error of gonio (a caught panic). Please report it with the message.
 pub const GONIO_ERR_PANIC: GonioStatus = 8;
+/// The direction lies in the sampler's domain, but the density is 0 there, so no point of the
+/// square maps to it (e.g. below the horizon of a luminaire that emits no light downwards).
+pub const GONIO_ERR_ZERO_DENSITY: GonioStatus = 9;
 
 /// The format of a photometric file or diagram: one of the `GONIO_FORMAT_*` constants.
 pub type GonioFormat = i32;
@@ -927,12 +930,14 @@ fn invert_error(e: InvertError) -> Failure {
     match e {
         InvertError::Unsupported => Failure::new(GONIO_ERR_UNSUPPORTED, e.to_string()),
         InvertError::OutsideDomain => Failure::new(GONIO_ERR_OUTSIDE_DOMAIN, e.to_string()),
+        InvertError::ZeroDensity => Failure::new(GONIO_ERR_ZERO_DENSITY, e.to_string()),
     }
 }
 
 /// The point (u, v) of the unit square that the sampler maps to direction (x, y, z).
 /// [`GONIO_ERR_UNSUPPORTED`] for a method without inverse, [`GONIO_ERR_OUTSIDE_DOMAIN`] for a
-/// direction outside the domain.
+/// direction outside the domain, [`GONIO_ERR_ZERO_DENSITY`] for a direction in the domain where
+/// the density is 0 (no point maps to it).
 ///
 /// # Safety
 /// `sampler` must be NULL or a live handle; `u` and `v` NULL or valid for writing a double.
@@ -1176,11 +1181,12 @@ unsafe fn eval_n<T: Real, const K: usize>(
     Ok(())
 }
 
-/// The result of `invert` in a batch: the point, or NaN for a direction outside the domain.
+/// The result of `invert` in a batch: the point, or NaN for a direction outside the domain or of
+/// density 0 (no preimage).
 fn invert_or_nan(s: &dyn Sampler, d: Vec3) -> Result<[f64; 2], Failure> {
     match s.invert(d) {
         Ok(p) => Ok(p),
-        Err(InvertError::OutsideDomain) => Ok([f64::NAN, f64::NAN]),
+        Err(InvertError::OutsideDomain | InvertError::ZeroDensity) => Ok([f64::NAN, f64::NAN]),
         Err(e @ InvertError::Unsupported) => Err(invert_error(e)),
     }
 }
@@ -1404,7 +1410,7 @@ pub unsafe extern "C" fn gonio_target_pdf_batch_soa(
 }
 
 /// Inverts `n` directions given as interleaved triples `directions[3i..3i+3]` (double)
-/// into interleaved points `uv[2i], uv[2i+1]`. A direction outside the domain gives (NaN, NaN)
+/// into interleaved points `uv[2i], uv[2i+1]`. A direction outside the domain or of density 0 gives (NaN, NaN)
 /// and the batch goes on; a method without inverse is [`GONIO_ERR_UNSUPPORTED`]; a zero or
 /// non-finite direction stops the batch with [`GONIO_ERR_INVALID_ARGUMENT`], naming its index.
 ///
@@ -1542,7 +1548,7 @@ pub unsafe extern "C" fn gonio_target_pdf_batch_soa_f32(
 }
 
 /// Inverts `n` directions given as interleaved triples `directions[3i..3i+3]` (float; computed in double, results rounded)
-/// into interleaved points `uv[2i], uv[2i+1]`. A direction outside the domain gives (NaN, NaN)
+/// into interleaved points `uv[2i], uv[2i+1]`. A direction outside the domain or of density 0 gives (NaN, NaN)
 /// and the batch goes on; a method without inverse is [`GONIO_ERR_UNSUPPORTED`]; a zero or
 /// non-finite direction stops the batch with [`GONIO_ERR_INVALID_ARGUMENT`], naming its index.
 ///

@@ -74,6 +74,24 @@ fn reads_builds_samples_and_inverts() {
         (u - 0.3).abs() < 1e-9 && (v - 0.6).abs() < 1e-9,
         "({u}, {v})"
     );
+    // Straight up, this downlight has density 0: in the domain, but without preimage; a batch
+    // writes NaN there and goes on.
+    assert_eq!(
+        unsafe { gonio_invert(s, 0.0, 0.0, 1.0, &mut u, &mut v) },
+        GONIO_ERR_ZERO_DENSITY
+    );
+    assert!(last_error().contains("density is 0"), "{}", last_error());
+    let dirs = [0.0, 0.0, 1.0, x, y, z];
+    let mut uv = [0.0; 4];
+    assert_eq!(
+        unsafe { gonio_invert_batch(s, dirs.as_ptr(), 2, uv.as_mut_ptr()) },
+        GONIO_OK
+    );
+    assert!(uv[0].is_nan() && uv[1].is_nan(), "{uv:?}");
+    assert!(
+        (uv[2] - 0.3).abs() < 1e-9 && (uv[3] - 0.6).abs() < 1e-9,
+        "{uv:?}"
+    );
     let mut t = 0.0;
     assert_eq!(unsafe { gonio_target_pdf(s, x, y, z, &mut t) }, GONIO_OK);
     assert!(t > 0.0);

@@ -59,8 +59,7 @@ pub struct BenchArgs {
     /// Print one JSON object instead of a table.
     #[arg(long)]
     pub json: bool,
-    /// Methods to measure (repeat the option for several); none given = every method
-    /// ([`Method::ALL`]).
+    /// Methods to measure (repeat the option for several); none given = every method.
     #[arg(long = "method", value_name = "M")]
     pub methods: Vec<Method>,
     /// Samples per measurement.
@@ -116,7 +115,7 @@ pub struct SampleArgs {
     /// Map these points instead of a sequence: a CSV file with columns `u,v` (by header name).
     #[arg(long, value_name = "UV.csv")]
     pub points: Option<String>,
-    /// Point sequence on the unit square.
+    /// Point sequence on the unit square (Halton from index 1, skipping the corner (0, 0)).
     #[arg(long, default_value = "halton")]
     pub sequence: gonio::sequence::SequenceKind,
     /// Seed (Sobol' scrambling, random stream; Halton ignores it).

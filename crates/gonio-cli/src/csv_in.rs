@@ -54,14 +54,17 @@ pub fn read_columns<const K: usize>(path: &str, names: [&str; K]) -> anyhow::Res
         if text.trim().is_empty() || text.trim_start().starts_with('#') {
             continue;
         }
-        let fields: Vec<&str> = text.split(',').map(str::trim).collect();
+        let fields = split_fields(text).map_err(|col| {
+            anyhow::anyhow!("{path}:{line_no}:{col}: a quoted field is not closed")
+        })?;
+        let fields: Vec<&str> = fields.iter().map(|f| f.trim()).collect();
         match &index {
             None => {
                 let mut idx = [0usize; K];
                 for (k, name) in names.iter().enumerate() {
                     idx[k] = fields
                         .iter()
-                        .position(|f| f.trim_matches('"').eq_ignore_ascii_case(name))
+                        .position(|f| f.eq_ignore_ascii_case(name))
                         .ok_or_else(|| {
                             anyhow::anyhow!(
                                 "{path}:{line_no}: the header has no column `{name}` (expected columns {})",
@@ -82,12 +85,19 @@ pub fn read_columns<const K: usize>(path: &str, names: [&str; K]) -> anyhow::Res
                             names[k]
                         )
                     })?;
-                    values[k] = field.trim_matches('"').parse::<f64>().map_err(|_| {
+                    values[k] = field.parse::<f64>().map_err(|_| {
                         anyhow::anyhow!(
                             "{path}:{line_no}: row {row}: {} = `{field}` is not a number",
                             names[k]
                         )
                     })?;
+                    if values[k].is_infinite() && !field.to_ascii_lowercase().contains("inf") {
+                        anyhow::bail!(
+                            "{path}:{line_no}: row {row}: {} = `{field}` is out of the range of a \
+                             double-precision number",
+                            names[k]
+                        );
+                    }
                 }
                 rows.push(Row {
                     line: line_no,
@@ -104,4 +114,72 @@ pub fn read_columns<const K: usize>(path: &str, names: [&str; K]) -> anyhow::Res
         );
     }
     Ok(rows)
+}
+
+/// Splits one CSV line into fields (RFC 4180): a field that starts with `"` (after spaces) runs to
+/// the matching closing quote, with `""` standing for one quote, so `"0.1,0.2"` is one field.
+/// Returns the fields unquoted, or the 1-based column of an unclosed quote.
+pub fn split_fields(line: &str) -> Result<Vec<String>, usize> {
+    let mut fields = Vec::new();
+    let mut chars = line.char_indices().peekable();
+    loop {
+        let mut field = String::new();
+        // Leading spaces, then an optional quoted part.
+        while let Some(&(_, c)) = chars.peek() {
+            if c == ' ' || c == '\t' {
+                field.push(c);
+                chars.next();
+            } else {
+                break;
+            }
+        }
+        if let Some(&(start, '"')) = chars.peek() {
+            chars.next();
+            field.clear();
+            let mut closed = false;
+            while let Some((_, c)) = chars.next() {
+                if c == '"' {
+                    if chars.peek().map(|p| p.1) == Some('"') {
+                        chars.next();
+                        field.push('"');
+                    } else {
+                        closed = true;
+                        break;
+                    }
+                } else {
+                    field.push(c);
+                }
+            }
+            if !closed {
+                return Err(line[..start].chars().count() + 1);
+            }
+        }
+        let mut end_of_line = true;
+        for (_, c) in chars.by_ref() {
+            if c == ',' {
+                end_of_line = false;
+                break;
+            }
+            field.push(c);
+        }
+        fields.push(field);
+        if end_of_line {
+            return Ok(fields);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::split_fields;
+
+    #[test]
+    fn quoted_fields_are_one_field() {
+        assert_eq!(split_fields("a,b,c").unwrap(), ["a", "b", "c"]);
+        assert_eq!(split_fields("\"0.1,0.2\",3").unwrap(), ["0.1,0.2", "3"]);
+        assert_eq!(split_fields(" \"x\"\"y\" , 2").unwrap(), ["x\"y ", " 2"]);
+        assert_eq!(split_fields("1,,2").unwrap(), ["1", "", "2"]);
+        assert_eq!(split_fields("").unwrap(), [""]);
+        assert_eq!(split_fields("1,\"2"), Err(3));
+    }
 }

@@ -16,8 +16,8 @@ use std::time::{Duration, Instant};
 /// The input name that loads [`gonio::synthetic::example_luminaire`] instead of a file.
 pub const EXAMPLE: &str = "example";
 
-/// An error located in an input file; printed as `FILE:LINE:COLUMN: message` (without the
-/// `gonio: error:` prefix), like a compiler diagnostic. Line and column are 1-based; a column of 0
+/// An error located in an input file; displayed as `FILE:LINE:COLUMN: message`, like a compiler
+/// diagnostic (the binary prints it after the `gonio: error:` prefix every error has). Line and column are 1-based; a column of 0
 /// is left out.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct LocatedError {
@@ -116,22 +116,84 @@ pub fn input_kind(name: &str) -> anyhow::Result<InputKind> {
     }
 }
 
-/// Loads an input: a `.json`, `.ies` or `.ldt` file, or [`EXAMPLE`].
+/// The format the content of a file shows: JSON when its first non-blank character (after a
+/// UTF-8 byte-order mark) is `{`, else what [`gonio::photometry::FileFormat::detect`] says.
+pub fn detect_kind(bytes: &[u8]) -> Option<InputKind> {
+    let body = bytes.strip_prefix(b"\xef\xbb\xbf").unwrap_or(bytes);
+    if body.iter().find(|b| !b.is_ascii_whitespace()) == Some(&b'{') {
+        return Some(InputKind::Json);
+    }
+    match gonio::photometry::FileFormat::detect(bytes)? {
+        gonio::photometry::FileFormat::Ies => Some(InputKind::Ies),
+        gonio::photometry::FileFormat::Eulumdat => Some(InputKind::Eulumdat),
+    }
+}
+
+fn format_name(kind: InputKind) -> &'static str {
+    match kind {
+        InputKind::Example => "the example",
+        InputKind::Json => "JSON",
+        InputKind::Ies => "IES LM-63",
+        InputKind::Eulumdat => "EULUMDAT",
+    }
+}
+
+/// Loads an input: a JSON diagram, an IES or a EULUMDAT file, or [`EXAMPLE`].
+///
+/// The format comes from the content (see [`detect_kind`]), with the extension as a hint: when
+/// the content is not recognised the extension decides, and when the two disagree the content
+/// wins and a warning says so on standard error.
 ///
 /// Syntax errors come back as a [`LocatedError`] (`FILE:LINE:COLUMN: message`); every other error
 /// names the file.
 pub fn load(name: &str) -> anyhow::Result<Loaded> {
-    let kind = input_kind(name)?;
+    if name == EXAMPLE {
+        return Ok(Loaded {
+            name: name.to_string(),
+            kind: InputKind::Example,
+            diagram: gonio::synthetic::example_luminaire(),
+            photometry: None,
+        });
+    }
+    let bytes = read_file(name)?;
+    let hint = input_kind(name).ok();
+    let kind = match (detect_kind(&bytes), hint) {
+        (Some(found), Some(ext)) if found != ext => {
+            eprintln!(
+                "gonio: warning: {name}: the content is {}, not {} as the extension says; reading it as {}",
+                format_name(found),
+                format_name(ext),
+                format_name(found)
+            );
+            found
+        }
+        (Some(found), _) => found,
+        (None, Some(ext)) => ext,
+        (None, None) => {
+            if let Some(which) = gonio::photometry::utf16_encoding(&bytes) {
+                anyhow::bail!(
+                    "{name}: the file is UTF-16 text ({which}); save it as UTF-8 or ASCII"
+                );
+            }
+            // The extension's message (unknown or missing), with what the content was not.
+            return Err(input_kind(name).expect_err("no hint").context(format!(
+                "{name}: the content is not recognisable as JSON, IES LM-63 or EULUMDAT either"
+            )));
+        }
+    };
     let (diagram, photometry) = match kind {
-        InputKind::Example => (gonio::synthetic::example_luminaire(), None),
+        InputKind::Example => unreachable!("handled above"),
         InputKind::Json => {
-            let bytes = read_file(name)?;
-            let text = std::str::from_utf8(&bytes)
+            if let Some(which) = gonio::photometry::utf16_encoding(&bytes) {
+                anyhow::bail!("{name}: the file is UTF-16 text ({which}); save it as UTF-8");
+            }
+            let body = bytes.strip_prefix(b"\xef\xbb\xbf").unwrap_or(&bytes);
+            let text = std::str::from_utf8(body)
                 .map_err(|e| anyhow::anyhow!("{name}: the file is not UTF-8 text ({e})"))?;
             (diagram_from_json(name, text)?, None)
         }
         InputKind::Ies | InputKind::Eulumdat => {
-            let (p, d) = load_photometry(name, kind)?;
+            let (p, d) = load_photometry(name, kind, &bytes)?;
             (d, Some(Box::new(p)))
         }
     };
@@ -162,8 +224,172 @@ pub fn diagram_from_json(name: &str, text: &str) -> anyhow::Result<Diagram> {
             message: tame(strip_serde_location(&message)),
         }
         .into(),
-        other => anyhow::anyhow!("{name}: invalid diagram: {other}"),
+        gonio::Error::Diagram(d) => {
+            match json_path_of(&d).and_then(|path| json_position(text, &path)) {
+                Some((line, column)) => LocatedError {
+                    file: name.to_string(),
+                    line,
+                    column,
+                    message: format!("invalid diagram: {d}"),
+                }
+                .into(),
+                None => anyhow::anyhow!("{name}: invalid diagram: {d}"),
+            }
+        }
     })
+}
+
+/// One step of a path into a JSON document.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum JsonStep<'a> {
+    /// A member of an object.
+    Key(&'a str),
+    /// An element of an array.
+    Index(usize),
+}
+
+/// Where in the native JSON form the value a diagram error names lives.
+fn json_path_of(e: &gonio::DiagramError) -> Option<Vec<JsonStep<'static>>> {
+    use gonio::DiagramError as E;
+    use JsonStep::{Index, Key};
+    let axis_key = |axis: &str| {
+        if axis == "theta" {
+            "theta_deg"
+        } else {
+            "phi_deg"
+        }
+    };
+    Some(match e {
+        E::NonFiniteAngle { axis, index, .. }
+        | E::AngleOutOfRange { axis, index, .. }
+        | E::NotIncreasing { axis, index, .. } => vec![Key(axis_key(axis)), Index(*index)],
+        E::BadValue {
+            meridian, parallel, ..
+        } => vec![Key("values"), Index(*meridian), Index(*parallel)],
+        E::Shape { what, .. } => {
+            let row = what
+                .strip_prefix("values[")
+                .and_then(|r| r.split(']').next())
+                .and_then(|r| r.parse::<usize>().ok());
+            match row {
+                Some(i) => vec![Key("values"), Index(i)],
+                None => vec![Key("values")],
+            }
+        }
+        _ => return None,
+    })
+}
+
+/// The 1-based (line, column) of the value at `path` in the JSON `text`, if the text has one
+/// there (columns count characters).
+pub fn json_position(text: &str, path: &[JsonStep]) -> Option<(usize, usize)> {
+    let b = text.as_bytes();
+    let at = locate(b, skip_ws(b, 0), path)?;
+    let before = &text[..at];
+    let line = before.matches('\n').count() + 1;
+    let col = before[before.rfind('\n').map_or(0, |k| k + 1)..]
+        .chars()
+        .count()
+        + 1;
+    Some((line, col))
+}
+
+fn skip_ws(b: &[u8], mut i: usize) -> usize {
+    while i < b.len() && b[i].is_ascii_whitespace() {
+        i += 1;
+    }
+    i
+}
+
+/// End (exclusive) of the JSON value starting at `i`.
+fn skip_value(b: &[u8], i: usize) -> Option<usize> {
+    match *b.get(i)? {
+        b'"' => {
+            let mut k = i + 1;
+            while k < b.len() {
+                match b[k] {
+                    b'\\' => k += 2,
+                    b'"' => return Some(k + 1),
+                    _ => k += 1,
+                }
+            }
+            None
+        }
+        open @ (b'{' | b'[') => {
+            let close = if open == b'{' { b'}' } else { b']' };
+            let mut k = skip_ws(b, i + 1);
+            if b.get(k) == Some(&close) {
+                return Some(k + 1);
+            }
+            loop {
+                if open == b'{' {
+                    k = skip_ws(b, skip_value(b, k)?);
+                    if b.get(k) != Some(&b':') {
+                        return None;
+                    }
+                    k = skip_ws(b, k + 1);
+                }
+                k = skip_ws(b, skip_value(b, k)?);
+                match b.get(k)? {
+                    b',' => k = skip_ws(b, k + 1),
+                    c if *c == close => return Some(k + 1),
+                    _ => return None,
+                }
+            }
+        }
+        _ => {
+            let mut k = i;
+            while k < b.len() && !matches!(b[k], b',' | b']' | b'}') && !b[k].is_ascii_whitespace()
+            {
+                k += 1;
+            }
+            (k > i).then_some(k)
+        }
+    }
+}
+
+fn locate(b: &[u8], i: usize, path: &[JsonStep]) -> Option<usize> {
+    let Some((step, rest)) = path.split_first() else {
+        return Some(i);
+    };
+    match (step, *b.get(i)?) {
+        (JsonStep::Key(key), b'{') => {
+            let mut k = skip_ws(b, i + 1);
+            while b.get(k) == Some(&b'"') {
+                let end = skip_value(b, k)?;
+                let name = std::str::from_utf8(&b[k + 1..end - 1]).ok()?;
+                k = skip_ws(b, end);
+                if b.get(k) != Some(&b':') {
+                    return None;
+                }
+                k = skip_ws(b, k + 1);
+                if name == *key {
+                    return locate(b, k, rest);
+                }
+                k = skip_ws(b, skip_value(b, k)?);
+                if b.get(k) != Some(&b',') {
+                    return None;
+                }
+                k = skip_ws(b, k + 1);
+            }
+            None
+        }
+        (JsonStep::Index(n), b'[') => {
+            let mut k = skip_ws(b, i + 1);
+            for _ in 0..*n {
+                k = skip_ws(b, skip_value(b, k)?);
+                if b.get(k) != Some(&b',') {
+                    return None;
+                }
+                k = skip_ws(b, k + 1);
+            }
+            if matches!(b.get(k), None | Some(b']')) {
+                return None;
+            }
+            locate(b, k, rest)
+        }
+        _ => None,
+    }
 }
 
 /// serde_json messages end in " at line L column C", which the CLI prints in front instead.
@@ -177,9 +403,9 @@ fn strip_serde_location(message: &str) -> &str {
 fn load_photometry(
     name: &str,
     kind: InputKind,
+    bytes: &[u8],
 ) -> anyhow::Result<(gonio::photometry::Photometry, Diagram)> {
     use gonio::photometry::{read, FileFormat};
-    let bytes = read_file(name)?;
     let format = if kind == InputKind::Ies {
         FileFormat::Ies
     } else {
@@ -189,15 +415,22 @@ fn load_photometry(
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
         _ => PathBuf::from("."),
     };
-    let p = read(&bytes, format, &TiltFiles::new(dir)).map_err(|e| LocatedError {
+    let p = read(bytes, format, &TiltFiles::new(dir)).map_err(|e| LocatedError {
         file: name.to_string(),
         line: e.line,
         column: e.column,
         message: tame(&e.message),
     })?;
-    let d = p
-        .to_diagram()
-        .map_err(|e| anyhow::anyhow!("{name}: cannot expand the distribution: {e}"))?;
+    let d = p.to_diagram().map_err(|e| {
+        // Say why there is no light when the file's TILT factor is the reason.
+        let why = p
+            .warnings
+            .iter()
+            .find(|w| w.message.starts_with("TILT factor at 0° is 0"))
+            .map(|w| format!(" (line {}: {})", w.line, w.message))
+            .unwrap_or_default();
+        anyhow::anyhow!("{name}: cannot expand the distribution: {e}{why}")
+    })?;
     Ok((p, d))
 }
 

@@ -157,7 +157,7 @@ fn report(e: &anyhow::Error) -> ExitCode {
         }
     }
     if let Some(located) = e.downcast_ref::<load::LocatedError>() {
-        eprintln!("{}", one_line(&located.to_string()));
+        eprintln!("gonio: error: {}", one_line(&located.to_string()));
     } else {
         // `{:#}` joins the context chain with ": ".
         eprintln!("gonio: error: {}", one_line(&format!("{e:#}")));

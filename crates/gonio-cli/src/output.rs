@@ -322,15 +322,20 @@ impl Drop for Output {
     }
 }
 
-/// Appends the numbers of one CSV row, comma-separated, in Rust's shortest round-trip form (the
-/// text reads back to the same `f64`), and a newline.
+/// Appends the numbers of one CSV row, comma-separated, in the shortest round-trip form (the
+/// text reads back to the same `f64`; exponent form for extreme magnitudes,
+/// [`gonio::decimal::shortest`]), and a newline.
 pub fn push_csv_row(buf: &mut Vec<u8>, values: &[f64]) {
     for (k, v) in values.iter().enumerate() {
         if k > 0 {
             buf.push(b',');
         }
-        // Writing into a Vec cannot fail.
-        let _ = write!(buf, "{v}");
+        if *v == 0.0 || (1e-5..1e16).contains(&v.abs()) || !v.is_finite() {
+            // Writing into a Vec cannot fail.
+            let _ = write!(buf, "{v}");
+        } else {
+            let _ = write!(buf, "{v:e}");
+        }
     }
     buf.push(b'\n');
 }
@@ -341,4 +346,20 @@ pub fn print(text: &str) -> anyhow::Result<()> {
     out.write_all(text.as_bytes())?;
     out.flush()?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::push_csv_row;
+
+    #[test]
+    fn huge_and_tiny_numbers_in_exponent_form() {
+        let mut buf = Vec::new();
+        push_csv_row(&mut buf, &[1e308, f64::MAX, 5e-324, 0.25, 0.0, -3.0, 1e-7]);
+        let text = String::from_utf8(buf).unwrap();
+        assert_eq!(text, "1e308,1.7976931348623157e308,5e-324,0.25,0,-3,1e-7\n");
+        for (field, v) in text.trim().split(',').zip([1e308, f64::MAX, 5e-324]) {
+            assert_eq!(field.parse::<f64>().unwrap(), v);
+        }
+    }
 }

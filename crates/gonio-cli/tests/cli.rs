@@ -84,8 +84,10 @@ fn csv(text: &str) -> (Vec<String>, Vec<Vec<f64>>) {
 #[path = "../../gonio/tests/common/corpus.rs"]
 mod corpus;
 
-fn corpus() -> Option<PathBuf> {
-    corpus::corpus_dir()
+/// The photometric corpus as the build script found it; tests that need it are ignored (and say
+/// so in the summary) when it is absent.
+fn corpus() -> PathBuf {
+    corpus::built_corpus_dir()
 }
 
 #[test]
@@ -335,10 +337,21 @@ fn every_method_samples_and_rejection_cannot_invert() {
     assert!(err.contains("no inverse"), "{err}");
     let err = fails(&["sample", s(&json), "-n", "5", "--method", "magic"]);
     assert!(err.contains("magic"), "{err}");
-    // A direction below the horizon has no preimage on the hemisphere.
+    // A direction below the horizon has no preimage on the hemisphere: an empty u,v row, the
+    // count on standard error, exit status 0 (issue 16).
     std::fs::write(&dirs, "x,y,z\n0,0,1\n0,0,-1\n").unwrap();
-    let err = fails(&["invert", s(&json), "--directions", s(&dirs)]);
-    assert!(err.contains(":3: row 2:"), "{err}");
+    let o = run(&["invert", s(&json), "--directions", s(&dirs)]);
+    assert!(o.status.success());
+    let out = String::from_utf8(o.stdout).unwrap();
+    assert_eq!(out.lines().count(), 3, "{out}");
+    assert!(out.lines().nth(2).unwrap().ends_with(",,"), "{out}");
+    let err = String::from_utf8(o.stderr).unwrap();
+    assert!(
+        err.contains("1 of 2 directions have no preimage")
+            && err.contains("outside the sampler's domain (Hemisphere)")
+            && err.contains(":3, row 2"),
+        "{err}"
+    );
 }
 
 #[test]
@@ -425,7 +438,10 @@ fn bad_input_files_give_located_one_line_errors() {
     let bad = dir.join("bad.json");
     std::fs::write(&bad, "{\n  \"theta_deg\": [0, 90],\n  \"colour\": 1\n}").unwrap();
     let err = fails(&["info", s(&bad)]);
-    assert!(err.starts_with(&format!("{}:3:", s(&bad))), "{err}");
+    assert!(
+        err.starts_with(&format!("gonio: error: {}:3:", s(&bad))),
+        "{err}"
+    );
     assert!(err.contains("colour"), "{err}");
     // Valid JSON, invalid diagram: named, no location.
     std::fs::write(
@@ -438,14 +454,20 @@ fn bad_input_files_give_located_one_line_errors() {
         err.starts_with("gonio: error:") && err.contains("bad.json"),
         "{err}"
     );
-    let err = fails(&["info", s(&dir.join("diagram.txt"))]);
+    let txt = dir.join("diagram.txt");
+    std::fs::write(&txt, "not a diagram\n").unwrap();
+    let err = fails(&["info", s(&txt)]);
     assert!(err.contains("unknown input format"), "{err}");
+    assert!(err.contains("not recognisable"), "{err}");
     let err = fails(&["info", s(&dir.join("missing.JSON"))]);
     assert!(err.contains("cannot read"), "{err}");
     let bad_ies = dir.join("bad.IES");
     std::fs::write(&bad_ies, "IESNA:LM-63-2002\nTILT=NONE\n1 -1 1 x\n").unwrap();
     let err = fails(&["info", s(&bad_ies)]);
-    assert!(err.starts_with(&format!("{}:", s(&bad_ies))), "{err}");
+    assert!(
+        err.starts_with(&format!("gonio: error: {}:3:", s(&bad_ies))),
+        "{err}"
+    );
     // Usage errors: exit code 2, one line.
     let o = run(&["sample", "example"]);
     assert_eq!(o.status.code(), Some(2));
@@ -510,8 +532,12 @@ fn tilt_files_are_read_next_to_the_ies_file() {
 }
 
 #[test]
+#[cfg_attr(
+    not(gonio_corpus),
+    ignore = "photometric corpus not found: set GONIO_CORPUS (or put it at ../shared/data/photometry) and rebuild"
+)]
 fn corpus_files_load_sample_and_report() {
-    let Some(corpus) = corpus() else { return };
+    let corpus = corpus();
     for sub in ["ies", "ldt"] {
         let mut files: Vec<PathBuf> = std::fs::read_dir(corpus.join(sub))
             .unwrap()
@@ -551,4 +577,237 @@ fn corpus_files_load_sample_and_report() {
             assert!(rows.iter().all(|r| r[5] >= 0.0));
         }
     }
+}
+
+/// `.ci/run` sets `GONIO_REQUIRE_CORPUS=1` when the corpus exists: then the corpus tests must
+/// have been built to run, not ignored.
+#[test]
+fn corpus_tests_run_when_required() {
+    let built_with_corpus = cfg!(gonio_corpus);
+    if std::env::var_os("GONIO_REQUIRE_CORPUS").is_some_and(|v| v == "1") {
+        assert!(
+            built_with_corpus,
+            "GONIO_REQUIRE_CORPUS=1 but the build did not find the corpus: the corpus tests were ignored"
+        );
+    }
+}
+
+/// Issue 16: a direction with no preimage (zero density) gets empty u,v fields, the count goes
+/// to standard error, the exit status is 0; a malformed row still stops the run.
+#[test]
+fn invert_keeps_one_row_per_input_row() {
+    let dir = temp_dir("invert-rows");
+    // Light only in the upper hemisphere, on the sphere (θ up to 180°).
+    let json = dir.join("up.json");
+    std::fs::write(
+        &json,
+        r#"{"theta_deg": [0, 90, 180], "phi_deg": [0], "values": [[1, 0, 0]]}"#,
+    )
+    .unwrap();
+    let dirs = dir.join("d.csv");
+    std::fs::write(&dirs, "x,y,z\n0,0,1\n0,0,-1\n1,0,0.2\n0,0.1,-1\n").unwrap();
+    let o = run(&["invert", s(&json), "--directions", s(&dirs)]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = String::from_utf8(o.stdout).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), 5, "{text}");
+    assert_eq!(lines[0], "x,y,z,u,v");
+    assert!(
+        lines[2].ends_with(",,") && lines[4].ends_with(",,"),
+        "{text}"
+    );
+    assert!(
+        !lines[1].ends_with(',') && !lines[3].ends_with(','),
+        "{text}"
+    );
+    let err = String::from_utf8(o.stderr).unwrap();
+    assert!(
+        err.contains("2 of 4 directions have no preimage") && err.contains("density is 0"),
+        "{err}"
+    );
+    // The mirror case (the issue's downlight): light only below, straight up has no preimage.
+    let down = dir.join("down.json");
+    std::fs::write(
+        &down,
+        r#"{"theta_deg": [0, 90, 180], "phi_deg": [0], "values": [[0, 0, 1]]}"#,
+    )
+    .unwrap();
+    let o = run(&["invert", s(&down), "--directions", s(&dirs)]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = String::from_utf8(o.stdout).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), 5, "{text}");
+    assert!(
+        lines[1].ends_with(",,") && lines[3].ends_with(",,"),
+        "{text}"
+    );
+    assert!(
+        !lines[2].ends_with(',') && !lines[4].ends_with(','),
+        "{text}"
+    );
+    // pdf: one row per input row too, 0 there.
+    let pdf = ok(&["pdf", s(&json), "--directions", s(&dirs)]);
+    let (_, rows) = csv(&pdf);
+    assert_eq!(rows.len(), 4);
+    assert_eq!(rows[1][3], 0.0);
+    // The library says why: a distinct error kind.
+    let d = Diagram::from_json_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let map = gonio::SphereMap::new(&d).unwrap();
+    assert_eq!(
+        map.invert([0.0, 0.0, -1.0]),
+        Err(gonio::InvertError::ZeroDensity)
+    );
+    // A malformed row stops the run.
+    std::fs::write(&dirs, "x,y,z\n0,0,1\n0,0,0\n").unwrap();
+    let err = fails(&["invert", s(&json), "--directions", s(&dirs)]);
+    assert!(err.contains(":3: row 2"), "{err}");
+}
+
+/// Issue 16: the format comes from the content, the extension is a hint; every error has the
+/// `gonio: error:` prefix; JSON errors carry line:column; a UTF-8 BOM is accepted in JSON; UTF-16
+/// is named.
+#[test]
+fn formats_from_content_and_located_errors() {
+    let dir = temp_dir("formats");
+    // An EULUMDAT file named .ies: read as EULUMDAT, with a warning.
+    let ldt = dir.join("ex.ldt");
+    ok(&["convert", "example", s(&ldt)]);
+    let misnamed = dir.join("really-ldt.ies");
+    std::fs::copy(&ldt, &misnamed).unwrap();
+    let o = run(&["info", s(&misnamed), "--json"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("gonio: warning:") && err.contains("the content is EULUMDAT, not IES"),
+        "{err}"
+    );
+    // No extension at all: the content decides, silently.
+    let bare = dir.join("lamp");
+    std::fs::copy(&ldt, &bare).unwrap();
+    let o = run(&["info", s(&bare)]);
+    assert!(o.status.success() && o.stderr.is_empty());
+    // JSON with a UTF-8 byte-order mark.
+    let bom = dir.join("bom.json");
+    std::fs::write(&bom, format!("\u{feff}{HEMI_JSON}")).unwrap();
+    ok(&["info", s(&bom)]);
+    // A JSON value error names line and column of the value.
+    let bad = dir.join("bad.json");
+    std::fs::write(
+        &bad,
+        "{\n  \"theta_deg\": [0, 45, 90],\n  \"phi_deg\": [0],\n  \"values\": [[1, -2, 0]]\n}\n",
+    )
+    .unwrap();
+    let err = fails(&["info", s(&bad)]);
+    assert!(
+        err.starts_with(&format!("gonio: error: {}:4:18:", s(&bad))),
+        "{err}"
+    );
+    std::fs::write(
+        &bad,
+        "{\"theta_deg\": [0, 90, 45],\n \"phi_deg\": [0], \"values\": [[1, 1, 1]]}",
+    )
+    .unwrap();
+    let err = fails(&["info", s(&bad)]);
+    assert!(
+        err.starts_with(&format!("gonio: error: {}:1:23:", s(&bad))),
+        "{err}"
+    );
+    // UTF-16 is named, for photometric files and JSON.
+    let text = std::fs::read_to_string(&ldt).unwrap();
+    let mut utf16 = vec![0xff, 0xfe];
+    utf16.extend(text.encode_utf16().flat_map(|c| c.to_le_bytes()));
+    let u16ldt = dir.join("u16.ldt");
+    std::fs::write(&u16ldt, &utf16).unwrap();
+    let err = fails(&["info", s(&u16ldt)]);
+    assert!(
+        err.starts_with("gonio: error:") && err.contains("UTF-16"),
+        "{err}"
+    );
+    let mut utf16 = vec![0xff, 0xfe];
+    utf16.extend(HEMI_JSON.encode_utf16().flat_map(|c| c.to_le_bytes()));
+    let u16json = dir.join("u16.json");
+    std::fs::write(&u16json, &utf16).unwrap();
+    let err = fails(&["info", s(&u16json)]);
+    assert!(err.contains("UTF-16"), "{err}");
+    // IES parse errors carry the prefix and the location.
+    let ies = dir.join("bad.ies");
+    std::fs::write(&ies, "IESNA:LM-63-2002\nTILT=NONE\n1 -1 1 x\n").unwrap();
+    let err = fails(&["info", s(&ies)]);
+    assert!(
+        err.starts_with(&format!("gonio: error: {}:3:", s(&ies))),
+        "{err}"
+    );
+}
+
+/// Issue 16: angles are written as the shortest decimal that reads back to the same radians.
+#[test]
+fn converted_files_have_short_angles() {
+    let dir = temp_dir("short-angles");
+    for ext in ["ies", "ldt", "json"] {
+        let f = dir.join(format!("ex.{ext}"));
+        ok(&["convert", "example", s(&f)]);
+        let text = std::fs::read_to_string(&f).unwrap();
+        for bad in ["99999999", "00000000"] {
+            assert!(!text.contains(bad), "{ext}: {bad} in\n{text}");
+        }
+        // And they read back to the same diagram, bit for bit.
+        let back = dir.join(format!("back-{ext}.json"));
+        ok(&["convert", s(&f), s(&back)]);
+        let d = Diagram::from_json_str(&std::fs::read_to_string(&back).unwrap()).unwrap();
+        let ex = gonio::synthetic::example_luminaire();
+        assert_eq!(d.theta(), ex.theta(), "{ext}");
+        assert_eq!(d.phi(), ex.phi(), "{ext}");
+        assert_eq!(d.values(), ex.values(), "{ext}");
+    }
+}
+
+/// Issue 16: CSV input — a quoted field is one field; numbers out of the double range are
+/// refused, not read as infinity.
+#[test]
+fn csv_quoted_fields_and_out_of_range_numbers() {
+    let dir = temp_dir("csv-quotes");
+    let pts = dir.join("p.csv");
+    std::fs::write(&pts, "\"u\",\"v\"\n\"0.1\",\"0.2\"\n\"0.1,0.2\",0.3\n").unwrap();
+    let err = fails(&["sample", "example", "--points", s(&pts)]);
+    assert!(
+        err.contains(":3: row 2: u = `0.1,0.2` is not a number"),
+        "{err}"
+    );
+    std::fs::write(&pts, "u,v\n1e400,0.5\n").unwrap();
+    let err = fails(&["sample", "example", "--points", s(&pts)]);
+    assert!(err.contains("out of the range"), "{err}");
+}
+
+/// Issue 16: the main job's first sample is representative (Halton from index 1, not the corner
+/// u = (0, 0)), and deterministic.
+#[test]
+fn first_sample_is_not_the_corner() {
+    let out = ok(&["sample", "example", "-n", "3"]);
+    let (_, rows) = csv(&out);
+    assert_eq!((rows[0][0], rows[0][1]), (0.5, 1.0 / 3.0));
+    assert!(rows[0][5] > 1e-3, "pdf {}", rows[0][5]);
+    assert_eq!(out, ok(&["sample", "example", "-n", "3"]));
+}
+
+/// Issue 16: `bench --help` shows no unrendered rustdoc; `info` says `1 meridian`.
+#[test]
+fn help_and_info_wording() {
+    let help = ok(&["bench", "--help"]);
+    assert!(!help.contains("[`"), "{help}");
+    let dir = temp_dir("wording");
+    let (json, _) = hemi(&dir);
+    let one = dir.join("one.json");
+    std::fs::write(
+        &one,
+        r#"{"theta_deg": [0, 45, 90], "phi_deg": [0], "values": [[1, 0.7, 0]]}"#,
+    )
+    .unwrap();
+    let info = ok(&["info", s(&one)]);
+    assert!(info.contains("3 parallels × 1 meridian;"), "{info}");
+    let info = ok(&["info", s(&json)]);
+    assert!(info.contains("4 parallels × 4 meridians;"), "{info}");
+    let ies = dir.join("ex.ies");
+    ok(&["convert", "example", s(&ies)]);
+    let info = ok(&["info", s(&ies)]);
+    assert!(info.contains("format           IES LM-63-2019\n"), "{info}");
 }

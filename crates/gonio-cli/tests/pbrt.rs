@@ -30,25 +30,8 @@ const RES: usize = 128;
 /// Random directions per file.
 const DIRECTIONS: usize = 300;
 
-fn corpus_dir() -> Option<PathBuf> {
-    let candidates: Vec<PathBuf> = std::env::var_os("GONIO_CORPUS")
-        .map(PathBuf::from)
-        .into_iter()
-        .chain(
-            [
-                "../../../shared/data/photometry",
-                "../../../../shared/data/photometry",
-            ]
-            .iter()
-            .map(|rel| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(rel)),
-        )
-        .collect();
-    let found = candidates.iter().find(|c| c.join("ies").is_dir()).cloned();
-    if found.is_none() {
-        eprintln!("SKIPPED: corpus not found (set GONIO_CORPUS)");
-    }
-    found
-}
+#[path = "../../gonio/tests/common/corpus.rs"]
+mod corpus;
 
 // ---- pbrt-v4's evaluation, written independently --------------------------------------------
 
@@ -371,8 +354,12 @@ fn check_file(file: &Path, out: &Path, rng: &mut u64) -> Report {
 }
 
 #[test]
+#[cfg_attr(
+    not(gonio_corpus),
+    ignore = "photometric corpus not found: set GONIO_CORPUS (or put it at ../shared/data/photometry) and rebuild"
+)]
 fn pbrt_images_decode_to_the_files_intensity_and_flux() {
-    let Some(corpus) = corpus_dir() else { return };
+    let corpus = corpus::built_corpus_dir();
     let tmp = std::env::temp_dir().join(format!("gonio-pbrt-{}", std::process::id()));
     std::fs::create_dir_all(&tmp).unwrap();
     let mut files: Vec<PathBuf> = ["ies", "ldt"]

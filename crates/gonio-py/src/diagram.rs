@@ -2,6 +2,7 @@
 
 use crate::arrays;
 use crate::{DiagramError, InputError, ParseError};
+use gonio::decimal::degrees;
 use gonio::photometry::{self, DirTiltResolver, FileFormat, NoTiltFiles, Photometry, TiltResolver};
 use gonio::sampler::{normalize, spherical};
 use gonio::{Diagram, Domain};
@@ -307,26 +308,21 @@ impl PyDiagram {
         })
     }
 
-    /// Parallels θ in degrees from +z, strictly increasing, shape (N,).
+    /// Parallels θ in degrees from +z, strictly increasing, shape (N,): the shortest decimals that
+    /// convert back to the stored radians (15.0, not 14.999999999999998), as `to_json` writes them.
     #[getter]
     fn theta_deg<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         arrays::new_1d(
             py,
-            self.diagram
-                .theta()
-                .iter()
-                .map(|t| t.to_degrees())
-                .collect(),
+            self.diagram.theta().iter().map(|&t| degrees(t)).collect(),
         )
     }
 
-    /// Meridians φ in degrees from +x toward +y, strictly increasing in [0°, 360°), shape (M,).
+    /// Meridians φ in degrees from +x toward +y, strictly increasing in [0°, 360°), shape (M,);
+    /// the shortest decimals, as `theta_deg`.
     #[getter]
     fn phi_deg<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        arrays::new_1d(
-            py,
-            self.diagram.phi().iter().map(|p| p.to_degrees()).collect(),
-        )
+        arrays::new_1d(py, self.diagram.phi().iter().map(|&p| degrees(p)).collect())
     }
 
     /// The values, shape (M, N): `values[i, j]` at (phi_deg[i], theta_deg[j]); candela for

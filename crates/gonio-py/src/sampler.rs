@@ -251,8 +251,8 @@ impl PySampler {
     }
 
     /// The points (n, 2) of the unit square that `sample` maps to `directions` (n, 3),
-    /// normalised first. Raises InputError for a direction outside the domain (naming its row) and
-    /// for a method without inverse ("rejection").
+    /// normalised first. Raises InputError for a direction outside the domain or where the density
+    /// is 0 (no point maps to it), naming its row, and for a method without inverse ("rejection").
     fn invert<'py>(
         &self,
         py: Python<'py>,
@@ -272,13 +272,15 @@ impl PySampler {
         let bad = detached(py, "invert", || invert_into(s, &dirs, &mut out))?;
         if let Some(k) = bad {
             let d = dirs[k];
-            let why = if normalize(d).is_none() {
-                "is zero or not finite".to_string()
-            } else {
-                format!(
+            let why = match normalize(d).map(|u| s.invert(u)) {
+                None => "is zero or not finite".to_string(),
+                Some(Err(InvertError::ZeroDensity)) => {
+                    "has density 0: no point of the square maps to it".to_string()
+                }
+                Some(_) => format!(
                     "lies outside the sampler's domain ({})",
                     domain_name(s.domain())
-                )
+                ),
             };
             return Err(InputError::new_err(format!(
                 "invert: row {k}: direction ({}, {}, {}) {why}",

@@ -182,6 +182,14 @@ def test_bad_directions_raise():
     with pytest.raises(gonio.InputError, match=r"row 1: .*outside the sampler's domain"):
         h.invert([[0, 0, 1.0], [0, 0, -1.0]])
     assert h.pdf([[0, 0, -1.0]])[0] == 0.0
+    # A downlight on the sphere: straight up is in the domain but has density 0, so no point maps
+    # to it; the error says so instead of "outside the domain" (issue 16).
+    down = gonio.read_bytes("IESNA:LM-63-2002\nTILT=NONE\n1 1000 1 3 1 1 2 0 0 0\n1 1 100\n"
+                            "0 45 90\n0\n100 60 0\n", "ies").sampler()
+    assert down.domain == "sphere"
+    with pytest.raises(gonio.InputError, match=r"row 1: .*density 0: no point of the square"):
+        down.invert([[0, 0, -1.0], [0, 0, 1.0]])
+    assert down.pdf([[0, 0, 1.0]])[0] == 0.0
 
 
 def test_bad_arguments_raise():

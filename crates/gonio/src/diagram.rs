@@ -64,7 +64,7 @@ pub enum DiagramError {
         value: f64,
     },
     /// An angle lies outside its range (θ in [0°, 180°], φ in [0°, 360°)).
-    #[error("{axis} angle #{index} = {value_deg}° is outside {range}")]
+    #[error("{axis} angle #{index} = {}° is outside {range}", crate::decimal::shortest(*value_deg))]
     AngleOutOfRange {
         /// `"theta"` or `"phi"`.
         axis: &'static str,
@@ -76,7 +76,11 @@ pub enum DiagramError {
         range: &'static str,
     },
     /// Angles are not strictly increasing (unsorted or duplicated).
-    #[error("{axis} angles must be strictly increasing, but #{index} = {value_deg}° follows {previous_deg}°")]
+    #[error(
+        "{axis} angles must be strictly increasing (also in radians, as stored), but #{index} = {}° follows {}°",
+        crate::decimal::shortest(*value_deg),
+        crate::decimal::shortest(*previous_deg)
+    )]
     NotIncreasing {
         /// `"theta"` or `"phi"`.
         axis: &'static str,
@@ -98,7 +102,10 @@ pub enum DiagramError {
         found: usize,
     },
     /// A value is NaN, infinite or negative.
-    #[error("values[{meridian}][{parallel}] = {value} is not a finite non-negative number")]
+    #[error(
+        "values[{meridian}][{parallel}] = {} is not a finite non-negative number",
+        crate::decimal::shortest(*value)
+    )]
     BadValue {
         /// Meridian index i.
         meridian: usize,
@@ -340,7 +347,26 @@ impl Diagram {
                 }
             })
             .collect();
-        Self::new(theta, phi, values.concat())
+        // Messages name the angles as given (5e-324° and 0° differ in degrees but not in
+        // radians). `new` moves a lone closing meridian (360°) to the front, shifting φ's indices
+        // by one.
+        let moved = phi_deg.len() > 1
+            && snap_deg(phi_deg[0], &[0.0]) != 0.0
+            && snap_deg(phi_deg[phi_deg.len() - 1], &[360.0]) == 360.0;
+        Self::new(theta, phi, values.concat()).map_err(|e| match e {
+            DiagramError::NotIncreasing { axis, index, .. }
+                if index > 0 && !(axis == "phi" && moved) =>
+            {
+                let given = if axis == "theta" { theta_deg } else { phi_deg };
+                DiagramError::NotIncreasing {
+                    axis,
+                    index,
+                    value_deg: given[index],
+                    previous_deg: given[index - 1],
+                }
+            }
+            other => other,
+        })
     }
 
     /// Parses the native JSON form (see [`DiagramJson`]).
@@ -356,8 +382,17 @@ impl Diagram {
     /// The native JSON form (angles in degrees).
     pub fn to_json(&self) -> DiagramJson {
         DiagramJson {
-            theta_deg: self.theta.iter().map(|t| t.to_degrees()).collect(),
-            phi_deg: self.phi.iter().map(|p| p.to_degrees()).collect(),
+            // The shortest degrees that read back to the stored radians (55, not 54.99…986).
+            theta_deg: self
+                .theta
+                .iter()
+                .map(|&t| crate::decimal::degrees(t))
+                .collect(),
+            phi_deg: self
+                .phi
+                .iter()
+                .map(|&p| crate::decimal::degrees(p))
+                .collect(),
             values: self
                 .values
                 .chunks(self.theta.len())

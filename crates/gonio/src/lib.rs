@@ -33,6 +33,7 @@
 pub mod baselines;
 pub mod check;
 pub mod clock;
+pub mod decimal;
 pub mod diagram;
 pub mod error;
 pub mod mapping;

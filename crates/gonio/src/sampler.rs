@@ -78,6 +78,11 @@ pub enum InvertError {
     /// The direction is not in the sampler's domain or is not a finite non-zero vector.
     #[error("the direction lies outside the sampler's domain")]
     OutsideDomain,
+    /// The direction lies in the domain, but the density is 0 there and no point of the square
+    /// maps to it (e.g. the lower hemisphere of a sphere map for a luminaire that emits no light
+    /// downwards).
+    #[error("no point of the square maps to the direction: the density is 0 there")]
+    ZeroDensity,
 }
 
 /// A map from the unit square to directions with its exact density and (where it exists) its inverse.

@@ -369,3 +369,44 @@ fn outside_the_domain() {
     );
     assert!(out[0].is_err() && out[1].is_err() && out[2].is_ok());
 }
+
+/// A sphere map of a luminaire that emits only downwards has no upper map: every direction above
+/// the horizon has density 0 and no preimage. The batch inverse gives NaN in both coordinates there
+/// (not u = 1, which `min(1)` would make of NaN), in every backend, and the AoS adapter reports the
+/// scalar path's reason, `ZeroDensity` (issue 16).
+#[test]
+fn empty_upper_hemisphere_has_no_preimage() {
+    use gonio::{Diagram, InvertError};
+    let d = Diagram::from_degrees(
+        &[90.0, 135.0, 180.0],
+        &[0.0, 90.0],
+        &[vec![0.0, 60.0, 100.0], vec![0.0, 50.0, 100.0]],
+    )
+    .unwrap();
+    let m = SphereMap::new(&d).unwrap();
+    let up = [0.0, 0.0, 1.0];
+    let tilted = [0.6, 0.0, 0.8];
+    let down = [0.0, -0.6, -0.8];
+    assert_eq!(m.invert(up), Err(InvertError::ZeroDensity));
+    let dirs = [
+        vec![up[0], tilted[0], down[0]],
+        vec![up[1], tilted[1], down[1]],
+        vec![up[2], tilted[2], down[2]],
+    ];
+    for b in Backend::available() {
+        let w = m.inv64(b, &dirs);
+        for k in 0..2 {
+            assert!(w[0][k].is_nan() && w[1][k].is_nan(), "{b:?}: {w:?}");
+        }
+        assert!(w[0][2].is_finite() && w[1][2].is_finite(), "{b:?}: {w:?}");
+    }
+    let mut out = vec![Ok([0.0, 0.0]); 3];
+    m.invert_batch(&[up, tilted, down], &mut out);
+    assert_eq!(out[0], Err(InvertError::ZeroDensity));
+    assert_eq!(out[1], Err(InvertError::ZeroDensity));
+    let p = out[2].unwrap();
+    let back = m.sample(p);
+    for i in 0..3 {
+        assert!((back.direction[i] - down[i]).abs() < 1e-9, "{back:?}");
+    }
+}

@@ -107,10 +107,12 @@ fn quadrature(d: &Diagram) -> f64 {
 }
 
 #[test]
+#[cfg_attr(
+    not(gonio_corpus),
+    ignore = "photometric corpus not found: set GONIO_CORPUS (or put it at ../shared/data/photometry) and rebuild"
+)]
 fn every_file_meets_its_expectations() {
-    let Some(dir) = common::corpus_dir() else {
-        return;
-    };
+    let dir = common::corpus_dir();
     let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(7);
     for &(rel, nv, nh, sym, meridians, max_cd, flux) in EXPECT {
         let p = load(&dir, rel);
@@ -160,10 +162,12 @@ fn every_file_meets_its_expectations() {
 }
 
 #[test]
+#[cfg_attr(
+    not(gonio_corpus),
+    ignore = "photometric corpus not found: set GONIO_CORPUS (or put it at ../shared/data/photometry) and rebuild"
+)]
 fn eulumdat_flux_is_lamp_flux_times_lorl() {
-    let Some(dir) = common::corpus_dir() else {
-        return;
-    };
+    let dir = common::corpus_dir();
     for rel in LDT_FLUX_CONSISTENT {
         let p = load(&dir, rel);
         let info = p.ldt.as_ref().unwrap();
@@ -177,10 +181,12 @@ fn eulumdat_flux_is_lamp_flux_times_lorl() {
 }
 
 #[test]
+#[cfg_attr(
+    not(gonio_corpus),
+    ignore = "photometric corpus not found: set GONIO_CORPUS (or put it at ../shared/data/photometry) and rebuild"
+)]
 fn corpus_warnings_and_quirks() {
-    let Some(dir) = common::corpus_dir() else {
-        return;
-    };
+    let dir = common::corpus_dir();
     let warns = |rel: &str| load(&dir, rel).warnings;
     let has = |rel: &str, needle: &str| warns(rel).iter().any(|w| w.message.contains(needle));
     assert!(has(
@@ -212,10 +218,12 @@ fn corpus_warnings_and_quirks() {
 }
 
 #[test]
+#[cfg_attr(
+    not(gonio_corpus),
+    ignore = "photometric corpus not found: set GONIO_CORPUS (or put it at ../shared/data/photometry) and rebuild"
+)]
 fn invalid_file_fails_with_its_line() {
-    let Some(dir) = common::corpus_dir() else {
-        return;
-    };
+    let dir = common::corpus_dir();
     let bytes = std::fs::read(dir.join("ies/invalid_iesna91_mdl_garbage_line.ies")).unwrap();
     let e = read(&bytes, FileFormat::Ies, &NoTiltFiles).unwrap_err();
     assert_eq!((e.line, e.column), (3, 1), "{e}");
@@ -224,10 +232,12 @@ fn invalid_file_fails_with_its_line() {
 
 /// The images of stored plane angle `c` under a symmetry (independent of the library's rule).
 #[test]
+#[cfg_attr(
+    not(gonio_corpus),
+    ignore = "photometric corpus not found: set GONIO_CORPUS (or put it at ../shared/data/photometry) and rebuild"
+)]
 fn type_c_nodes_are_kept_exactly() {
-    let Some(dir) = common::corpus_dir() else {
-        return;
-    };
+    let dir = common::corpus_dir();
     let mut files = 0;
     for &(rel, ..) in EXPECT {
         let p = load(&dir, rel);
@@ -268,10 +278,12 @@ fn type_c_nodes_are_kept_exactly() {
 }
 
 #[test]
+#[cfg_attr(
+    not(gonio_corpus),
+    ignore = "photometric corpus not found: set GONIO_CORPUS (or put it at ../shared/data/photometry) and rebuild"
+)]
 fn erco_trion_twins_agree() {
-    let Some(dir) = common::corpus_dir() else {
-        return;
-    };
+    let dir = common::corpus_dir();
     let a = load(&dir, "ies/lm63_1995_erco_trion_washlight_uplight.ies");
     let b = load(&dir, "ldt/isym2_erco_trion_washlight_uplight.ldt");
     let (da, db) = (a.to_diagram().unwrap(), b.to_diagram().unwrap());
@@ -320,10 +332,12 @@ fn hv_flux(p: &Photometry) -> f64 {
 }
 
 #[test]
+#[cfg_attr(
+    not(gonio_corpus),
+    ignore = "photometric corpus not found: set GONIO_CORPUS (or put it at ../shared/data/photometry) and rebuild"
+)]
 fn type_b_and_a_resampling_preserves_flux_and_beam() {
-    let Some(dir) = common::corpus_dir() else {
-        return;
-    };
+    let dir = common::corpus_dir();
     let mut files = 0;
     for &(rel, ..) in EXPECT {
         let p = load(&dir, rel);
@@ -365,4 +379,19 @@ fn type_b_and_a_resampling_preserves_flux_and_beam() {
         );
     }
     assert_eq!(files, 4);
+}
+
+/// `.ci/run` sets `GONIO_REQUIRE_CORPUS=1` when the corpus exists: then the corpus tests must
+/// have been built to run, not ignored.
+#[test]
+fn corpus_tests_run_when_required() {
+    let built_with_corpus = cfg!(gonio_corpus);
+    if std::env::var_os("GONIO_REQUIRE_CORPUS").is_some_and(|v| v == "1") {
+        assert!(
+            built_with_corpus,
+            "GONIO_REQUIRE_CORPUS=1 but the build did not find the corpus: the corpus tests were \
+             ignored (GONIO_CORPUS = {:?})",
+            std::env::var_os("GONIO_CORPUS")
+        );
+    }
 }

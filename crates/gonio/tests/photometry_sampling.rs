@@ -21,10 +21,12 @@ fn load(path: &Path) -> Photometry {
 }
 
 #[test]
+#[cfg_attr(
+    not(gonio_corpus),
+    ignore = "photometric corpus not found: set GONIO_CORPUS (or put it at ../shared/data/photometry) and rebuild"
+)]
 fn pdf_at_measured_nodes_is_candela_times_one_constant() {
-    let Some(dir) = common::corpus_dir() else {
-        return;
-    };
+    let dir = common::corpus_dir();
     let mut files = 0;
     for path in common::corpus_files(&dir) {
         let p = load(&path);
@@ -75,10 +77,12 @@ fn pdf_at_measured_nodes_is_candela_times_one_constant() {
 }
 
 #[test]
+#[cfg_attr(
+    not(gonio_corpus),
+    ignore = "photometric corpus not found: set GONIO_CORPUS (or put it at ../shared/data/photometry) and rebuild"
+)]
 fn every_file_samples_correctly() {
-    let Some(dir) = common::corpus_dir() else {
-        return;
-    };
+    let dir = common::corpus_dir();
     let files = common::corpus_files(&dir);
     let k = files.len();
     for (i, path) in files.iter().enumerate() {

@@ -54,7 +54,10 @@ pub fn run_pdf(a: &DirectionsArgs) -> anyhow::Result<()> {
     out.finish()
 }
 
-/// Runs `gonio invert`: output `x,y,z,u,v` with the normalised direction.
+/// Runs `gonio invert`: output `x,y,z,u,v` with the normalised direction, one row per input row.
+/// A direction with no preimage — density 0 there, or outside a hemisphere sampler's domain —
+/// gets empty `u,v` fields; how many is said on standard error, and the exit status stays 0.
+/// Only a malformed input row (not a number, a zero or non-finite direction) stops the run.
 pub fn run_invert(a: &DirectionsArgs) -> anyhow::Result<()> {
     let loaded = load(&a.input)?;
     let sampler = build_sampler(a.method, &loaded)?;
@@ -65,33 +68,51 @@ pub fn run_invert(a: &DirectionsArgs) -> anyhow::Result<()> {
         );
     }
     let (dirs, locs) = read_directions(&a.directions)?;
-    // Invert everything before writing, so that a direction outside the domain leaves no file.
     let mut uv: Vec<Result<[f64; 2], InvertError>> = vec![Ok([0.0; 2]); dirs.len()];
     invert_batch_par(sampler.as_ref(), &dirs, &mut uv);
-    if let Some(k) = uv.iter().position(|r| r.is_err()) {
-        let d = dirs[k];
-        let why = match uv[k] {
-            Err(InvertError::Unsupported) => "the method has no inverse".to_string(),
-            _ => format!(
-                "direction ({}, {}, {}) lies outside the sampler's domain ({:?})",
-                d[0],
-                d[1],
-                d[2],
-                sampler.domain()
-            ),
-        };
-        let (line, row) = locs[k];
-        anyhow::bail!("{}:{line}: row {row}: {why}", a.directions);
-    }
     let mut out = Output::create(a.output.as_deref())?;
     out.write_all(b"x,y,z,u,v\n")?;
+    let (mut zero, mut outside) = (0usize, 0usize);
     for (dc, uc) in dirs.chunks(BATCH).zip(uv.chunks(BATCH)) {
         let mut buf = Vec::with_capacity(dc.len() * 80);
         for (d, u) in dc.iter().zip(uc) {
-            let u = u.as_ref().expect("checked above");
-            push_csv_row(&mut buf, &[d[0], d[1], d[2], u[0], u[1]]);
+            match u {
+                Ok(u) => push_csv_row(&mut buf, &[d[0], d[1], d[2], u[0], u[1]]),
+                Err(e) => {
+                    match e {
+                        InvertError::OutsideDomain => outside += 1,
+                        _ => zero += 1,
+                    }
+                    push_csv_row(&mut buf, &[d[0], d[1], d[2]]);
+                    // `x,y,z` + two empty fields.
+                    buf.pop();
+                    buf.extend_from_slice(b",,\n");
+                }
+            }
         }
         out.write_all(&buf)?;
     }
-    out.finish()
+    out.finish()?;
+    if let Some(k) = uv.iter().position(|r| r.is_err()) {
+        let (line, row) = locs[k];
+        let mut kinds = Vec::new();
+        if zero > 0 {
+            kinds.push(format!("{zero} where the density is 0"));
+        }
+        if outside > 0 {
+            kinds.push(format!(
+                "{outside} outside the sampler's domain ({:?})",
+                sampler.domain()
+            ));
+        }
+        eprintln!(
+            "gonio: warning: {} of {} directions have no preimage ({}; the first at {}:{line}, \
+             row {row}): their u,v fields are empty",
+            zero + outside,
+            dirs.len(),
+            kinds.join(", "),
+            a.directions
+        );
+    }
+    Ok(())
 }

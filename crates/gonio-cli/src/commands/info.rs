@@ -329,6 +329,26 @@ pub fn run(a: &InfoArgs) -> anyhow::Result<()> {
     crate::output::print(&text)
 }
 
+/// `1 meridian`, `3 parallels`.
+fn plural(n: usize, one: &str, many: &str) -> String {
+    format!("{n} {}", if n == 1 { one } else { many })
+}
+
+/// `IES LM-63-2002` (not `IES LM-63 LM-63-2002`), `EULUMDAT`: the format with its version, each
+/// word once.
+fn format_line(format: &str, version: &str) -> String {
+    if version.is_empty() || format.ends_with(version) {
+        format.to_string()
+    } else if let Some(rest) = version.strip_prefix("LM-63") {
+        match format.strip_suffix("LM-63") {
+            Some(head) => format!("{head}LM-63{rest}"),
+            None => format!("{format} {version}"),
+        }
+    } else {
+        format!("{format} {version}")
+    }
+}
+
 fn human(i: &Info) -> String {
     use std::fmt::Write;
     let mut s = String::new();
@@ -337,8 +357,13 @@ fn human(i: &Info) -> String {
     let _ = writeln!(s, "input            {} ({})", i.input, i.format);
     let _ = writeln!(
         s,
-        "grid             {} parallels × {} meridians; θ {}°..{}°, φ {}°..{}°",
-        g.theta.count, g.phi.count, g.theta.min_deg, g.theta.max_deg, g.phi.min_deg, g.phi.max_deg
+        "grid             {} × {}; θ {}°..{}°, φ {}°..{}°",
+        plural(g.theta.count, "parallel", "parallels"),
+        plural(g.phi.count, "meridian", "meridians"),
+        g.theta.min_deg,
+        g.theta.max_deg,
+        g.phi.min_deg,
+        g.phi.max_deg
     );
     let m = &i.map;
     let _ = writeln!(s, "domain           {}", m.domain);
@@ -399,7 +424,7 @@ fn human(i: &Info) -> String {
         let _ = writeln!(s, "lower hemisphere probability {p}");
     }
     if let Some(p) = &i.photometry {
-        let _ = writeln!(s, "format           {} {}", p.format, p.version);
+        let _ = writeln!(s, "format           {}", format_line(&p.format, &p.version));
         let _ = writeln!(s, "photometric type {}", p.photometric_type);
         for l in &p.lamps {
             let _ = writeln!(
@@ -452,4 +477,17 @@ fn human(i: &Info) -> String {
         }
     }
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{format_line, plural};
+
+    #[test]
+    fn wording() {
+        assert_eq!(format_line("IES LM-63", "LM-63-2002"), "IES LM-63-2002");
+        assert_eq!(format_line("EULUMDAT", "EULUMDAT"), "EULUMDAT");
+        assert_eq!(plural(1, "meridian", "meridians"), "1 meridian");
+        assert_eq!(plural(3, "parallel", "parallels"), "3 parallels");
+    }
 }

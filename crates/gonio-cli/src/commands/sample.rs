@@ -54,7 +54,14 @@ pub fn run(a: &SampleArgs) -> anyhow::Result<()> {
         }
         None => {
             let n = a.n.unwrap_or(0);
-            let seq = Sequence::new(a.sequence, a.seed);
+            // Halton starts at index 1: index 0 is the corner u = (0, 0), which maps onto the
+            // horizon or a pole, not a representative first sample.
+            let seq = match a.sequence {
+                gonio::sequence::SequenceKind::Halton => {
+                    Sequence::Halton(gonio::sequence::Halton::with_skip(1))
+                }
+                kind => Sequence::new(kind, a.seed),
+            };
             let mut out = Output::create(a.output.as_deref())?;
             write_header(&mut out, a.format)?;
             let progress = Progress::new(n, "sample");

@@ -136,6 +136,10 @@ pub struct PlotInput<'a> {
     pub seed: u64,
     /// Photometric data: angles are labelled γ = 180° − θ (0° = nadir) and values in cd.
     pub photometric: bool,
+    /// A type A or B photometric file: `polar` draws its own H = 0° and V = 0° planes from the
+    /// measured (H, V) table, as floodlight catalogues do, instead of C-plane cuts of the
+    /// resampled diagram.
+    pub hv_photometry: Option<&'a gonio::Photometry>,
 }
 
 impl PlotInput<'_> {
@@ -286,6 +290,10 @@ pub fn run(args: &PlotArgs) -> Result<()> {
         samples: args.samples.unwrap_or(0),
         seed: args.seed,
         photometric: loaded.kind.is_photometric(),
+        hv_photometry: loaded
+            .photometry
+            .as_deref()
+            .filter(|p| p.photometric_type != gonio::photometry::PhotometricType::C),
     };
     let (w, h) = kind.default_size();
     render(

@@ -2,6 +2,12 @@
 //! them: a polar diagram with the nadir at the bottom, C0 (resp. C90) on the right and C180 (resp.
 //! C270) on the left, the radius the intensity.
 //!
+//! A type A or B file is drawn in its own planes instead, from its measured (H, V) table: the
+//! plane H = 0° (V from −90° to 90°, V > 0 on the right) and the plane V = 0° (H from −90° to 90°,
+//! H > 0 on the right), the angle labelled from the beam axis (H = V = 0°, the nadir). In the
+//! gonio frame those are the planes C0–C180 and C90–C270 (type B: (H, V) = sin H·ŷ +
+//! cos H (sin V·x̂ − cos V·ẑ); type A likewise with H and V exchanged off the planes).
+//!
 //! A point at polar angle θ (from +z) is drawn at screen angle θ from straight up, whichever way the
 //! angles are labelled: for photometric data γ = 180° − θ, so γ = 0° (nadir) is at the bottom; for a
 //! plain diagram θ = 0° (the pole, +z) is at the top. Only the half of the circle the diagram
@@ -27,6 +33,28 @@ fn plane(input: &PlotInput, phi: f64, thetas: &[f64]) -> (Vec<f64>, Vec<f64>) {
     (right, left)
 }
 
+/// The two curves drawn, as (right side, left side) values at the polar angles `thetas`: the C0–C180
+/// and C90–C270 planes of the diagram, or for a type A/B file its measured planes H = 0° (V = ±a)
+/// and V = 0° (H = ±a), a = 180° − θ the angle from the beam axis.
+pub(super) fn curves(input: &PlotInput, thetas: &[f64]) -> [(Vec<f64>, Vec<f64>); 2] {
+    match input.hv_photometry {
+        Some(p) => {
+            let a = |t: f64| 180.0 - t.to_degrees();
+            let side = |f: &dyn Fn(f64) -> f64| -> (Vec<f64>, Vec<f64>) {
+                (
+                    thetas.iter().map(|&t| f(a(t))).collect(),
+                    thetas.iter().map(|&t| f(-a(t))).collect(),
+                )
+            };
+            [
+                side(&|v| p.intensity_hv(0.0, v)),
+                side(&|h| p.intensity_hv(h, 0.0)),
+            ]
+        }
+        None => [0.0, FRAC_PI_2].map(|phi| plane(input, phi, thetas)),
+    }
+}
+
 pub fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, input: &PlotInput) -> Result<()>
 where
     DB::ErrorType: 'static,
@@ -43,7 +71,7 @@ where
     thetas.sort_by(f64::total_cmp);
     thetas.dedup_by(|a, b| (*a - *b).abs() < 1e-12);
 
-    let planes = [0.0, FRAC_PI_2].map(|phi| plane(input, phi, &thetas));
+    let planes = curves(input, &thetas);
     let imax = planes
         .iter()
         .flat_map(|(r, l)| r.iter().chain(l))
@@ -201,19 +229,26 @@ where
     }
 
     // Legend, top left.
-    let names = if input.photometric {
+    let names = if input.hv_photometry.is_some() {
+        ["H = 0° (V −90° … 90°)", "V = 0° (H −90° … 90°)"]
+    } else if input.photometric {
         ["C0 – C180", "C90 – C270"]
     } else {
         ["φ = 0° – 180°", "φ = 90° – 270°"]
     };
     let legend_font = ("sans-serif", 15).into_font().color(&BLACK);
     let (lx, ly) = (12, 10);
+    let legend_w = if input.hv_photometry.is_some() {
+        230
+    } else {
+        170
+    };
     area.draw(&Rectangle::new(
-        [(lx - 6, ly - 6), (lx + 170, ly + 52)],
+        [(lx - 6, ly - 6), (lx + legend_w, ly + 52)],
         ShapeStyle::from(&WHITE.mix(0.9)).filled(),
     ))?;
     area.draw(&Rectangle::new(
-        [(lx - 6, ly - 6), (lx + 170, ly + 52)],
+        [(lx - 6, ly - 6), (lx + legend_w, ly + 52)],
         GRID_DARK.stroke_width(1),
     ))?;
     for (k, name) in names.iter().enumerate() {
@@ -237,7 +272,9 @@ where
     }
     // Side labels of the planes.
     let side_font = ("sans-serif", 14).into_font().color(&GRID_DARK);
-    let side_text = if input.photometric {
+    let side_text = if input.hv_photometry.is_some() {
+        ("V < 0° / H < 0° ←", "→ V > 0° / H > 0°")
+    } else if input.photometric {
         ("C180 / C270 ←", "→ C0 / C90")
     } else {
         ("φ = 180° / 270° ←", "→ φ = 0° / 90°")
@@ -254,7 +291,12 @@ where
         side_font.pos(Pos::new(HPos::Right, VPos::Bottom)),
     ))?;
 
-    let axes = if input.photometric {
+    let axes = if input.hv_photometry.is_some() {
+        format!(
+            "radius: luminous intensity I ({unit}), rings every {} {unit}; angle: from the beam axis H = V = 0° (at the bottom), measured values",
+            fmt_num(step)
+        )
+    } else if input.photometric {
         format!(
             "radius: luminous intensity I ({unit}), rings every {} {unit}; angle: γ from the nadir (0° at the bottom, 180° at the top)",
             fmt_num(step)

@@ -25,6 +25,7 @@ fn input<'a>(title: &str, d: &'a Diagram, s: &'a dyn Sampler, photometric: bool)
         samples: 3000,
         seed: 1,
         photometric,
+        hv_photometry: None,
     }
 }
 
@@ -281,4 +282,67 @@ fn run_draws_the_example_and_a_json_hemisphere() {
     // Nothing but the outputs (and the input) is left behind: no temporary files.
     assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 5);
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Issue 16: a type B file is drawn in its own H = 0° and V = 0° planes, from the measured
+/// (H, V) table, not as C-plane cuts of the resampled diagram.
+#[test]
+fn polar_draws_type_b_in_its_h_and_v_planes() {
+    use gonio::photometry::{read, FileFormat, NoTiltFiles, PhotometricType};
+    // Type B (photometric type 2), H in [-90, 90], V in [-90, 90]; I = 200 − |V| − 0.5 |H| + 0.1 V.
+    let v = [-90.0, -45.0, 0.0, 45.0, 90.0];
+    let h = [-90.0, -30.0, 0.0, 30.0, 90.0];
+    let mut values = String::new();
+    for hh in h {
+        for vv in v {
+            values += &format!("{} ", 200.0 - f64::abs(vv) - 0.5 * f64::abs(hh) + 0.1 * vv);
+        }
+        values.push('\n');
+    }
+    let text = format!(
+        "IESNA:LM-63-2002\nTILT=NONE\n1 -1 1 5 5 2 2 0 0 0\n1 1 10\n-90 -45 0 45 90\n-90 -30 0 30 90\n{values}"
+    );
+    let p = read(text.as_bytes(), FileFormat::Ies, &NoTiltFiles).unwrap();
+    assert_eq!(p.photometric_type, PhotometricType::B);
+    let d = p.to_diagram().unwrap();
+    let map = SphereMap::new(&d).unwrap();
+    let mut inp = input("type B", &d, &map, true);
+    inp.hv_photometry = Some(&p);
+    let thetas: Vec<f64> = (90..=180)
+        .step_by(5)
+        .map(|t| (t as f64).to_radians())
+        .collect();
+    let [vplane, hplane] = polar::curves(&inp, &thetas);
+    for (k, &t) in thetas.iter().enumerate() {
+        let a = 180.0 - t.to_degrees();
+        assert_eq!(vplane.0[k], p.intensity_hv(0.0, a));
+        assert_eq!(vplane.1[k], p.intensity_hv(0.0, -a));
+        assert_eq!(hplane.0[k], p.intensity_hv(a, 0.0));
+        assert_eq!(hplane.1[k], p.intensity_hv(-a, 0.0));
+    }
+    // The measured nodes appear exactly: V = 45° on the right of the H = 0° plane (θ = 135°).
+    let k = thetas
+        .iter()
+        .position(|&t| (t.to_degrees() - 135.0).abs() < 1e-9)
+        .unwrap();
+    assert!(
+        (vplane.0[k] - (200.0 - 45.0 + 4.5)).abs() < 1e-9,
+        "{}",
+        vplane.0[k]
+    );
+    assert!(
+        (vplane.1[k] - (200.0 - 45.0 - 4.5)).abs() < 1e-9,
+        "{}",
+        vplane.1[k]
+    );
+    // The picture says which planes it shows.
+    let dir = temp_dir("polar-b");
+    let svg = dir.join("b.svg");
+    render(PlotKind::Polar, &inp, &svg, 800, 700).unwrap();
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(text.contains("H = 0°") && text.contains("V = 0°"), "legend");
+    // Without the photometry the same diagram is drawn in its C planes.
+    inp.hv_photometry = None;
+    let [c0, _] = polar::curves(&inp, &thetas);
+    assert_eq!(c0.0[k], d.interpolate(thetas[k], 0.0));
 }

@@ -51,10 +51,11 @@ class Diagram:
         (phi_deg[i], theta_deg[j]). Raises DiagramError."""
     @property
     def theta_deg(self) -> F64Array:
-        """Parallels θ in degrees from +z, shape (N,)."""
+        """Parallels θ in degrees from +z, shape (N,): the shortest decimals that convert back to
+        the stored radians (15.0, not 14.999999999999998), as ``to_json`` writes them."""
     @property
     def phi_deg(self) -> F64Array:
-        """Meridians φ in degrees from +x toward +y, shape (M,)."""
+        """Meridians φ in degrees from +x toward +y, shape (M,); shortest decimals as ``theta_deg``."""
     @property
     def values(self) -> F64Array:
         """Values, shape (M, N); candela for photometric files."""
@@ -122,7 +123,8 @@ class Sampler:
     def target_pdf(self, directions: ArrayLike) -> F64Array:
         """Normalised target density (n,) per sr at directions (n, 3)."""
     def invert(self, directions: ArrayLike) -> F64Array:
-        """Points (n, 2) that ``sample`` maps to directions (n, 3)."""
+        """Points (n, 2) that ``sample`` maps to directions (n, 3); InputError naming the row for a
+        direction outside the domain or of density 0 (no point maps to it)."""
 
 def read(path: Union[str, os.PathLike[str]], format: Optional[Format] = None) -> Diagram:
     """Reads a .ies, .ldt or .json file (TILT files resolved next to it)."""

@@ -51,9 +51,13 @@ mod roundtrip;
 #[cfg(test)]
 mod tests;
 
-pub use battery::{run_battery, run_battery_with_progress, BatteryOptions, ItemSummary, Report};
+pub use battery::{
+    chi_square_two_stage, chi_square_two_stage_with_integrals, flux_two_stage, run_battery,
+    run_battery_with_progress, BatteryOptions, ConfirmOptions, ItemSummary, Report,
+};
 pub use chi2::{
-    chi_square_points, chi_square_test, pooled_chi_square, ChiSquareOptions, ChiSquareReport,
+    bin_integrals, bin_tail_p_value, chi_square_points, chi_square_test,
+    chi_square_test_with_integrals, pooled_chi_square, ChiSquareOptions, ChiSquareReport,
     PooledChiSquare,
 };
 pub use density::{

@@ -98,7 +98,7 @@ impl Acc {
         }
         match sampler.invert(s.direction) {
             Err(InvertError::Unsupported) => self.unsupported = true,
-            Err(InvertError::OutsideDomain) => self.invert_failures += 1,
+            Err(InvertError::OutsideDomain | InvertError::ZeroDensity) => self.invert_failures += 1,
             Ok(w) if !(w[0].is_finite() && w[1].is_finite()) => self.invert_failures += 1,
             Ok(w) => {
                 let mut e = (w[0] - u[0]).abs().max((w[1] - u[1]).abs());

@@ -374,7 +374,10 @@ impl SoaSampler for SphereMap {
                         }
                     }
                     for (q, &k) in pos.iter().enumerate() {
-                        u[k] = if side == 0 {
+                        // No preimage stays NaN (`min` below would turn NaN into 1).
+                        u[k] = if !ou[q].is_finite() {
+                            T::NAN
+                        } else if side == 0 {
                             ou[q] * pl
                         } else {
                             (pl + ou[q] * (T::ONE - pl)).min(T::ONE)
@@ -568,8 +571,12 @@ pub(crate) fn invert_batch_aos<S: SoaSampler>(
             [&mut u[..n], &mut v[..n]],
         );
         for (k, o) in out.iter_mut().enumerate() {
-            *o = if u[k].is_nan() {
-                Err(InvertError::OutsideDomain)
+            *o = if u[k].is_nan() || v[k].is_nan() {
+                // No preimage: the scalar path says why (outside the domain, or density 0).
+                match s.invert(d[k]) {
+                    Err(e) => Err(e),
+                    Ok(_) => Err(InvertError::OutsideDomain),
+                }
             } else {
                 Ok([u[k], v[k]])
             };

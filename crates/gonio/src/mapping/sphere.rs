@@ -616,16 +616,17 @@ impl Sampler for SphereMap {
                     Ok(from_upper(*p_lower, upper.invert(d)))
                 }
             }
+            // No light on the other side: no preimage there.
             Layout::Upper(up) => {
                 if lower_side(d, true) {
-                    return Err(InvertError::OutsideDomain);
+                    return Err(InvertError::ZeroDensity);
                 }
                 Ok(from_upper(0.0, up.invert(d)))
             }
             // The whole square is the lower map's: u = w (P_lower = 1).
             Layout::Lower(l) => {
                 if !lower_side(d, false) {
-                    return Err(InvertError::OutsideDomain);
+                    return Err(InvertError::ZeroDensity);
                 }
                 Ok(l.invert(mirror(d)))
             }

@@ -555,14 +555,17 @@ fn intensity_scale(
         }
     }
     if let Some(t) = tilt.table() {
-        let factor = t.factor_at(TILT_ANGLE_DEG);
-        if factor > 0.0 {
-            scale *= factor;
-        } else {
+        // The file's factor is kept, 0 included: replacing it would change the light. A factor
+        // of 0 leaves no light, which `to_diagram` refuses (zero total power).
+        let f = t.factor_at(TILT_ANGLE_DEG);
+        scale *= f;
+        if f == 0.0 {
             warnings.push(Warning {
                 line: head.tilt_line,
                 column: head.tilt_col,
-                message: format!("TILT factor at 0° is {factor}, not positive; 1 used"),
+                message: "TILT factor at 0° is 0: at this tilt the luminaire emits no light \
+                          (every intensity is 0)"
+                    .into(),
             });
         }
     }

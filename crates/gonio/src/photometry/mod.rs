@@ -118,6 +118,44 @@ pub enum FileFormat {
 }
 
 impl FileFormat {
+    /// The format the content shows, if it shows one: IES when the first line starts with
+    /// `IESNA` or `IES:` or a line among the first 200 starts with `TILT=`; EULUMDAT when lines 2
+    /// and 3 are the integers Ityp (0–3) and Isym (0–4), line 4 an integer, and no `TILT=` line
+    /// was seen. A UTF-8 byte-order mark is skipped; UTF-16 text and anything else give `None`.
+    /// The CLI takes the file's extension as a hint and says so when the two disagree.
+    pub fn detect(bytes: &[u8]) -> Option<Self> {
+        if utf16_encoding(bytes).is_some() {
+            return None;
+        }
+        let bytes = tokens::strip_bom(bytes);
+        let head = &bytes[..bytes.len().min(1 << 16)];
+        let text = String::from_utf8_lossy(head);
+        let lines: Vec<&str> = text
+            .split(['\n', '\r'])
+            .filter(|l| !l.trim().is_empty())
+            .take(200)
+            .collect();
+        let first = lines.first()?.trim_start().to_ascii_uppercase();
+        if first.starts_with("IESNA") || first.starts_with("IES:") {
+            return Some(Self::Ies);
+        }
+        if lines
+            .iter()
+            .any(|l| l.trim_start().to_ascii_uppercase().starts_with("TILT"))
+        {
+            return Some(Self::Ies);
+        }
+        // EULUMDAT is line-oriented: count raw lines (blank ones too) for lines 2–4.
+        let raw: Vec<&str> = text.lines().take(4).collect();
+        let int = |k: usize| raw.get(k).and_then(|l| l.trim().parse::<i64>().ok());
+        match (int(1), int(2), int(3)) {
+            (Some(t), Some(s), Some(_)) if (0..=3).contains(&t) && (0..=4).contains(&s) => {
+                Some(Self::Eulumdat)
+            }
+            _ => None,
+        }
+    }
+
     /// The format named by a path's extension: `.ies` → [`FileFormat::Ies`], `.ldt` →
     /// [`FileFormat::Eulumdat`] (any letter case); `None` otherwise.
     pub fn from_path_extension(path: &Path) -> Option<Self> {
@@ -611,9 +649,76 @@ pub fn read(
     format: FileFormat,
     tilt: &dyn TiltResolver,
 ) -> Result<Photometry, ParseError> {
-    match format {
+    if let Some(which) = utf16_encoding(bytes) {
+        return Err(ParseError::new(
+            1,
+            1,
+            format!(
+                "the file is UTF-16 text ({which}); photometric files are ASCII (or UTF-8 / \
+                 Latin-1): save it in one of those"
+            ),
+        ));
+    }
+    let mut p = match format {
         FileFormat::Ies => ies::read_ies(bytes, tilt),
         FileFormat::Eulumdat => ldt::read_ldt(bytes),
+    }?;
+    p.warnings = aggregate_warnings(std::mem::take(&mut p.warnings));
+    Ok(p)
+}
+
+/// Merges warnings with the same message into the first one, whose message then says how many
+/// more there were and where the last one was (`… (and 199999 more like it, the last at line
+/// 200007)`), so that a file with 200,000 identical slips gives one warning, not 200,000.
+pub fn aggregate_warnings(warnings: Vec<Warning>) -> Vec<Warning> {
+    use std::collections::HashMap;
+    let mut first: HashMap<String, usize> = HashMap::new();
+    let mut out: Vec<(Warning, usize, usize)> = Vec::new();
+    for w in warnings {
+        match first.get(&w.message) {
+            Some(&k) => {
+                out[k].1 += 1;
+                out[k].2 = w.line;
+            }
+            None => {
+                first.insert(w.message.clone(), out.len());
+                out.push((w, 0, 0));
+            }
+        }
+    }
+    out.into_iter()
+        .map(|(mut w, more, last)| {
+            if more > 0 {
+                w.message = format!(
+                    "{} (and {more} more like it, the last at line {last})",
+                    w.message
+                );
+            }
+            w
+        })
+        .collect()
+}
+
+/// Which UTF-16 encoding the bytes are in, if they are UTF-16 text: a UTF-16 byte-order mark, or (without
+/// one) a NUL in every other byte of the first line's worth of ASCII.
+pub fn utf16_encoding(bytes: &[u8]) -> Option<&'static str> {
+    match bytes {
+        [0xff, 0xfe, ..] => Some("UTF-16LE, byte-order mark FF FE"),
+        [0xfe, 0xff, ..] => Some("UTF-16BE, byte-order mark FE FF"),
+        _ => {
+            let head = &bytes[..bytes.len().min(64)];
+            if head.len() >= 8 {
+                let odd_nul = head.iter().skip(1).step_by(2).all(|&b| b == 0);
+                let even_nul = head.iter().step_by(2).all(|&b| b == 0);
+                if odd_nul {
+                    return Some("UTF-16LE without byte-order mark");
+                }
+                if even_nul {
+                    return Some("UTF-16BE without byte-order mark");
+                }
+            }
+            None
+        }
     }
 }
 

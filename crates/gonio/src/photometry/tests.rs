@@ -796,3 +796,100 @@ fn dir_tilt_resolver_reads_next_to_the_file() {
     assert!(e.message.contains("absent.tlt"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+// ---------------------------------------------------------------------------------------------
+// Issue 16: TILT factor 0, aggregated warnings, UTF-16, format from the content
+
+#[test]
+fn tilt_factor_zero_is_kept_and_leaves_no_light() {
+    let text = TILT_INCLUDE.replace("0.5 0.4 0.3", "0 0.4 0.3");
+    let p = ies(&text).unwrap();
+    // The file's factor is kept: every intensity is 0, not the file's values times 1.
+    assert!(p.candela.iter().all(|&c| c == 0.0), "{:?}", p.candela);
+    assert!(has_warning(&p, "TILT factor at 0° is 0"));
+    // No light: expanding to a diagram is a typed error (zero total power).
+    assert!(matches!(
+        p.to_diagram(),
+        Err(crate::DiagramError::ZeroPower)
+    ));
+}
+
+#[test]
+fn repeated_warnings_are_aggregated_with_a_count() {
+    // As many orphan lines as the header may hold (MAX_HEADER_LINES, with the first line and
+    // the [TEST] line).
+    let n = MAX_HEADER_LINES - 2;
+    let orphans = "[MORE] orphan\n".repeat(n);
+    let text = ies_c("0 90", "0", "5 1").replacen("[TEST] t\n", &format!("{orphans}[TEST] t\n"), 1);
+    let p = ies(&text).unwrap();
+    let more: Vec<&Warning> = p
+        .warnings
+        .iter()
+        .filter(|w| w.message.contains("[MORE]"))
+        .collect();
+    assert_eq!(
+        more.len(),
+        1,
+        "{:?}",
+        &p.warnings[..p.warnings.len().min(3)]
+    );
+    assert_eq!(more[0].line, 2);
+    assert!(
+        more[0].message.contains(&format!(
+            "(and {} more like it, the last at line {})",
+            n - 1,
+            n + 1
+        )),
+        "{}",
+        more[0].message
+    );
+    // The issue's 200,000 orphan lines: a header that long is refused with one located error.
+    let orphans = "[MORE] orphan\n".repeat(200_000);
+    let text = ies_c("0 90", "0", "5 1").replacen("[TEST] t\n", &format!("{orphans}[TEST] t\n"), 1);
+    let e = ies(&text).unwrap_err();
+    assert!(e.message.contains("no `TILT=` line"), "{e}");
+    assert_eq!(e.line, MAX_HEADER_LINES + 2);
+}
+
+#[test]
+fn utf16_is_named() {
+    let text = ies_c("0 90", "0", "5 1");
+    for (bom, le) in [
+        (&[0xffu8, 0xfe][..], true),
+        (&[0xfe, 0xff][..], false),
+        (&[][..], true),
+    ] {
+        let mut bytes = bom.to_vec();
+        for c in text.encode_utf16() {
+            bytes.extend(if le { c.to_le_bytes() } else { c.to_be_bytes() });
+        }
+        let e = read(&bytes, FileFormat::Ies, &NoTiltFiles).unwrap_err();
+        assert!(e.message.contains("UTF-16"), "{e}");
+        assert_eq!((e.line, e.column), (1, 1));
+        assert_eq!(FileFormat::detect(&bytes), None);
+    }
+}
+
+#[test]
+fn format_is_detected_from_the_content() {
+    assert_eq!(
+        FileFormat::detect(ies_c("0 90", "0", "5 1").as_bytes()),
+        Some(FileFormat::Ies)
+    );
+    // LM-63-1986: free text, then TILT=.
+    assert_eq!(
+        FileFormat::detect(b"Acme lamp\nTILT=NONE\n1 1000 1 2 1 1 2 0 0 0\n"),
+        Some(FileFormat::Ies)
+    );
+    let d = crate::synthetic::example_luminaire();
+    let ldt_text = write_ldt(&d, &WriteMeta::default());
+    assert_eq!(
+        FileFormat::detect(ldt_text.as_bytes()),
+        Some(FileFormat::Eulumdat)
+    );
+    let mut bom = b"\xef\xbb\xbf".to_vec();
+    bom.extend(ldt_text.as_bytes());
+    assert_eq!(FileFormat::detect(&bom), Some(FileFormat::Eulumdat));
+    assert_eq!(FileFormat::detect(b"{\"theta_deg\": []}"), None);
+    assert_eq!(FileFormat::detect(b""), None);
+}

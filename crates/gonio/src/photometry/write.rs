@@ -1,9 +1,10 @@
 //! Writers: a [`Diagram`] in candela → IES LM-63-2019 or EULUMDAT text.
 //!
 //! Both writers store every meridian of the diagram as its own plane (no symmetry), with the
-//! vertical angles γ = 180° − θ, and numbers in Rust's shortest round-trip form, so that reading the
-//! text back gives the same diagram: the same values bit for bit, the same angles up to the
-//! rounding of 180° − (180° − θ) (a few 1e-14 degrees).
+//! vertical angles γ = 180° − θ. Angles are written as the shortest decimal from which the readers
+//! compute the stored radians exactly (`55`, not `54.999999999999986`), values in Rust's shortest
+//! round-trip form (exponent form for extreme magnitudes), so that reading the text back gives
+//! the same diagram bit for bit.
 
 use crate::diagram::Diagram;
 use std::fmt::Write as _;
@@ -39,14 +40,7 @@ impl Default for WriteMeta {
 /// A number in the shortest form that reads back to the same `f64` (exponent form for very
 /// large or small magnitudes).
 fn num(v: f64) -> String {
-    let a = v.abs();
-    if v == 0.0 {
-        "0".into()
-    } else if (1e-4..1e15).contains(&a) {
-        format!("{v}")
-    } else {
-        format!("{v:e}")
-    }
+    crate::decimal::shortest(v)
 }
 
 /// One line per header field must not contain a line break.
@@ -65,12 +59,19 @@ fn push_wrapped(out: &mut String, values: impl Iterator<Item = f64>, per_line: u
     out.push('\n');
 }
 
-/// The vertical angles γ = 180° − θ in increasing order, and the parallel index of each.
+/// The vertical angles γ = 180° − θ in increasing order, and the parallel index of each: the
+/// shortest decimal γ from which the readers compute θ = (180° − γ) in radians exactly as stored.
 fn gammas(d: &Diagram) -> Vec<(f64, usize)> {
     let n = d.n_parallels();
     (0..n)
         .rev()
-        .map(|j| (180.0 - d.theta()[j].to_degrees(), j))
+        .map(|j| {
+            let t = d.theta()[j];
+            let g = crate::decimal::shortest_preimage(180.0 - t.to_degrees(), |g| {
+                (180.0 - g).to_radians().min(std::f64::consts::PI) == t
+            });
+            (g, j)
+        })
         .collect()
 }
 
@@ -93,7 +94,9 @@ pub fn write_ies(d: &Diagram, meta: &WriteMeta) -> String {
     let _ = writeln!(s, "TILT=NONE");
     let g = gammas(d);
     let m = d.n_meridians();
-    let mut horiz: Vec<(f64, usize)> = (0..m).map(|i| (d.phi()[i].to_degrees(), i)).collect();
+    let mut horiz: Vec<(f64, usize)> = (0..m)
+        .map(|i| (crate::decimal::degrees(d.phi()[i]), i))
+        .collect();
     if m > 1 {
         horiz.push((horiz[0].0 + 360.0, 0));
     }
@@ -115,14 +118,19 @@ pub fn write_ies(d: &Diagram, meta: &WriteMeta) -> String {
 pub fn write_ldt(d: &Diagram, meta: &WriteMeta) -> String {
     let g = gammas(d);
     let m = d.n_meridians();
-    let phi: Vec<f64> = d.phi().iter().map(|p| p.to_degrees()).collect();
+    let phi: Vec<f64> = d
+        .phi()
+        .iter()
+        .map(|&p| crate::decimal::degrees(p))
+        .collect();
     let spacing = |a: &[f64]| -> f64 {
         if a.len() < 2 {
             return 0.0;
         }
         let h = a[1] - a[0];
         if a.windows(2).all(|w| ((w[1] - w[0]) - h).abs() < 1e-9) {
-            h
+            // The shortest decimal within the tolerance (15, not 14.999999999999998).
+            crate::decimal::shortest_preimage(h, |x| (x - h).abs() < 1e-9)
         } else {
             0.0
         }

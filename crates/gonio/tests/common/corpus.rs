@@ -1,9 +1,15 @@
-//! The one corpus-finding helper of the workspace, shared by the library's tests, the CLI's tests
-//! and the examples (each includes this file with `#[path = ...] mod corpus;`).
+//! The one corpus-finding helper of the workspace, shared by the library's tests, the CLI's tests,
+//! the examples (each includes this file with `#[path = ...] mod corpus;`) and the build scripts
+//! of `gonio` and `gonio-cli`.
 //!
 //! The photometric test corpus is `$GONIO_CORPUS` if set, else `shared/data/photometry` beside the
 //! workspace (`<workspace>/shared`, `<workspace>/../shared`, or `<workspace>/../../shared` for a
 //! worktree one level deeper), recognised by its `ies/` or `ldt/` folder. The files are never copied into the repo.
+//!
+//! Tests that need the corpus are marked `#[cfg_attr(not(gonio_corpus), ignore = "…")]`: the build
+//! script looks for it with [`find_corpus`] and sets `--cfg gonio_corpus` and `GONIO_CORPUS_DIR`
+//! when found, so that without it they show as *ignored* in `cargo test`'s summary line; they read
+//! the directory with [`built_corpus_dir`]. Examples look at run time with [`corpus_dir`].
 #![allow(dead_code)]
 
 use std::path::{Path, PathBuf};
@@ -26,14 +32,31 @@ pub fn corpus_candidates() -> Vec<PathBuf> {
         .collect()
 }
 
-/// The corpus directory, or `None` (after printing which places were tried, so that a test or
-/// example that skips says so visibly).
+/// The first of [`corpus_candidates`] that holds an `ies/` or `ldt/` folder.
+pub fn find_corpus() -> Option<PathBuf> {
+    corpus_candidates()
+        .into_iter()
+        .find(|c| c.join("ies").is_dir() || c.join("ldt").is_dir())
+}
+
+/// The corpus as the build script found it (`GONIO_CORPUS_DIR`), for tests marked
+/// `#[cfg_attr(not(gonio_corpus), ignore = "…")]`. When such a test does run, a corpus that has
+/// gone missing since the build fails it rather than passing unseen.
+pub fn built_corpus_dir() -> PathBuf {
+    match option_env!("GONIO_CORPUS_DIR") {
+        Some(p) if Path::new(p).is_dir() => PathBuf::from(p),
+        other => panic!(
+            "the photometric corpus is not available (the build found {other:?}); set \
+             GONIO_CORPUS and rebuild"
+        ),
+    }
+}
+
+/// The corpus directory at run time, or `None` (after printing which places were tried, so that
+/// an example that skips says so visibly).
 pub fn corpus_dir() -> Option<PathBuf> {
     let candidates = corpus_candidates();
-    let found = candidates
-        .iter()
-        .find(|c| c.join("ies").is_dir() || c.join("ldt").is_dir())
-        .cloned();
+    let found = find_corpus();
     if found.is_none() {
         eprintln!(
             "skipping: photometric corpus not found (set GONIO_CORPUS; tried {})",

@@ -1,0 +1,24 @@
+//! Finds the photometric test corpus at build time so that the corpus tests are marked
+//! `#[ignore]` — and say so in the test summary — when it is absent.
+//!
+//! The places looked at are those of the workspace's one corpus helper (`../gonio/tests/common/corpus.rs`):
+//! `$GONIO_CORPUS` if set, else `shared/data/photometry` beside the workspace. When found, the
+//! build sets `--cfg gonio_corpus` and `GONIO_CORPUS_DIR` (its path) for the tests. The script
+//! reruns when `GONIO_CORPUS` changes or the directory found changes; a corpus that appears later
+//! at a default place needs `GONIO_CORPUS` set (as `.ci/run` does) or `cargo clean -p gonio-cli`.
+
+#[path = "../gonio/tests/common/corpus.rs"]
+mod corpus;
+
+fn main() {
+    println!("cargo::rustc-check-cfg=cfg(gonio_corpus)");
+    println!("cargo:rerun-if-env-changed=GONIO_CORPUS");
+    println!("cargo:rerun-if-changed=build.rs");
+    println!("cargo:rerun-if-changed=../gonio/tests/common/corpus.rs");
+    if let Some(c) = corpus::find_corpus() {
+        let c = c.canonicalize().unwrap_or(c);
+        println!("cargo:rerun-if-changed={}", c.display());
+        println!("cargo:rustc-cfg=gonio_corpus");
+        println!("cargo:rustc-env=GONIO_CORPUS_DIR={}", c.display());
+    }
+}
