@@ -29,7 +29,8 @@ use args::{BenchArgs, CheckArgs, ConvertArgs, DirectionsArgs, InfoArgs, PlotArgs
 #[derive(Debug, Parser)]
 #[command(name = "gonio", version, propagate_version = true)]
 struct Cli {
-    /// Never show progress bars.
+    /// Never show progress bars. Warnings are still printed: they say what was completed or
+    /// repaired in the data, which a result must not hide.
     #[arg(short, long, global = true)]
     quiet: bool,
     /// Refine the HDS map until pdf / target is guaranteed within [1 − TOL, 1 + TOL] wherever the

@@ -105,13 +105,13 @@ fn sample_csv_matches_the_library_exactly() {
         assert!(r[5] > 0.0 && d[2] >= 0.0);
         // Shortest round-trip printing: u, v, direction and pdf are the library's exact f64s
         // from its batch path (SIMD; equal to the scalar `sample` within 1e-15 in the direction
-        // and bit for bit in the pdf, see tests/batch.rs of the library).
+        // and 1e-12 relative in the pdf, see tests/batch.rs of the library).
         let mut lib = [gonio::Sample::default()];
         map.sample_batch(&[[r[0], r[1]]], &mut lib);
         assert_eq!(lib[0].direction, d);
         assert_eq!(lib[0].pdf, r[5]);
         let scalar = map.sample([r[0], r[1]]);
-        assert_eq!(scalar.pdf, r[5]);
+        assert!((scalar.pdf - r[5]).abs() <= 1e-12 * r[5]);
         assert!((0..3).all(|k| (scalar.direction[k] - d[k]).abs() <= 1e-15));
         assert!((map.pdf(d) - r[5]).abs() <= 1e-6 * r[5]);
     }
@@ -190,7 +190,9 @@ fn points_on_the_boundary_are_accepted() {
     for r in &rows {
         let d = [r[2], r[3], r[4]];
         assert!(((d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt() - 1.0).abs() < 1e-12);
-        assert_eq!(map.sample([r[0], r[1]]).pdf, r[5]);
+        // The CLI's batch path reads the density at its own direction (within 1e-15 of the
+        // scalar one): 1e-12 relative.
+        assert!((map.sample([r[0], r[1]]).pdf - r[5]).abs() <= 1e-12 * r[5]);
     }
 }
 

@@ -674,3 +674,102 @@ fn the_square_edge_maps_to_the_end_of_the_lit_zone() {
         }
     }
 }
+
+/// A map paired with the data it should sample (issue 9, item 7): `sample`, `pdf` and `invert`
+/// are the map's, the target is the data's (zero outside its measured range, normalised by its
+/// integral), as `gonio check` sees any sampler.
+struct MapOfOtherData {
+    map: SphereMap,
+    data: SphereMap,
+}
+
+impl Sampler for MapOfOtherData {
+    fn name(&self) -> &'static str {
+        "map of other data"
+    }
+    fn domain(&self) -> gonio::Domain {
+        gonio::Domain::Sphere
+    }
+    fn sample(&self, u: [f64; 2]) -> gonio::Sample {
+        self.map.sample(u)
+    }
+    fn pdf(&self, d: [f64; 3]) -> f64 {
+        self.map.pdf(d)
+    }
+    fn invert(&self, d: [f64; 3]) -> Result<[f64; 2], gonio::sampler::InvertError> {
+        self.map.invert(d)
+    }
+    fn target_pdf(&self, d: [f64; 3]) -> f64 {
+        self.data.target_pdf(d)
+    }
+    fn target_power(&self) -> f64 {
+        self.data.target_power()
+    }
+    fn memory_bytes(&self) -> usize {
+        self.map.memory_bytes()
+    }
+}
+
+/// `gonio check` compares a map with the data: a map that invents light (the lower hemisphere
+/// filled with the horizon values, as the old completion did) fails the chi-square item (its
+/// support rule), and a map that drops light (the data beyond 45° left out) fails the flux and
+/// ratio items; the map of the data itself passes them at the same seeds.
+#[test]
+fn check_fails_maps_that_invent_or_drop_light() {
+    use gonio::check::{run_battery, BatteryOptions, Status};
+    let phi = [0.0, 90.0, 180.0, 270.0];
+    let rows = |v: &[f64]| -> Vec<Vec<f64>> {
+        (0..4)
+            .map(|i| v.iter().map(|x| x * (1.0 + 0.2 * i as f64)).collect())
+            .collect()
+    };
+    let data = Diagram::from_degrees(&[0.0, 30.0, 60.0, 90.0], &phi, &rows(&[4.0, 3.0, 2.0, 1.0]))
+        .unwrap();
+    let filled = Diagram::from_degrees(
+        &[0.0, 30.0, 60.0, 90.0, 180.0],
+        &phi,
+        &rows(&[4.0, 3.0, 2.0, 1.0, 1.0]),
+    )
+    .unwrap();
+    let cut = Diagram::from_degrees(
+        &[0.0, 30.0, 45.0, 45.0001, 90.0],
+        &phi,
+        &rows(&[4.0, 3.0, 2.5, 0.0, 0.0]),
+    )
+    .unwrap();
+    let reference = SphereMap::new(&data).unwrap();
+    let with = |d: &Diagram| MapOfOtherData {
+        map: SphereMap::new(d).unwrap(),
+        data: reference.clone(),
+    };
+    for seed in [1, 2, 3] {
+        let run = |s: &dyn Sampler| {
+            let mut opts = BatteryOptions::quick().with_seed(seed);
+            opts.flux_total = s.target_power();
+            run_battery(s, &opts)
+        };
+        let own = run(&with(&data));
+        assert_eq!(own.chi_square.status, Status::Pass, "seed {seed}:\n{own}");
+        assert_eq!(own.flux.status, Status::Pass, "seed {seed}:\n{own}");
+        let invents = run(&with(&filled));
+        assert_eq!(
+            invents.chi_square.status,
+            Status::Fail,
+            "seed {seed}: invented light not caught:\n{invents}"
+        );
+        let drops = run(&with(&cut));
+        assert_eq!(
+            drops.flux.status,
+            Status::Fail,
+            "seed {seed}: dropped light not caught by flux:\n{drops}"
+        );
+        // The chi-square tests the samples against the map's own pdf (which they follow); the
+        // data enters through the ratio item as well: the pdf vanishes where the data has light.
+        assert_eq!(
+            drops.ratio.status,
+            Status::Fail,
+            "seed {seed}: dropped light not caught by the ratio item:\n{drops}"
+        );
+        assert!(!drops.passed && !invents.passed);
+    }
+}

@@ -12,6 +12,22 @@
 //! axes u' = 0, v' = 0), continuous, and their inverses use `atan2` (no polynomial approximation).
 //! Directions are unit vectors `[x, y, z]` (the inverses expect unit length); square points are
 //! `[u, v]` in [0, 1]², and the inverses clamp their result into it.
+//!
+//! ```
+//! use gonio::baselines::equal_area::{
+//!     equal_area_hemisphere_to_square, equal_area_sphere_to_square,
+//!     equal_area_square_to_hemisphere, equal_area_square_to_sphere,
+//! };
+//! let u = [0.3, 0.8];
+//! let w = equal_area_square_to_sphere(u);
+//! assert!((w[0] * w[0] + w[1] * w[1] + w[2] * w[2] - 1.0).abs() < 1e-12);
+//! let back = equal_area_sphere_to_square(w);
+//! assert!((back[0] - u[0]).abs() < 1e-12 && (back[1] - u[1]).abs() < 1e-12);
+//! let h = equal_area_square_to_hemisphere(u);
+//! assert!(h[2] >= 0.0);
+//! let back = equal_area_hemisphere_to_square(h);
+//! assert!((back[0] - u[0]).abs() < 1e-12 && (back[1] - u[1]).abs() < 1e-12);
+//! ```
 
 use crate::mapping::{concentric, lift};
 use crate::sampler::{Point2, Vec3};

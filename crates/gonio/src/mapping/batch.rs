@@ -378,7 +378,15 @@ impl SoaSampler for SphereMap {
                         u[k] = if !ou[q].is_finite() {
                             T::NAN
                         } else if side == 0 {
-                            ou[q] * pl
+                            // As the scalar inverse: rounding must not carry a lower-map point
+                            // across the seam u = P_lower (in the lane's precision), which the
+                            // sample path would send to the upper map's rim.
+                            let w = ou[q] * pl;
+                            if has_upper && w >= pl && pl > T::ZERO {
+                                pl.next_below()
+                            } else {
+                                w
+                            }
                         } else {
                             (pl + ou[q] * (T::ONE - pl)).min(T::ONE)
                         };

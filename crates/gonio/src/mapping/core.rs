@@ -145,8 +145,12 @@ impl HdsCore {
         let (rb, phib) = square_to_disk(uv); // M_B
         let (i, eps, phi) = self.angular.forward(phib); // M_C
         let i1 = self.angular.next(i);
-        let (xr, dens) = self.radial.forward(rb, i, i1, eps); // M_D
+        let (xr, seg) = self.radial.forward(rb, i, i1, eps); // M_D
         let dir = disk_to_sphere(xr, phi); // M_E
+                                           // The density at the radius the returned direction has (what `density` reads), not at xr:
+                                           // they differ by the lift's round-off, which a steep segment (a zero guard band) would
+                                           // turn into a visible disagreement between sample() and pdf().
+        let dens = self.radial.density_on(seg, sphere_to_disk_radius(dir));
         if dir[0] == 0.0 && dir[1] == 0.0 {
             // The pole: every meridian meets there, and `density` reads meridian 0 (φ = 0);
             // the sample carries that same value, so sample() and pdf() agree at (±0, ±0, 1).

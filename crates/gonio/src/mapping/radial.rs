@@ -32,6 +32,15 @@ pub fn segment_mass(x0: f64, x1: f64, d0: f64, d1: f64) -> f64 {
     h / 3.0 * (d0 * (2.0 * x0 + x1) + d1 * (x0 + 2.0 * x1))
 }
 
+/// The radial segment [x_j, x_{j+1}] a forward solve landed in, with its end densities
+/// interpolated between the two meridians.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Segment {
+    j: usize,
+    d0: f64,
+    d1: f64,
+}
+
 /// The radius X ∈ [x0, x1] with [`partial_mass`] = `m` on the segment with end densities d0, d1.
 /// `m` outside [0, segment mass] is clamped to the segment's ends.
 #[inline]
@@ -249,9 +258,10 @@ impl Radial {
     }
 
     /// Forward M_D on the tables interpolated at fraction `eps` between meridians `i` and `i1`
-    /// (§6, A6): the D-disk radius whose radial CDF equals r_B² and the disk density D there.
+    /// (§6, A6): the D-disk radius whose radial CDF equals r_B², and the segment it lies in (for
+    /// the disk density D there, [`Radial::density_on`]).
     #[inline]
-    pub(crate) fn forward(&self, rb: f64, i: usize, i1: usize, eps: f64) -> (f64, f64) {
+    pub(crate) fn forward(&self, rb: f64, i: usize, i1: usize, eps: f64) -> (f64, Segment) {
         let n = self.n;
         let (ua, ub) = (&self.u[i * n..i * n + n], &self.u[i1 * n..i1 * n + n]);
         let (da, db) = (&self.d[i * n..i * n + n], &self.d[i1 * n..i1 * n + n]);
@@ -295,8 +305,15 @@ impl Radial {
         let d1 = (1.0 - eps) * da[j + 1] + eps * db[j + 1];
         let (x0, x1) = (self.x[j], self.x[j + 1]);
         let xr = solve_radius(x0, x1, d0, d1, w - ut(j)).min(x1);
-        let dens = d0 + (d1 - d0) * ((xr - x0) * self.inv_dx[j]);
-        (xr, dens.max(0.0))
+        (xr, Segment { j, d0, d1 })
+    }
+
+    /// The density on the segment the forward map landed in, at D-disk radius `xr` (clamped to
+    /// the segment): linear between its end densities.
+    #[inline]
+    pub(crate) fn density_on(&self, seg: Segment, xr: f64) -> f64 {
+        let t = ((xr - self.x[seg.j]) * self.inv_dx[seg.j]).clamp(0.0, 1.0);
+        (seg.d0 + (seg.d1 - seg.d0) * t).max(0.0)
     }
 
     /// Inverse M_D: the B-disk radius r_B = √(Ũ(x_r)/Ũ_{N−1}) of D-disk radius `xr` on the tables

@@ -29,17 +29,36 @@ pub enum SphereLayout {
     Lambert,
 }
 
+/// The maps of a [`SphereMap`] and how the square is shared among them, resolved once at build
+/// time: `sample`, `pdf` and `invert` branch on this one tag, not on the layout and on which
+/// hemispheres carry light.
 // One SphereMap exists per luminaire: the size of the enum does not matter.
 #[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone)]
 enum Layout {
+    /// Split layout with light on both sides of the horizon: u < `p_lower` maps onto the lower
+    /// hemisphere (mirrored), the rest onto the upper one.
     Split {
-        upper: Option<HdsCore>,
-        lower: Option<HdsCore>,
+        upper: HdsCore,
+        lower: HdsCore,
         /// Probability of the lower hemisphere, T_lower / (T_lower + T_upper).
         p_lower: f64,
     },
+    /// Split layout with light above the horizon only: the whole square maps onto the upper
+    /// hemisphere (P_lower = 0).
+    Upper(HdsCore),
+    /// Split layout with light below the horizon only: the whole square maps onto the lower
+    /// hemisphere, mirrored (P_lower = 1).
+    Lower(HdsCore),
+    /// One map with the whole-sphere Lambert lift.
     Lambert(Box<HdsCore>),
+}
+
+/// The point of the square of a point `w` of the upper map in a split layout whose lower map
+/// takes u < `p_lower`.
+#[inline]
+fn from_upper(p_lower: f64, w: Point2) -> Point2 {
+    [(p_lower + w[0] * (1.0 - p_lower)).min(1.0), w[1]]
 }
 
 /// Borrowed view of a [`SphereMap`]'s maps, for the batch paths.
@@ -257,12 +276,18 @@ impl SphereMap {
                     (None, None) => (1.0, 1.0),
                 };
                 let ratio_scale = target_total / (2.0 * total);
-                SphereMap {
-                    layout: Layout::Split {
+                let layout = match (upper, lower) {
+                    (Some(upper), Some(lower)) => Layout::Split {
                         upper,
                         lower,
                         p_lower: tl / total,
                     },
+                    (Some(upper), None) => Layout::Upper(upper),
+                    (None, Some(lower)) => Layout::Lower(lower),
+                    (None, None) => return Err(DiagramError::UnresolvedLight),
+                };
+                SphereMap {
+                    layout,
                     inv_2t: 0.5 / total,
                     inv_target_total: 1.0 / target_total,
                     ratio_bound: (lo * ratio_scale, hi * ratio_scale),
@@ -313,7 +338,8 @@ impl SphereMap {
     /// The hemisphere maps (split layout) or the one Lambert map.
     fn map_cores(&self) -> impl Iterator<Item = &HdsCore> {
         let (a, b): (Option<&HdsCore>, Option<&HdsCore>) = match &self.layout {
-            Layout::Split { upper, lower, .. } => (upper.as_ref(), lower.as_ref()),
+            Layout::Split { upper, lower, .. } => (Some(upper), Some(lower)),
+            Layout::Upper(c) | Layout::Lower(c) => (Some(c), None),
             Layout::Lambert(c) => (Some(c), None),
         };
         a.into_iter().chain(b)
@@ -360,47 +386,30 @@ impl SphereMap {
     /// hemisphere map that serves `u` in the split layout (with `square` the original point and the
     /// direction as sampled), or of the single Lambert map.
     pub fn stages(&self, u: Point2) -> super::Stages {
-        match &self.layout {
+        let (core, w, is_lower) = match &self.layout {
             Layout::Split {
                 upper,
                 lower,
                 p_lower,
             } => {
-                let (core, w, is_lower) = match (upper, lower) {
-                    (Some(up), Some(l)) => {
-                        if u[0] < *p_lower {
-                            (l, [(u[0] / p_lower).min(1.0), u[1]], true)
-                        } else {
-                            let w = ((u[0] - p_lower) / (1.0 - p_lower)).clamp(0.0, 1.0);
-                            (up, [w, u[1]], false)
-                        }
-                    }
-                    (Some(up), None) => (up, u, false),
-                    (None, Some(l)) => (l, u, true),
-                    (None, None) => return self.core_less_stages(u),
-                };
-                let mut st = core.stages(w);
-                st.square = u;
-                if is_lower {
-                    st.direction = mirror(st.direction);
-                    st.lower = true;
+                if u[0] < *p_lower {
+                    (lower, [(u[0] / p_lower).min(1.0), u[1]], true)
+                } else {
+                    let w = ((u[0] - p_lower) / (1.0 - p_lower)).clamp(0.0, 1.0);
+                    (upper, [w, u[1]], false)
                 }
-                st
             }
-            Layout::Lambert(c) => c.stages(u),
+            Layout::Upper(up) => (up, u, false),
+            Layout::Lower(l) => (l, u, true),
+            Layout::Lambert(c) => return c.stages(u),
+        };
+        let mut st = core.stages(w);
+        st.square = u;
+        if is_lower {
+            st.direction = mirror(st.direction);
+            st.lower = true;
         }
-    }
-
-    /// Never reached: a map without any hemisphere is refused at build time.
-    fn core_less_stages(&self, u: Point2) -> super::Stages {
-        super::Stages {
-            square: u,
-            disk_b: (0.0, 0.0),
-            star_c: (0.0, 0.0),
-            disk_d: (0.0, 0.0),
-            direction: [0.0, 0.0, 1.0],
-            lower: false,
-        }
+        st
     }
 
     /// The maps of the layout (for the batch paths).
@@ -411,9 +420,19 @@ impl SphereMap {
                 lower,
                 p_lower,
             } => CoresRef::Split {
-                upper: upper.as_ref(),
-                lower: lower.as_ref(),
+                upper: Some(upper),
+                lower: Some(lower),
                 p_lower: *p_lower,
+            },
+            Layout::Upper(c) => CoresRef::Split {
+                upper: Some(c),
+                lower: None,
+                p_lower: 0.0,
+            },
+            Layout::Lower(c) => CoresRef::Split {
+                upper: None,
+                lower: Some(c),
+                p_lower: 1.0,
             },
             Layout::Lambert(c) => CoresRef::Lambert(c),
         }
@@ -427,7 +446,7 @@ impl SphereMap {
     /// The layout in use.
     pub fn layout(&self) -> SphereLayout {
         match self.layout {
-            Layout::Split { .. } => SphereLayout::Split,
+            Layout::Split { .. } | Layout::Upper(_) | Layout::Lower(_) => SphereLayout::Split,
             Layout::Lambert(_) => SphereLayout::Lambert,
         }
     }
@@ -443,6 +462,8 @@ impl SphereMap {
     pub fn lower_probability(&self) -> Option<f64> {
         match &self.layout {
             Layout::Split { p_lower, .. } => Some(*p_lower),
+            Layout::Upper(_) => Some(0.0),
+            Layout::Lower(_) => Some(1.0),
             Layout::Lambert(_) => None,
         }
     }
@@ -463,9 +484,10 @@ impl SphereMap {
     }
 
     fn normalised_map_power(&self) -> f64 {
-        let z = |c: &Option<HdsCore>| c.as_ref().map_or(0.0, |c| c.target_total());
         match &self.layout {
-            Layout::Split { upper, lower, .. } => z(upper) + z(lower),
+            Layout::Split { upper, lower, .. } => upper.target_total() + lower.target_total(),
+            Layout::Upper(c) => c.target_total() + 0.0,
+            Layout::Lower(c) => 0.0 + c.target_total(),
             Layout::Lambert(c) => c.target_total(),
         }
     }
@@ -481,15 +503,12 @@ impl SphereMap {
     pub fn probability_outside_measured(&self) -> f64 {
         let (lo, hi) = self.measured;
         let half = FRAC_PI_2;
+        let above = |c: &HdsCore| c.power_outside(lo, hi.min(half));
+        let below = |c: &HdsCore| c.power_outside((PI - hi).max(0.0), (PI - lo.max(half)).max(0.0));
         let outside = match &self.layout {
-            Layout::Split { upper, lower, .. } => {
-                upper
-                    .as_ref()
-                    .map_or(0.0, |c| c.power_outside(lo, hi.min(half)))
-                    + lower.as_ref().map_or(0.0, |c| {
-                        c.power_outside((PI - hi).max(0.0), (PI - lo.max(half)).max(0.0))
-                    })
-            }
+            Layout::Split { upper, lower, .. } => above(upper) + below(lower),
+            Layout::Upper(c) => above(c) + 0.0,
+            Layout::Lower(c) => 0.0 + below(c),
             Layout::Lambert(c) => c.power_outside(lo, hi),
         };
         outside * 2.0 * self.inv_2t
@@ -506,22 +525,27 @@ impl SphereMap {
         if !(t >= self.measured.0 && t <= self.measured.1) {
             return 0.0;
         }
+        let (core, dir) = match self.serving(d) {
+            Some(served) => served,
+            None => return 0.0,
+        };
+        let (t, p) = spherical(dir);
+        core.diagram().interpolate(t, p)
+    }
+
+    /// The map that serves direction `d` and the direction in its frame (mirrored for the lower
+    /// hemisphere of a split layout); `None` where no map does (the side without light).
+    #[inline]
+    fn serving(&self, d: Vec3) -> Option<(&HdsCore, Vec3)> {
         match &self.layout {
-            Layout::Split { upper, lower, .. } => {
-                let (core, dir) = if lower_side(d, upper.is_some()) {
-                    (lower, mirror(d))
-                } else {
-                    (upper, d)
-                };
-                core.as_ref().map_or(0.0, |c| {
-                    let (t, p) = spherical(dir);
-                    c.diagram().interpolate(t, p)
-                })
-            }
-            Layout::Lambert(c) => {
-                let (t, p) = spherical(d);
-                c.diagram().interpolate(t, p)
-            }
+            Layout::Split { upper, lower, .. } => Some(if lower_side(d, true) {
+                (lower, mirror(d))
+            } else {
+                (upper, d)
+            }),
+            Layout::Upper(c) => (!lower_side(d, true)).then_some((c, d)),
+            Layout::Lower(c) => lower_side(d, false).then(|| (c, mirror(d))),
+            Layout::Lambert(c) => Some((c, d)),
         }
     }
 }
@@ -541,24 +565,18 @@ impl Sampler for SphereMap {
                 lower,
                 p_lower,
             } => {
-                match (upper, lower) {
-                    (Some(up), Some(l)) => {
-                        if u[0] < *p_lower {
-                            let (dir, d) = l.sample([(u[0] / p_lower).min(1.0), u[1]]);
-                            (mirror(dir), d)
-                        } else {
-                            let w = ((u[0] - p_lower) / (1.0 - p_lower)).clamp(0.0, 1.0);
-                            up.sample([w, u[1]])
-                        }
-                    }
-                    (Some(up), None) => up.sample(u),
-                    (None, Some(l)) => {
-                        let (dir, d) = l.sample(u);
-                        (mirror(dir), d)
-                    }
-                    // Refused at build time (zero power).
-                    (None, None) => ([0.0, 0.0, 1.0], 0.0),
+                if u[0] < *p_lower {
+                    let (dir, d) = lower.sample([(u[0] / p_lower).min(1.0), u[1]]);
+                    (mirror(dir), d)
+                } else {
+                    let w = ((u[0] - p_lower) / (1.0 - p_lower)).clamp(0.0, 1.0);
+                    upper.sample([w, u[1]])
                 }
+            }
+            Layout::Upper(up) => up.sample(u),
+            Layout::Lower(l) => {
+                let (dir, d) = l.sample(u);
+                (mirror(dir), d)
             }
             Layout::Lambert(c) => c.sample(u),
         };
@@ -569,15 +587,9 @@ impl Sampler for SphereMap {
     }
     #[inline]
     fn pdf(&self, d: Vec3) -> f64 {
-        let dens = match &self.layout {
-            Layout::Split { upper, lower, .. } => {
-                if lower_side(d, upper.is_some()) {
-                    lower.as_ref().map_or(0.0, |c| c.density(mirror(d)))
-                } else {
-                    upper.as_ref().map_or(0.0, |c| c.density(d))
-                }
-            }
-            Layout::Lambert(c) => c.density(d),
+        let dens = match self.serving(d) {
+            Some((c, dir)) => c.density(dir),
+            None => 0.0,
         };
         dens * self.inv_2t
     }
@@ -591,22 +603,32 @@ impl Sampler for SphereMap {
                 lower,
                 p_lower,
             } => {
-                if lower_side(d, upper.is_some()) {
-                    // No light on that side: no preimage.
-                    let l = lower.as_ref().ok_or(InvertError::ZeroDensity)?;
-                    let w = l.invert(mirror(d));
+                if lower_side(d, true) {
+                    let w = lower.invert(mirror(d));
                     let mut u0 = w[0] * p_lower;
-                    if upper.is_some() && u0 >= *p_lower {
+                    if u0 >= *p_lower {
                         // Rounding must not carry a lower-map point across the seam u = P_lower,
                         // which `sample` would send to the upper map (the rim of the other side).
                         u0 = super::complete::next_down(*p_lower);
                     }
                     Ok([u0, w[1]])
                 } else {
-                    let up = upper.as_ref().ok_or(InvertError::ZeroDensity)?;
-                    let w = up.invert(d);
-                    Ok([(p_lower + w[0] * (1.0 - p_lower)).min(1.0), w[1]])
+                    Ok(from_upper(*p_lower, upper.invert(d)))
                 }
+            }
+            // No light on the other side: no preimage there.
+            Layout::Upper(up) => {
+                if lower_side(d, true) {
+                    return Err(InvertError::ZeroDensity);
+                }
+                Ok(from_upper(0.0, up.invert(d)))
+            }
+            // The whole square is the lower map's: u = w (P_lower = 1).
+            Layout::Lower(l) => {
+                if !lower_side(d, false) {
+                    return Err(InvertError::ZeroDensity);
+                }
+                Ok(l.invert(mirror(d)))
             }
             Layout::Lambert(c) => Ok(c.invert(d)),
         }
@@ -633,13 +655,7 @@ impl Sampler for SphereMap {
         Some(self)
     }
     fn memory_bytes(&self) -> usize {
-        match &self.layout {
-            Layout::Split { upper, lower, .. } => {
-                upper.as_ref().map_or(0, |c| c.memory_bytes())
-                    + lower.as_ref().map_or(0, |c| c.memory_bytes())
-            }
-            Layout::Lambert(c) => c.memory_bytes(),
-        }
+        self.map_cores().map(|c| c.memory_bytes()).sum()
     }
     fn sample_batch(&self, u: &[Point2], out: &mut [Sample]) {
         super::batch::sample_batch_aos(self, u, out)

@@ -1,6 +1,6 @@
 //! IES LM-63 reader (1986, 1991, 1995, 2002, 2019 and the variants met in practice).
 
-use super::tokens::{check_angles, excerpt, strip_bom, text, Cursor, Lines, Token};
+use super::tokens::{check_angles, excerpt, strip_bom, text, Cursor, Lines, Mark, Token};
 use super::{
     validate, IesInfo, Keyword, LampSet, ParseError, PhotometricType, Photometry, Tilt,
     TiltResolver, TiltTable, Version, Warning, MAX_ANGLES, MAX_HEADER_LINES,
@@ -90,7 +90,7 @@ pub(crate) fn read_ies(
     let tilt = read_tilt(&mut cur, &head, resolver, &mut warnings)?;
     let fields = read_fields(&mut cur, head.version, &mut warnings)?;
     let angles = read_angles(&mut cur, &fields)?;
-    let raw = read_values(&mut cur, angles.values, &mut warnings)?;
+    let (raw, raw_at) = read_values(&mut cur, angles.values, &mut warnings)?;
     let symmetry = validate::classify(
         angles.photometric_type,
         &angles.vert,
@@ -101,7 +101,8 @@ pub(crate) fn read_ies(
         &cur,
         &mut warnings,
     )?;
-    let (scale, candela) = intensity_scale(&fields, &head, &tilt, &raw, &mut warnings)?;
+    let (scale, candela) =
+        intensity_scale(&fields, &head, &tilt, (&raw, &cur, raw_at), &mut warnings)?;
 
     let lamp_description = head
         .keywords
@@ -497,7 +498,7 @@ fn read_values(
     cur: &mut Cursor,
     count: usize,
     warnings: &mut Vec<Warning>,
-) -> Result<Vec<f64>, ParseError> {
+) -> Result<(Vec<f64>, Mark), ParseError> {
     let (mut raw, start) = cur.values(count, "candela value")?;
     validate::clamp_negative(cur, &mut raw, start, warnings)?;
     if let Some(t) = cur.peek() {
@@ -511,7 +512,7 @@ fn read_values(
             ),
         });
     }
-    Ok(raw)
+    Ok((raw, start))
 }
 
 /// Step 6: the intensity scale (multiplier × ballast factor × the ballast-lamp factor before
@@ -521,7 +522,7 @@ fn intensity_scale(
     f: &Fields,
     head: &Header,
     tilt: &Tilt,
-    raw: &[f64],
+    (raw, cur, start): (&[f64], &Cursor, Mark),
     warnings: &mut Vec<Warning>,
 ) -> Result<(f64, Vec<f64>), ParseError> {
     let mut scale = f.multiplier;
@@ -570,12 +571,19 @@ fn intensity_scale(
         }
     }
     let candela: Vec<f64> = raw.iter().map(|v| v * scale).collect();
-    if !candela.iter().all(|v| v.is_finite()) {
-        return Err(ParseError::new(
-            0,
-            0,
-            format!("the intensities times the scale factor {scale} overflow"),
-        ));
+    if let Some(k) = candela.iter().position(|v| !v.is_finite()) {
+        // Named at the first value whose product overflows (a located, typed error; the
+        // product is not representable, so nothing is clamped or dropped).
+        let msg = format!(
+            "intensity #{} = {:e} times the scale factor {scale:e} (multiplier × ballast factor × …) overflows the largest \
+             double (1.8e308)",
+            k + 1,
+            raw[k]
+        );
+        return Err(match cur.token_after(start, k) {
+            Some(t) => cur.err_at(&t, msg),
+            None => ParseError::new(0, 0, msg),
+        });
     }
     Ok((scale, candela))
 }

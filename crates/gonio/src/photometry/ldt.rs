@@ -1,6 +1,8 @@
 //! EULUMDAT reader.
 
-use super::tokens::{check_angles, excerpt, parse_number, strip_bom, text, Cursor, Lines, Token};
+use super::tokens::{
+    check_angles, excerpt, parse_number, strip_bom, text, Cursor, Lines, Mark, Token,
+};
 use super::{
     validate, FileFormat, LampSet, LdtInfo, ParseError, PhotometricType, Photometry, Symmetry,
     Tilt, Version, Warning, MAX_ANGLES, MAX_LAMP_SETS,
@@ -110,9 +112,9 @@ pub(crate) fn read_ldt(bytes: &[u8]) -> Result<Photometry, ParseError> {
     let (h, rest, first_data_line) = read_header(bytes, &mut w)?;
     let mut cur = Cursor::new(rest, first_data_line, false, true);
     let a = read_angles(&mut cur, &h)?;
-    let raw = read_values(&mut cur, a.values, &mut w)?;
+    let (raw, raw_at) = read_values(&mut cur, a.values, &mut w)?;
     let (horiz, symmetry) = validate_table(&cur, &h, &a, &raw, &mut w)?;
-    let (scale, candela) = intensity_scale(&h, &raw, &mut w)?;
+    let (scale, candela) = intensity_scale(&h, (&raw, &cur, raw_at), &mut w)?;
     Ok(Photometry {
         format: FileFormat::Eulumdat,
         version: Version::Eulumdat,
@@ -384,7 +386,7 @@ fn read_values(
     cur: &mut Cursor,
     count: usize,
     w: &mut Vec<Warning>,
-) -> Result<Vec<f64>, ParseError> {
+) -> Result<(Vec<f64>, Mark), ParseError> {
     let (mut raw, raw_at) = cur.values(count, "luminous intensity (cd/klm)")?;
     validate::clamp_negative(cur, &mut raw, raw_at, w)?;
     if let Some(t) = cur.peek() {
@@ -398,7 +400,7 @@ fn read_values(
             ),
         });
     }
-    Ok(raw)
+    Ok((raw, raw_at))
 }
 
 /// Step 4: the table as a whole: the γ range ([`validate::check_vertical_c`]), Ityp against Isym,
@@ -476,7 +478,7 @@ fn validate_table(
 /// overflow.
 fn intensity_scale(
     h: &Header,
-    raw: &[f64],
+    (raw, cur, raw_at): (&[f64], &Cursor, Mark),
     w: &mut Vec<Warning>,
 ) -> Result<(f64, Vec<f64>), ParseError> {
     let ((n_sets, nl, nc), (cfli, cl, cc)) = (h.n_sets, h.cfli);
@@ -507,12 +509,19 @@ fn intensity_scale(
         });
     }
     let candela: Vec<f64> = raw.iter().map(|v| v * scale).collect();
-    if !candela.iter().all(|v| v.is_finite()) {
-        return Err(ParseError::new(
-            0,
-            0,
-            format!("the intensities times the scale factor {scale} overflow"),
-        ));
+    if let Some(k) = candela.iter().position(|v| !v.is_finite()) {
+        // Named at the first value whose product overflows (a located, typed error; the
+        // product is not representable, so nothing is clamped or dropped).
+        let msg = format!(
+            "intensity #{} = {:e} times the scale factor {scale:e} (lamp flux / 1000 × conversion factor) overflows the largest \
+             double (1.8e308)",
+            k + 1,
+            raw[k]
+        );
+        return Err(match cur.token_after(raw_at, k) {
+            Some(t) => cur.err_at(&t, msg),
+            None => ParseError::new(0, 0, msg),
+        });
     }
     Ok((scale, candela))
 }

@@ -774,7 +774,9 @@ fn inconsistent_public_fields_do_not_panic() {
     let big = ies(&ies_c("0 90", "0", "1e308 1")).unwrap();
     assert!(big.to_diagram().is_ok());
     let t = "IESNA91\nTILT=NONE\n1 1000 10 2 1 1 2 0 0 0\n1 1 10\n0 90\n0\n1e308 1\n";
-    assert_eq!(ies(t).unwrap_err().line, 0);
+    // 1e308 × 10 overflows: the error names the value's line and column.
+    let e = ies(t).unwrap_err();
+    assert_eq!((e.line, e.column), (7, 1), "{e}");
 }
 
 #[test]
@@ -798,6 +800,61 @@ fn dir_tilt_resolver_reads_next_to_the_file() {
 }
 
 // ---------------------------------------------------------------------------------------------
+// Extreme intensities times the file's scale factors
+
+#[test]
+fn candela_near_the_largest_double_times_a_multiplier_is_a_located_error() {
+    // 1e308 cd is read as it is (finite) and the map of it is the map of any other scale.
+    let p = ies(&ies_c("0 45 90", "0", "1e308 5e307 1e307")).unwrap();
+    assert_eq!(p.candela[0], 1e308);
+    let d = p.to_diagram().unwrap();
+    let small = ies(&ies_c("0 45 90", "0", "10 5 1"))
+        .unwrap()
+        .to_diagram()
+        .unwrap();
+    let (a, b) = (
+        crate::SphereMap::new(&d).unwrap(),
+        crate::SphereMap::new(&small).unwrap(),
+    );
+    use crate::Sampler;
+    for u in [[0.1, 0.2], [0.5, 0.5], [0.9, 0.7]] {
+        let (sa, sb) = (a.sample(u), b.sample(u));
+        assert!(sa.pdf.is_finite() && sa.pdf > 0.0);
+        assert!(
+            (sa.pdf - sb.pdf).abs() <= 1e-12 * sb.pdf,
+            "{u:?}: {} vs {}",
+            sa.pdf,
+            sb.pdf
+        );
+    }
+    // × a multiplier of 10, the second value (5e307 × 10) overflows: an error at its token
+    // (line 8, column 7), not infinity in the candela values.
+    let t = "IESNA:LM-63-2002\n[TEST] t\nTILT=NONE\n1 1000 10 3 1 1 2 0 0 0\n1 1 10\n0 45 90\n0\n1e307 5e307 1e306\n";
+    let e = ies(t).unwrap_err();
+    assert_eq!((e.line, e.column), (8, 7), "{e}");
+    assert!(
+        e.message.contains("intensity #2") && e.message.contains("overflows"),
+        "{e}"
+    );
+    // EULUMDAT: cd/klm × flux/1000 overflows at the first value.
+    let g = [0.0, 90.0];
+    let t = ldt_text(
+        1,
+        1,
+        1,
+        &[0.0],
+        &g,
+        &[1e307, 1.0],
+        "1\nLED\n1e6\n4000\n80\n20\n",
+    );
+    let e = ldt(&t).unwrap_err();
+    assert!(e.line > 0, "located: {e}");
+    assert!(
+        e.message.contains("intensity #1") && e.message.contains("overflows"),
+        "{e}"
+    );
+}
+
 // Issue 16: TILT factor 0, aggregated warnings, UTF-16, format from the content
 
 #[test]

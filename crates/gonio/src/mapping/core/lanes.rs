@@ -213,14 +213,22 @@ impl HdsCore {
         let [ox, oy, oz, od] = out;
         for l in 0..L {
             let xr = xr[l].min(x1[l]);
-            let dens = d0[l] + (d1[l] - d0[l]) * ((xr - x0[l]) * inv_dx[l]);
-            od[l] = dens.max(T::ZERO);
             let r2 = xr * xr;
             let s = xr * (T::TWO - r2).max(T::ZERO).sqrt();
             let (sp, cp) = phic[l].sin_cos();
             ox[l] = s * cp;
             oy[l] = s * sp;
             oz[l] = T::ONE - r2;
+            // The density at the radius the returned direction has (lift::sphere_to_disk_radius,
+            // what `density_block` reads), as the scalar `HdsCore::sample`.
+            let rd2 = if oz[l] > T::ZERO {
+                (ox[l] * ox[l] + oy[l] * oy[l]) / (T::ONE + oz[l])
+            } else {
+                T::ONE - oz[l]
+            };
+            let xd = rd2.max(T::ZERO).min(T::TWO).sqrt();
+            let t = ((xd - x0[l]) * inv_dx[l]).max(T::ZERO).min(T::ONE);
+            od[l] = (d0[l] + (d1[l] - d0[l]) * t).max(T::ZERO);
             if ox[l] == T::ZERO && oy[l] == T::ZERO {
                 // A pole: `density` reads meridian 0 there (φ = 0): parallel 0 at the north
                 // pole, the last parallel at the south pole (the rim of the Lambert disk).

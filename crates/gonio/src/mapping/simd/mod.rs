@@ -141,6 +141,8 @@ mod sealed {
         fn atan2(self, x: Self) -> Self;
         /// `self as usize` (saturating, NaN → 0).
         fn to_usize(self) -> usize;
+        /// The largest value of the type below `self`, for finite `self` > 0.
+        fn next_below(self) -> Self;
     }
 
     impl Lane for f64 {
@@ -195,6 +197,10 @@ mod sealed {
         #[inline(always)]
         fn to_usize(self) -> usize {
             self as usize
+        }
+        #[inline(always)]
+        fn next_below(self) -> Self {
+            Self::from_bits(self.to_bits() - 1)
         }
     }
 
@@ -252,6 +258,10 @@ mod sealed {
         #[inline(always)]
         fn to_usize(self) -> usize {
             self as usize
+        }
+        #[inline(always)]
+        fn next_below(self) -> Self {
+            Self::from_bits(self.to_bits() - 1)
         }
     }
 }
