@@ -263,3 +263,27 @@ fn a_wrong_inverse_fails_the_round_trip_checks() {
         );
     }
 }
+
+/// `gonio check`'s round-trip item (tolerance 1e-8) on the maps of the ill-conditioned cases: a
+/// correct map passes (before the inverse's round-off reach was allowed for, the first one
+/// failed at 1.34e-8), and an inverse shifted by 1e-7 fails.
+#[test]
+fn the_check_round_trip_allows_for_the_inverse_conditioning_only() {
+    use gonio::check::{cell_boundary_points, round_trip, RoundTripOptions, Status};
+    let mut ill = 0;
+    for &(name, input, layout, _) in ILL_CONDITIONED {
+        let case = mapping_case::decode(&hex(input)).expect("the input decodes");
+        let map = build(layout, &case.diagram);
+        let map = map.as_ref();
+        let opts = RoundTripOptions {
+            extra_points: cell_boundary_points(map, &case.diagram, 64),
+            ..RoundTripOptions::default()
+        };
+        let r = round_trip(map, &opts);
+        assert_eq!(r.status, Status::Pass, "{name}: {}", r.summary());
+        ill += r.ill_conditioned_points;
+        let r = round_trip(&Wrong(map, Fault::Shift(1e-7)), &opts);
+        assert_eq!(r.status, Status::Fail, "{name}: {}", r.summary());
+    }
+    assert!(ill > 0, "no ill-conditioned point was met");
+}

@@ -9,7 +9,7 @@
 //! | item | what | passes when |
 //! |---|---|---|
 //! | [`chi_square_test`] | histogram of iid samples in equal-solid-angle bins vs ∫pdf per bin | p ≥ 1 − (1 − α)^(1/K) (Šidák), no sample in a bin of zero expectation |
-//! | [`round_trip`] | `invert(sample(u))` vs `u` on sequence points, grid lines of the square and (with [`cell_boundary_points`]) the preimages of the diagram's cell boundaries | max error ≤ tolerance (1e-8); not applicable without inverse |
+//! | [`round_trip`] | `invert(sample(u))` vs `u` on sequence points, grid lines of the square and (with [`cell_boundary_points`]) the preimages of the diagram's cell boundaries | max error ≤ tolerance (1e-8) beyond the inverse's [`roundoff_reach`]; not applicable without inverse |
 //! | [`pdf_consistency`] | `sample(u).pdf` vs `pdf(direction)` | relative difference ≤ 1e-9 |
 //! | [`normalisation`] | ∫pdf dω and ∫target dω by quadrature | both within 1e-3 of 1 |
 //! | [`pdf_target_ratio`] | pdf/target where target > 1 % of max | finite, positive, within a claimed bound (1e-9 relative slack) |
@@ -66,7 +66,9 @@ pub use density::{
 };
 pub use flux::{flux_estimate, FluxOptions, FluxReport};
 pub use grid::{BinGrid, QUAD_REL_TOL, QUAD_TOL};
-pub use roundtrip::{cell_boundary_points, round_trip, RoundTripOptions, RoundTripReport};
+pub use roundtrip::{
+    cell_boundary_points, round_trip, roundoff_reach, RoundTripOptions, RoundTripReport,
+};
 
 use crate::sampler::{Domain, Point2, Sample, Sampler};
 use crate::sequence::Sequence;

@@ -1,7 +1,7 @@
 //! Round trip: `invert(sample(u)) ≈ u`.
 
 use super::{sample_defect, Status};
-use crate::sampler::{InvertError, Point2, Sample, Sampler};
+use crate::sampler::{InvertError, Point2, Sample, Sampler, Vec3};
 use crate::sequence::{Sequence, SequenceKind};
 use rayon::prelude::*;
 
@@ -61,8 +61,14 @@ pub struct RoundTripReport {
     /// sample(u′) is the same direction (within the tolerance, max norm): points where the map is
     /// not injective (seams, poles). Their error counts as that direction difference.
     pub seam_points: usize,
+    /// Tested points where |u′ − u| exceeds the tolerance by no more than the inverse's round-off
+    /// reach at the sampled direction ([`roundoff_reach`]: where the inverse is ill conditioned,
+    /// e.g. next to a meridian carrying ~1e-8 of its neighbour's light). Their error counts as the
+    /// excess over that reach.
+    pub ill_conditioned_points: usize,
     /// Largest max(|u′ − u|, |v′ − v|) over the tested points (seam points: the direction
-    /// difference instead).
+    /// difference instead; other points beyond the tolerance: the excess over the inverse's
+    /// round-off reach).
     pub max_error: f64,
     /// The point u of the square with the largest error.
     pub worst_point: Option<Point2>,
@@ -81,6 +87,7 @@ struct Acc {
     invalid: usize,
     invert_failures: usize,
     seam: usize,
+    ill_conditioned: usize,
     unsupported: bool,
     max_error: f64,
     worst: Option<(Point2, Point2)>,
@@ -113,6 +120,14 @@ impl Acc {
                     if dd <= tolerance {
                         self.seam += 1;
                         e = dd;
+                    } else {
+                        // Where the inverse is ill conditioned, the round-off of the sampled
+                        // direction alone moves u′ by up to the reach: only the excess counts.
+                        let excess = (e - roundoff_reach(sampler, s.direction, w)).max(0.0);
+                        if excess <= tolerance {
+                            self.ill_conditioned += 1;
+                        }
+                        e = excess;
                     }
                 }
                 self.tested += 1;
@@ -130,6 +145,7 @@ impl Acc {
         self.invalid += o.invalid;
         self.invert_failures += o.invert_failures;
         self.seam += o.seam;
+        self.ill_conditioned += o.ill_conditioned;
         self.unsupported |= o.unsupported;
         if o.worst.is_some() && (self.worst.is_none() || o.max_error > self.max_error) {
             self.max_error = o.max_error;
@@ -166,7 +182,9 @@ fn line_points(k_lines: usize, per_line: usize) -> Vec<Point2> {
 /// `opts` (see [`RoundTripOptions`]). Points of zero pdf are skipped; an inverse reporting
 /// [`InvertError::Unsupported`] makes the item [`Status::NotApplicable`]. Where the map is not
 /// injective (e.g. v = 0 and v = 1 on an azimuth seam) an inverse u′ ≠ u is accepted if
-/// `sample(u′)` gives the same direction ([`RoundTripReport::seam_points`]).
+/// `sample(u′)` gives the same direction ([`RoundTripReport::seam_points`]); where the inverse is
+/// ill conditioned, only the part of |u′ − u| beyond its [`roundoff_reach`] counts
+/// ([`RoundTripReport::ill_conditioned_points`]).
 pub fn round_trip(sampler: &dyn Sampler, opts: &RoundTripOptions) -> RoundTripReport {
     round_trip_with_progress(sampler, opts, &|_| {})
 }
@@ -216,6 +234,7 @@ pub(crate) fn round_trip_with_progress(
         invalid_samples: acc.invalid,
         invert_failures: acc.invert_failures,
         seam_points: acc.seam,
+        ill_conditioned_points: acc.ill_conditioned,
         max_error: acc.max_error,
         worst_point: acc.worst.map(|w| w.0),
         worst_inverse: acc.worst.map(|w| w.1),
@@ -296,16 +315,53 @@ pub fn cell_boundary_points(
     out
 }
 
+/// η = 2⁻⁴⁸ ≈ 3.6e-15: the round-off budget of a computed direction in [`roundoff_reach`].
+const ROUNDOFF_ETA: f64 = 1.0 / (1u64 << 48) as f64;
+
+/// How far the round-off of a computed direction can move the inverse at direction `d`, whose
+/// inverse is `w`: the sum, over three perturbations of `d` within that round-off, of the larger
+/// (over both signs) max-norm change of `invert` — the inverse's Jacobian times the round-off,
+/// measured by finite differences at the round-off's own step. The perturbations, with
+/// η = 2⁻⁴⁸ ≈ 3.6e-15: a rotation about z by η (about 4 ulp of 2π: the azimuth the sampler used
+/// and the one atan2 reads back differ by that much), x and y scaled by 1 ± η (the disk radius an
+/// HDS inverse reads from them above the horizon), z ± η (the radius it reads from z below it, on
+/// the Lambert sphere). A step outside the domain is left out.
+///
+/// It is ~1e-15 where the inverse is well conditioned, and 1e-8 … 1e-7 next to a meridian that
+/// carries ~1e-8 of its neighbour's light, where the radial CDF that the inverse interpolates
+/// across the sector switches from one meridian's to the other's within ~1e-8 of the sector, so
+/// an ulp of azimuth moves the square point by 1e-9 … 1e-8 (docs/CHECKS.md, "Round trip";
+/// docs/FUZZING.md, "Ill-conditioned round trips"). Across a seam of the inverse it measures the
+/// jump.
+pub fn roundoff_reach(sampler: &dyn Sampler, d: Vec3, w: Point2) -> f64 {
+    let moved = |q: Vec3| {
+        sampler
+            .invert(q)
+            .map(|g| (g[0] - w[0]).abs().max((g[1] - w[1]).abs()))
+            .ok()
+            .filter(|m| m.is_finite())
+            .unwrap_or(0.0)
+    };
+    let largest =
+        |step: &dyn Fn(f64) -> Vec3| moved(step(ROUNDOFF_ETA)).max(moved(step(-ROUNDOFF_ETA)));
+    // A rotation about z by a (to first order; the length changes by a², far below an ulp).
+    let azimuth = largest(&|a| [d[0] - d[1] * a, d[1] + d[0] * a, d[2]]);
+    let radius_xy = largest(&|a| [d[0] * (1.0 + a), d[1] * (1.0 + a), d[2]]);
+    let radius_z = largest(&|a| [d[0], d[1], d[2] + a]);
+    azimuth + radius_xy + radius_z
+}
+
 impl RoundTripReport {
     /// One line for the human-readable summary.
     pub fn summary(&self) -> String {
         format!(
             "max |invert(sample(u)) - u| = {:.3e} over {} points ({} on cell boundaries, {} on \
-             seams, {} skipped at pdf 0) — {}",
+             seams, {} ill-conditioned, {} skipped at pdf 0) — {}",
             self.max_error,
             self.tested,
             self.extra_points,
             self.seam_points,
+            self.ill_conditioned_points,
             self.skipped_zero_pdf,
             self.message
         )
