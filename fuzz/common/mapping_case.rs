@@ -70,7 +70,7 @@ fn angles(b: &mut Bytes, n: usize, max: f64, closed: bool) -> Vec<f64> {
         0 => 0.0,
         _ => max * f64::from(b.u8()) / 1024.0,
     };
-    let end = if closed && b.u8() % 2 == 0 {
+    let end = if closed && b.u8().is_multiple_of(2) {
         max
     } else {
         max * (1.0 - (1.0 + f64::from(b.u8())) / 512.0)

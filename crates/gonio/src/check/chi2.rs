@@ -439,7 +439,12 @@ fn finish(
             .unwrap_or(f64::NAN);
     }
     // The coarse grid: blocks of bz × bp bins.
-    let block = |n: usize| [4, 2, 1].into_iter().find(|b| n % b == 0).unwrap_or(1);
+    let block = |n: usize| {
+        [4, 2, 1]
+            .into_iter()
+            .find(|b| n.is_multiple_of(*b))
+            .unwrap_or(1)
+    };
     let (nz, np) = (grid.z_bins(), grid.phi_bins());
     let (bz, bp) = (block(nz), block(np));
     let (cz, cp) = (nz / bz, np / bp);

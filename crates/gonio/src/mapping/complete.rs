@@ -160,7 +160,7 @@ pub(crate) fn complete(
     }
     let new_n = n + head.len();
     let new_m = m + usize::from(diagram.phi()[0] > 0.0);
-    if new_n.checked_mul(new_m).map_or(true, |c| c > MAX_NODES) {
+    if new_n.checked_mul(new_m).is_none_or(|c| c > MAX_NODES) {
         return Err(DiagramError::TooLarge {
             parallels: new_n,
             meridians: new_m,
@@ -280,7 +280,7 @@ pub(crate) fn with_horizon_node(diagram: &Diagram) -> Result<Diagram, DiagramErr
     }
     let m = diagram.n_meridians();
     // The size cap counts the added parallel (checked before allocating).
-    if (n + 1).checked_mul(m).map_or(true, |c| c > MAX_NODES) {
+    if (n + 1).checked_mul(m).is_none_or(|c| c > MAX_NODES) {
         return Err(DiagramError::TooLarge {
             parallels: n + 1,
             meridians: m,

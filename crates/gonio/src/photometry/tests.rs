@@ -386,7 +386,7 @@ fn ldt_text(
     l.extend(["100", "100", "1,0", "0"].map(String::from));
     l.push(nsets.to_string());
     l.extend(sets.lines().map(String::from));
-    l.extend(std::iter::repeat("0.5".to_string()).take(10));
+    l.extend(std::iter::repeat_n("0.5".to_string(), 10));
     l.extend(c.iter().map(|x| x.to_string()));
     l.extend(g.iter().map(|x| x.to_string()));
     l.extend(v.iter().map(|x| x.to_string().replace('.', ",")));

@@ -153,7 +153,7 @@ pub fn write_ldt(d: &Diagram, meta: &WriteMeta) -> String {
     lines.extend(["0", "0", "0", "0", "0", "0", "0", "0", "0"].map(String::from));
     lines.extend(["0", "100", "1", "0", "1"].map(String::from)); // DFF, LORL, CFLI, tilt, sets
     lines.extend(["1", "unknown", "1000", "-", "-", "0"].map(String::from));
-    lines.extend(std::iter::repeat("0".to_string()).take(10));
+    lines.extend(std::iter::repeat_n("0".to_string(), 10));
     lines.extend(phi.iter().map(|&c| num(c)));
     lines.extend(gv.iter().map(|&x| num(x)));
     for i in 0..m {

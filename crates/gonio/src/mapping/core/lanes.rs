@@ -39,14 +39,14 @@ fn radius_azimuth<T: Lane>(x: &[T; L], y: &[T; L], z: &[T; L]) -> ([T; L], [T; L
             T::ONE - z[l]
         };
         xr[l] = r2.clamp(T::ZERO, T::TWO).sqrt();
-        if x[l] == T::ZERO && y[l] == T::ZERO {
-            // The poles read meridian 0 (φ = 0), whatever the signs of the zeros.
-            p[l] = T::ZERO;
-            continue;
-        }
+    }
+    for l in 0..L {
         let mut phi = y[l].atan2(x[l]);
         phi = if phi < T::ZERO { phi + c(TAU) } else { phi };
-        p[l] = if phi >= c(TAU) { T::ZERO } else { phi };
+        phi = if phi >= c(TAU) { T::ZERO } else { phi };
+        // The poles read meridian 0 (φ = 0), whatever the signs of the zeros.
+        let pole = x[l] == T::ZERO && y[l] == T::ZERO;
+        p[l] = if pole { T::ZERO } else { phi };
     }
     (xr, p)
 }
@@ -56,16 +56,79 @@ impl HdsCore {
     #[inline(always)]
     fn sector_index(&self, p: f64) -> usize {
         if self.angular.inv_uniform_beta > 0.0 {
-            let mut i = ((p * self.angular.inv_uniform_beta) as usize).min(self.angular.m - 1);
-            if p < self.angular.phi[i] {
-                i -= 1;
-            } else if p >= self.angular.phi[i + 1] && i + 1 < self.angular.m {
-                i += 1;
-            }
-            i
+            let (phi, m) = (&self.angular.phi, self.angular.m);
+            let i = ((p * self.angular.inv_uniform_beta) as usize).min(m - 1);
+            // Round-off of the product: one step either way, as selects (no branch to mispredict).
+            let down = p < phi[i];
+            let up = !down && i + 1 < m && p >= phi[i + 1];
+            i - usize::from(down) + usize::from(up)
         } else {
             crate::diagram::segment(&self.angular.phi, p)
         }
+    }
+
+    /// The wedge of each B-disk azimuth of a block (`Angular::wedge`: the largest i ≤ M − 1 with
+    /// Γ_i ≤ φ_B), by a branch-free descent over the guide table's bracket.
+    #[inline(always)]
+    fn wedges<T: Lane>(&self, pb: &[T; L], out: &mut [usize; L]) {
+        let a = &self.angular;
+        let (cum, guide, last) = (&a.cum, &a.wedge_guide, a.m - 1);
+        let kmax = guide.len() - 1;
+        let (mut lo, mut hi, mut x) = ([0usize; L], [0usize; L], [0.0f64; L]);
+        for l in 0..L {
+            x[l] = pb[l].to_f64();
+            let k = ((x[l] * a.guide_scale) as usize).min(kmax);
+            lo[l] = guide[k] as usize;
+            hi[l] = if k < kmax {
+                guide[k + 1] as usize
+            } else {
+                last
+            };
+        }
+        let found = descend(&lo, &hi, &x, |_, i| cum[i]);
+        for l in 0..L {
+            // Round-off of the guide cell may leave the answer just outside the bracket.
+            let mut i = found[l];
+            while i > 0 && cum[i] > x[l] {
+                i -= 1;
+            }
+            while i < last && cum[i + 1] <= x[l] {
+                i += 1;
+            }
+            out[l] = i;
+        }
+    }
+
+    /// The parallel segment of each disk radius of a block (`Radial::segment_of`: the largest
+    /// j ≤ N − 2 with x_j ≤ x_r), by a branch-free descent over the guide table's bracket.
+    #[inline(always)]
+    fn segments_of<T: Lane>(&self, xr: &[T; L]) -> [usize; L] {
+        let r = &self.radial;
+        let (xs, guide, last) = (&r.x, &r.radius_guide, r.n - 2);
+        let kmax = guide.len() - 1;
+        let (mut lo, mut hi, mut x) = ([0usize; L], [0usize; L], [0.0f64; L]);
+        for l in 0..L {
+            x[l] = xr[l].to_f64();
+            let k = ((x[l] * r.radius_scale) as usize).min(kmax);
+            lo[l] = (guide[k] as usize).min(last);
+            hi[l] = if k < kmax {
+                (guide[k + 1] as usize).min(last)
+            } else {
+                last
+            };
+        }
+        let mut found = descend(&lo, &hi, &x, |_, j| xs[j]);
+        for l in 0..L {
+            // Round-off of the guide cell may leave the answer just outside the bracket.
+            let j = &mut found[l];
+            while *j > 0 && xs[*j] > x[l] {
+                *j -= 1;
+            }
+            while *j < last && xs[*j + 1] <= x[l] {
+                *j += 1;
+            }
+        }
+        found
     }
 
     /// Sector, ε and the next meridian for a block of azimuths (`HdsCore::sector`).
@@ -125,9 +188,9 @@ impl HdsCore {
             [T::ZERO; L],
             [T::ZERO; L],
         );
+        self.wedges(&pb, &mut wi);
         for l in 0..L {
-            let i = self.angular.wedge(pb[l].to_f64());
-            wi[l] = i;
+            let i = wi[l];
             beta[l] = c(self.angular.beta[i]);
             ra[l] = c(self.angular.r2[i]);
             rbb[l] = c(self.angular.r2[i + 1]);
@@ -161,41 +224,61 @@ impl HdsCore {
             [T::ZERO; L],
             [T::ZERO; L],
         );
+        // The bracket of each lane's radial search from the guide tables, then one branch-free
+        // descent over the whole block (`descend`).
+        let (mut ra_off, mut rb_off) = ([0usize; L], [0usize; L]);
+        let (mut lo, mut hi, mut w) = ([0usize; L], [0usize; L], [T::ZERO; L]);
+        let ru = &self.radial.u;
+        let rg = &self.radial.radial_guide;
         for l in 0..L {
-            let i = wi[l];
-            let i1 = self.angular.next(i);
+            let (a, b) = (wi[l] * n, self.angular.next(wi[l]) * n);
+            ra_off[l] = a;
+            rb_off[l] = b;
+            let e = eps[l];
+            let r2b = rb[l] * rb[l];
+            w[l] = r2b * ((T::ONE - e) * c::<T>(ru[a + n - 1]) + e * c::<T>(ru[b + n - 1]));
+            let k = (r2b * c::<T>(kg as f64)).to_usize().min(kg - 1);
+            let (ga, gb) = (
+                wi[l] * (kg + 1) + k,
+                self.angular.next(wi[l]) * (kg + 1) + k,
+            );
+            lo[l] = rg[ga].min(rg[gb]) as usize;
+            hi[l] = rg[ga + 1].max(rg[gb + 1]) as usize;
+        }
+        let found = descend(&lo, &hi, &w, |l, j| {
+            (T::ONE - eps[l]) * c::<T>(ru[ra_off[l] + j]) + eps[l] * c::<T>(ru[rb_off[l] + j])
+        });
+        for l in 0..L {
+            let (i, i1) = (wi[l], self.angular.next(wi[l]));
             let e = eps[l];
             let (ua, ub) = (
                 &self.radial.u[i * n..i * n + n],
                 &self.radial.u[i1 * n..i1 * n + n],
             );
             let ut = |j: usize| (T::ONE - e) * c::<T>(ua[j]) + e * c::<T>(ub[j]);
-            let r2b = rb[l] * rb[l];
-            let w = r2b * ut(n - 1);
-            let k = (r2b * c::<T>(kg as f64)).to_usize().min(kg - 1);
-            let (ga, gb) = (
-                &self.radial.radial_guide[i * (kg + 1)..(i + 1) * (kg + 1)],
-                &self.radial.radial_guide[i1 * (kg + 1)..(i1 + 1) * (kg + 1)],
-            );
-            let (mut lo, mut hi) = (ga[k].min(gb[k]) as usize, ga[k + 1].max(gb[k + 1]) as usize);
-            while hi > lo {
-                let mid = (lo + hi).div_ceil(2);
-                if ut(mid) <= w {
-                    lo = mid;
-                } else {
-                    hi = mid - 1;
+            let w = w[l];
+            // The scalar path's three settling loops, each entered only when its condition holds
+            // at the descent's answer (rarely): Ũ_j and Ũ_{j+1} are read once in the usual case.
+            let mut j = found[l];
+            let (mut uj, mut uj1) = (ut(j), ut(j + 1));
+            if j > 0 && uj > w {
+                while j > 0 && ut(j) > w {
+                    j -= 1;
                 }
+                (uj, uj1) = (ut(j), ut(j + 1));
             }
-            let mut j = lo;
-            while j > 0 && ut(j) > w {
-                j -= 1;
-            }
-            while j + 2 < n && ut(j + 1) <= w {
-                j += 1;
+            if j + 2 < n && uj1 <= w {
+                while j + 2 < n && ut(j + 1) <= w {
+                    j += 1;
+                }
+                (uj, uj1) = (ut(j), ut(j + 1));
             }
             // The square's edge before an unlit zone at the end of the map (as Radial::forward).
-            while j > 0 && ut(j + 1) <= ut(j) {
-                j -= 1;
+            if j > 0 && uj1 <= uj {
+                while j > 0 && ut(j + 1) <= ut(j) {
+                    j -= 1;
+                }
+                uj = ut(j);
             }
             let (da, db) = (
                 &self.radial.d[i * n..i * n + n],
@@ -206,11 +289,13 @@ impl HdsCore {
             x0[l] = c(self.radial.x[j]);
             x1[l] = c(self.radial.x[j + 1]);
             inv_dx[l] = c(self.radial.inv_dx[j]);
-            m[l] = w - ut(j);
+            m[l] = w - uj;
         }
         let xr = solve_radius_block(&x0, &x1, &d0, &d1, &m);
         // Density at the radius and M_E (lift::disk_to_sphere).
         let [ox, oy, oz, od] = out;
+        let north = c::<T>(self.radial.d[0]).max(T::ZERO);
+        let south = c::<T>(self.radial.d[n - 1]).max(T::ZERO);
         for l in 0..L {
             let xr = xr[l].min(x1[l]);
             let r2 = xr * xr;
@@ -229,12 +314,11 @@ impl HdsCore {
             let xd = rd2.max(T::ZERO).min(T::TWO).sqrt();
             let t = ((xd - x0[l]) * inv_dx[l]).max(T::ZERO).min(T::ONE);
             od[l] = (d0[l] + (d1[l] - d0[l]) * t).max(T::ZERO);
-            if ox[l] == T::ZERO && oy[l] == T::ZERO {
-                // A pole: `density` reads meridian 0 there (φ = 0): parallel 0 at the north
-                // pole, the last parallel at the south pole (the rim of the Lambert disk).
-                let j = if oz[l] > T::ZERO { 0 } else { n - 1 };
-                od[l] = c::<T>(self.radial.d[j]).max(T::ZERO);
-            }
+            // A pole: `density` reads meridian 0 there (φ = 0): parallel 0 at the north pole,
+            // the last parallel at the south pole (the rim of the Lambert disk).
+            let pole_d = if oz[l] > T::ZERO { north } else { south };
+            let pole = ox[l] == T::ZERO && oy[l] == T::ZERO;
+            od[l] = if pole { pole_d } else { od[l] };
         }
     }
 
@@ -250,6 +334,7 @@ impl HdsCore {
         let n = self.radial.n;
         let (xr, p) = radius_azimuth(x, y, z);
         let (i, i1, eps) = self.sectors(&p);
+        let seg = self.segments_of(&xr);
         let (mut t, mut a0, mut a1, mut b0, mut b1) = (
             [T::ZERO; L],
             [T::ZERO; L],
@@ -258,7 +343,7 @@ impl HdsCore {
             [T::ZERO; L],
         );
         for l in 0..L {
-            let j = self.radial.segment_of(xr[l].to_f64());
+            let j = seg[l];
             let (xj, idx) = (c::<T>(self.radial.x[j]), c::<T>(self.radial.inv_dx[j]));
             t[l] = ((xr[l] - xj) * idx).clamp(T::ZERO, T::ONE);
             a0[l] = c(self.radial.d[i[l] * n + j]);
@@ -290,6 +375,7 @@ impl HdsCore {
         let n = self.radial.n;
         let (xr, p) = radius_azimuth(x, y, z);
         let (i, i1, eps) = self.sectors(&p);
+        let seg = self.segments_of(&xr);
         let (mut x0, mut x1, mut idx, mut da0, mut da1, mut db0, mut db1) = (
             [T::ZERO; L],
             [T::ZERO; L],
@@ -309,7 +395,7 @@ impl HdsCore {
             [T::ZERO; L],
         );
         for l in 0..L {
-            let j = self.radial.segment_of(xr[l].to_f64());
+            let j = seg[l];
             let (a, b) = (i[l] * n, i1[l] * n);
             x0[l] = c(self.radial.x[j]);
             x1[l] = c(self.radial.x[j + 1]);
@@ -415,6 +501,37 @@ impl HdsCore {
     }
 }
 
+/// Per lane, the largest index j in [lo, hi] with `probe(lane, j)` ≤ `w` (lo itself when none is:
+/// the caller settles that case), for a probe non-decreasing in j. Branch-free: the offset from lo
+/// is built bit by bit from the highest bit of the block's widest bracket down, the same steps for
+/// every lane, so the loop count is the block's and a lane never mispredicts a comparison.
+#[inline(always)]
+fn descend<T: PartialOrd + Copy>(
+    lo: &[usize; L],
+    hi: &[usize; L],
+    w: &[T; L],
+    probe: impl Fn(usize, usize) -> T,
+) -> [usize; L] {
+    let mut span = 0;
+    for l in 0..L {
+        span = span.max(hi[l].saturating_sub(lo[l]));
+    }
+    let mut base = *lo;
+    if span == 0 {
+        return base;
+    }
+    let mut h = 1usize << (usize::BITS - 1 - span.leading_zeros());
+    while h > 0 {
+        for l in 0..L {
+            let cand = (base[l] + h).min(hi[l].max(lo[l]));
+            // A conditional move, never a branch (LLVM would otherwise turn it into one).
+            base[l] = std::hint::select_unpredictable(probe(l, cand) <= w[l], cand, base[l]);
+        }
+        h >>= 1;
+    }
+    base
+}
+
 /// `concentric::disk_to_square`, branch-free.
 #[inline(always)]
 fn disk_to_square<T: Lane>(r: T, phi: T) -> (T, T) {
@@ -475,7 +592,11 @@ fn solve_radius_block<T: Lane>(
         iterated[l] = active[l];
         k[l] = kk;
         hi[l] = h;
-        tau[l] = t.clamp(T::ZERO, h);
+        // radial::area_guess
+        let ka = (d1[l] - d0[l]) / (h * (x0[l] + x1[l]));
+        let ds = T::TWO * m[l] / (d0[l] + (d0[l] * d0[l] + T::TWO * ka * m[l]).max(T::ZERO).sqrt());
+        let g = ds / (x0[l] + (x0[l] * x0[l] + ds).sqrt());
+        tau[l] = g.clamp(T::ZERO, h);
     }
     for _ in 0..60 {
         if !active.iter().any(|&a| a) {
@@ -484,6 +605,7 @@ fn solve_radius_block<T: Lane>(
         for l in 0..L {
             let (x0, k, t) = (x0[l], k[l], tau[l]);
             let f = partial_mass(x0, d0[l], k, t) - m[l];
+            let exact = f == T::ZERO;
             let (nlo, nhi) = if f > T::ZERO { (lo[l], t) } else { (t, hi[l]) };
             let xx = x0 + t;
             let dd = d0[l] + k * t;
@@ -497,14 +619,16 @@ fn solve_radius_block<T: Lane>(
             };
             let halley = next > nlo && next < nhi;
             let next = if halley { next } else { T::HALF * (nlo + nhi) };
+            // f = 0: the root itself, kept (the scalar loop stops before updating anything).
+            let next = if exact { t } else { next };
             let step = (next - t).abs();
             let scale = x0 + next;
             let mut stop = step <= T::STOP_STEP * scale || nhi - nlo <= T::STOP_STEP * (x0 + nhi);
-            let r = g2 / g1;
-            let cc = c::<T>(0.25) * r * r + (c::<T>(4.0) * k).abs() / (c::<T>(6.0) * g1);
-            let predicted = cc * step * step * step <= T::STOP_CUBIC * scale;
-            stop = stop || (halley && step <= T::HALLEY_SMALL * scale && predicted);
+            let cc = c::<T>(0.25) * g2 * g2 + (c::<T>(4.0) * k).abs() * g1 * c::<T>(1.0 / 6.0);
+            let predicted = cc * (step * step * step) <= T::STOP_CUBIC * scale * (g1 * g1);
+            stop = stop || exact || (halley && step <= T::HALLEY_SMALL * scale && predicted);
             let a = active[l];
+            let (nlo, nhi) = if exact { (lo[l], hi[l]) } else { (nlo, nhi) };
             tau[l] = if a { next } else { t };
             lo[l] = if a { nlo } else { lo[l] };
             hi[l] = if a { nhi } else { hi[l] };
