@@ -346,19 +346,21 @@ impl HdsCore {
             let j = seg[l];
             let (xj, idx) = (c::<T>(self.radial.x[j]), c::<T>(self.radial.inv_dx[j]));
             t[l] = ((xr[l] - xj) * idx).clamp(T::ZERO, T::ONE);
-            a0[l] = c(self.radial.d[i[l] * n + j]);
-            a1[l] = c(self.radial.d[i[l] * n + j + 1]);
-            b0[l] = c(self.radial.d[i1[l] * n + j]);
-            b1[l] = c(self.radial.d[i1[l] * n + j + 1]);
+            // Two-element windows: one bounds check per pair of nodes.
+            let da = &self.radial.d[i[l] * n + j..][..2];
+            let db = &self.radial.d[i1[l] * n + j..][..2];
+            a0[l] = c(da[0]);
+            a1[l] = c(da[1]);
+            b0[l] = c(db[0]);
+            b1[l] = c(db[1]);
         }
+        let edge = self.radial.x[n - 1] * (1.0 + 1e-12);
         for l in 0..L {
             let ra = a0[l] + t[l] * (a1[l] - a0[l]);
             let rb = b0[l] + t[l] * (b1[l] - b0[l]);
-            out[l] = ((T::ONE - eps[l]) * ra + eps[l] * rb).max(T::ZERO);
-            if xr[l].to_f64() > self.radial.x[n - 1] * (1.0 + 1e-12) {
-                // Beyond the zone the map covers: no light (`HdsCore::density`).
-                out[l] = T::ZERO;
-            }
+            let d = ((T::ONE - eps[l]) * ra + eps[l] * rb).max(T::ZERO);
+            // Beyond the zone the map covers: no light (`HdsCore::density`).
+            out[l] = if xr[l].to_f64() > edge { T::ZERO } else { d };
         }
     }
 
@@ -397,23 +399,28 @@ impl HdsCore {
         for l in 0..L {
             let j = seg[l];
             let (a, b) = (i[l] * n, i1[l] * n);
-            x0[l] = c(self.radial.x[j]);
-            x1[l] = c(self.radial.x[j + 1]);
+            // Windows of the rows and of the sector's entries: one bounds check per window.
+            let xw = &self.radial.x[j..][..2];
+            x0[l] = c(xw[0]);
+            x1[l] = c(xw[1]);
             idx[l] = c(self.radial.inv_dx[j]);
-            da0[l] = c(self.radial.d[a + j]);
-            da1[l] = c(self.radial.d[a + j + 1]);
-            db0[l] = c(self.radial.d[b + j]);
-            db1[l] = c(self.radial.d[b + j + 1]);
-            ua[l] = c(self.radial.u[a + j]);
-            ub[l] = c(self.radial.u[b + j]);
-            uan[l] = c(self.radial.u[a + n - 1]);
-            ubn[l] = c(self.radial.u[b + n - 1]);
+            let (dwa, dwb) = (&self.radial.d[a + j..][..2], &self.radial.d[b + j..][..2]);
+            da0[l] = c(dwa[0]);
+            da1[l] = c(dwa[1]);
+            db0[l] = c(dwb[0]);
+            db1[l] = c(dwb[1]);
+            let (uwa, uwb) = (&self.radial.u[a..][..n], &self.radial.u[b..][..n]);
+            ua[l] = c(uwa[j]);
+            ub[l] = c(uwb[j]);
+            uan[l] = c(uwa[n - 1]);
+            ubn[l] = c(uwb[n - 1]);
             let s = i[l];
-            cum0[l] = c(self.angular.cum[s]);
-            cum1[l] = c(self.angular.cum[s + 1]);
+            let (cw, rw) = (&self.angular.cum[s..][..2], &self.angular.r2[s..][..2]);
+            cum0[l] = c(cw[0]);
+            cum1[l] = c(cw[1]);
             beta[l] = c(self.angular.beta[s]);
-            r2a[l] = c(self.angular.r2[s]);
-            r2b[l] = c(self.angular.r2[s + 1]);
+            r2a[l] = c(rw[0]);
+            r2b[l] = c(rw[1]);
         }
         let kappa: T = c(self.angular.kappa);
         for l in 0..L {
