@@ -121,7 +121,16 @@ pub fn solve_radius(x0: f64, x1: f64, d0: f64, d1: f64, m: f64) -> f64 {
 pub(crate) fn area_guess(x0: f64, x1: f64, d0: f64, d1: f64, m: f64) -> f64 {
     let kk = (d1 - d0) / ((x1 - x0) * (x0 + x1));
     let ds = 2.0 * m / (d0 + (d0 * d0 + 2.0 * kk * m).max(0.0).sqrt());
-    ds / (x0 + (x0 * x0 + ds).sqrt())
+    let tau = ds / (x0 + (x0 * x0 + ds).sqrt());
+    if tau.is_finite() {
+        tau
+    } else {
+        // d0 = 0 and 2Km below the smallest subnormal (densities ~1e-306): the denominator is 0
+        // and τ = ∞/∞ = NaN, which the iteration would carry to the segment's end. The
+        // constant-density guess, whose m/d̄ does not underflow, instead.
+        let q = m / (0.5 * (d0 + d1));
+        q / ((x0 * x0 + q).sqrt() + x0)
+    }
 }
 
 /// The slide's Cardano solution of the intercept-form cubic (2k/3)X³ + b₀X² = RHS, without polish,
@@ -439,6 +448,21 @@ mod tests {
             worst_cardano > 1e-8,
             "plain Cardano unexpectedly accurate: {worst_cardano:e}"
         );
+    }
+
+    /// A segment from 0 to a density of 1.3e-306 (a fuzz diagram's): the linear-in-area guess
+    /// underflows (2Km < 5e-324, so its denominator is 0 and it is NaN); the solve must still
+    /// find the root, not the segment's end (found by the ill-conditioned fuzz case's
+    /// `gonio check` round trip: u = (0.99255, 0.77244) sampled the horizon and inverted to the
+    /// square's edge, 7.4e-3 away).
+    #[test]
+    fn densities_whose_area_guess_underflows() {
+        let (x0, x1, d0, d1) = (7.584728575995813e-1, 1.0, 0.0, 1.348951026719991e-306);
+        let m = 1.0491368806029343e-308;
+        assert!(area_guess(x0, x1, d0, d1, m).is_finite());
+        let x = solve_radius(x0, x1, d0, d1, m);
+        let want = bisect(x0, x1, d0, d1, m);
+        assert!((x - want).abs() < 1e-12 && x < x1 - 0.1, "{x} vs {want}");
     }
 
     #[test]
