@@ -603,6 +603,8 @@ fn solve_radius_block<T: Lane>(
         let ka = (d1[l] - d0[l]) / (h * (x0[l] + x1[l]));
         let ds = T::TWO * m[l] / (d0[l] + (d0[l] * d0[l] + T::TWO * ka * m[l]).max(T::ZERO).sqrt());
         let g = ds / (x0[l] + (x0[l] * x0[l] + ds).sqrt());
+        // Not finite where 2Km underflows with d0 = 0: the constant-density guess t instead.
+        let g = if g.is_finite() { g } else { t };
         tau[l] = g.clamp(T::ZERO, h);
     }
     for _ in 0..60 {
@@ -646,4 +648,53 @@ fn solve_radius_block<T: Lane>(
         res[l] = if iterated[l] { x0[l] + tau[l] } else { res[l] };
     }
     res
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mapping::radial::solve_radius;
+
+    /// The lanes' radial solve equals the scalar one bit for bit (f64), on ordinary segments and
+    /// on one whose linear-in-area guess underflows (d0 = 0, densities ~1e-306: the guess is
+    /// not finite and the constant-density guess must be used, as in `radial::area_guess`).
+    #[test]
+    fn radial_solve_lanes_equal_scalar() {
+        let mut segs = vec![(
+            7.584728575995813e-1,
+            1.0,
+            0.0,
+            1.348951026719991e-306,
+            1.0491368806029343e-308,
+        )];
+        let mut state = 12345u64;
+        let mut rnd = || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for _ in 0..63 {
+            let x0 = rnd() * 0.9;
+            let x1 = x0 + rnd() * 0.1 + 1e-3;
+            let (d0, d1) = (rnd().powi(4) + 1e-3, rnd().powi(4) + 1e-3);
+            let mass = crate::mapping::radial::segment_mass(x0, x1, d0, d1);
+            segs.push((x0, x1, d0, d1, rnd() * mass));
+        }
+        for block in segs.chunks(L) {
+            let get = |k: usize| -> [f64; L] {
+                let mut a = [0.0; L];
+                for (l, s) in block.iter().enumerate() {
+                    a[l] = [s.0, s.1, s.2, s.3, s.4][k];
+                }
+                a
+            };
+            let got = solve_radius_block(&get(0), &get(1), &get(2), &get(3), &get(4));
+            for (l, s) in block.iter().enumerate() {
+                let want = solve_radius(s.0, s.1, s.2, s.3, s.4);
+                assert!(want.is_finite() && want < s.1 || s.4 <= 0.0);
+                assert_eq!(got[l].to_bits(), want.to_bits(), "segment {s:?}");
+            }
+        }
+    }
 }
