@@ -68,67 +68,19 @@ impl HdsCore {
     }
 
     /// The wedge of each B-disk azimuth of a block (`Angular::wedge`: the largest i ≤ M − 1 with
-    /// Γ_i ≤ φ_B), by a branch-free descent over the guide table's bracket.
+    /// Γ_i ≤ φ_B).
     #[inline(always)]
     fn wedges<T: Lane>(&self, pb: &[T; L], out: &mut [usize; L]) {
         let a = &self.angular;
-        let (cum, guide, last) = (&a.cum, &a.wedge_guide, a.m - 1);
-        let kmax = guide.len() - 1;
-        let (mut lo, mut hi, mut x) = ([0usize; L], [0usize; L], [0.0f64; L]);
-        for l in 0..L {
-            x[l] = pb[l].to_f64();
-            let k = ((x[l] * a.guide_scale) as usize).min(kmax);
-            lo[l] = guide[k] as usize;
-            hi[l] = if k < kmax {
-                guide[k + 1] as usize
-            } else {
-                last
-            };
-        }
-        let found = descend(&lo, &hi, &x, |_, i| cum[i]);
-        for l in 0..L {
-            // Round-off of the guide cell may leave the answer just outside the bracket.
-            let mut i = found[l];
-            while i > 0 && cum[i] > x[l] {
-                i -= 1;
-            }
-            while i < last && cum[i + 1] <= x[l] {
-                i += 1;
-            }
-            out[l] = i;
-        }
+        *out = guided_block(&a.cum, &a.wedge_guide, a.guide_scale, pb, a.m - 1);
     }
 
     /// The parallel segment of each disk radius of a block (`Radial::segment_of`: the largest
-    /// j ≤ N − 2 with x_j ≤ x_r), by a branch-free descent over the guide table's bracket.
+    /// j ≤ N − 2 with x_j ≤ x_r).
     #[inline(always)]
     fn segments_of<T: Lane>(&self, xr: &[T; L]) -> [usize; L] {
         let r = &self.radial;
-        let (xs, guide, last) = (&r.x, &r.radius_guide, r.n - 2);
-        let kmax = guide.len() - 1;
-        let (mut lo, mut hi, mut x) = ([0usize; L], [0usize; L], [0.0f64; L]);
-        for l in 0..L {
-            x[l] = xr[l].to_f64();
-            let k = ((x[l] * r.radius_scale) as usize).min(kmax);
-            lo[l] = (guide[k] as usize).min(last);
-            hi[l] = if k < kmax {
-                (guide[k + 1] as usize).min(last)
-            } else {
-                last
-            };
-        }
-        let mut found = descend(&lo, &hi, &x, |_, j| xs[j]);
-        for l in 0..L {
-            // Round-off of the guide cell may leave the answer just outside the bracket.
-            let j = &mut found[l];
-            while *j > 0 && xs[*j] > x[l] {
-                *j -= 1;
-            }
-            while *j < last && xs[*j + 1] <= x[l] {
-                *j += 1;
-            }
-        }
-        found
+        guided_block(&r.x, &r.radius_guide, r.radius_scale, xr, r.n - 2)
     }
 
     /// Sector, ε and the next meridian for a block of azimuths (`HdsCore::sector`).
@@ -506,6 +458,43 @@ impl HdsCore {
             start += cnt;
         }
     }
+}
+
+/// `mapping::guided_search` for a block: per lane, the largest i ≤ `last` with a_i ≤ x (0 if
+/// none), for non-decreasing `a`, by a branch-free descent over the bracket of the guide table
+/// (cell k covers [k, k + 1)/`scale`), then the scalar search's settling steps, entered only when
+/// round-off left the answer outside the bracket.
+#[inline(always)]
+fn guided_block<T: Lane>(
+    a: &[f64],
+    guide: &[u32],
+    scale: f64,
+    xs: &[T; L],
+    last: usize,
+) -> [usize; L] {
+    let kmax = guide.len() - 1;
+    let (mut lo, mut hi, mut x) = ([0usize; L], [0usize; L], [0.0f64; L]);
+    for l in 0..L {
+        x[l] = xs[l].to_f64();
+        let k = ((x[l] * scale) as usize).min(kmax);
+        lo[l] = (guide[k] as usize).min(last);
+        hi[l] = if k < kmax {
+            (guide[k + 1] as usize).min(last)
+        } else {
+            last
+        };
+    }
+    let mut found = descend(&lo, &hi, &x, |_, i| a[i]);
+    for l in 0..L {
+        let i = &mut found[l];
+        while *i > 0 && a[*i] > x[l] {
+            *i -= 1;
+        }
+        while *i < last && a[*i + 1] <= x[l] {
+            *i += 1;
+        }
+    }
+    found
 }
 
 /// Per lane, the largest index j in [lo, hi] with `probe(lane, j)` ≤ `w` (lo itself when none is:
