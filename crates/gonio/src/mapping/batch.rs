@@ -45,12 +45,34 @@ const PAR_CHUNK: usize = 4096;
 mod avx2 {
     use super::HdsCore;
     use crate::mapping::simd::Lane;
+    use std::any::TypeId;
 
     /// # Safety
     /// The CPU must support AVX2 and FMA.
     #[target_feature(enable = "avx2,fma")]
     pub(super) unsafe fn sample<T: Lane>(c: &HdsCore, u: &[T], v: &[T], out: [&mut [T]; 4]) {
+        if let (Some(u), Some(v)) = (as_f64(u), as_f64(v)) {
+            if c.avx2_indexable() {
+                let [x, y, z, d] = out.map(|o| as_f64_mut(o).expect("T is f64"));
+                return c.sample_slices_avx2(u, v, [x, y, z, d]);
+            }
+        }
         c.sample_slices(u, v, out)
+    }
+
+    /// `s` as an f64 slice when `T` is f64 (the explicit f64 kernels), else `None`.
+    fn as_f64<T: Lane>(s: &[T]) -> Option<&[f64]> {
+        (TypeId::of::<T>() == TypeId::of::<f64>())
+            // SAFETY: T is f64: same layout, same length.
+            .then(|| unsafe { std::slice::from_raw_parts(s.as_ptr().cast::<f64>(), s.len()) })
+    }
+
+    /// [`as_f64`] for a mutable slice.
+    fn as_f64_mut<T: Lane>(s: &mut [T]) -> Option<&mut [f64]> {
+        (TypeId::of::<T>() == TypeId::of::<f64>()).then(|| {
+            // SAFETY: T is f64: same layout, same length; `s` is borrowed mutably for the result.
+            unsafe { std::slice::from_raw_parts_mut(s.as_mut_ptr().cast::<f64>(), s.len()) }
+        })
     }
     /// # Safety
     /// The CPU must support AVX2 and FMA.

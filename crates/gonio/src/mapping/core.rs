@@ -14,6 +14,8 @@ use crate::diagram::{Diagram, DiagramError};
 use crate::sampler::Vec3;
 use std::f64::consts::PI;
 
+#[cfg(target_arch = "x86_64")]
+mod avx2;
 mod lanes;
 
 /// One HDS map (ALGORITHM §4): the tables of its two table-driven stages, M_C ([`Angular`]) and

@@ -23,44 +23,23 @@ use std::f64::consts::{FRAC_PI_2, PI};
 
 /// π/2 split into three parts for Cody–Waite reduction: the first two have 32 significant bits, so
 /// k·P1 and k·P2 are exact for |k| < 2²¹.
-const PIO2_1: f64 = 1.570_796_326_734_125_6;
-const PIO2_2: f64 = 6.077_100_506_303_966e-11;
-const PIO2_3: f64 = 2.022_266_248_795_950_6e-21;
-const TWO_OVER_PI: f64 = std::f64::consts::FRAC_2_PI;
+pub(crate) const PIO2_1: f64 = 1.570_796_326_734_125_6;
+pub(crate) const PIO2_2: f64 = 6.077_100_506_303_966e-11;
+pub(crate) const PIO2_3: f64 = 2.022_266_248_795_950_6e-21;
+pub(crate) const TWO_OVER_PI: f64 = std::f64::consts::FRAC_2_PI;
 /// 1.5·2⁵²: adding and subtracting it rounds a double of magnitude < 2⁵¹ to the nearest integer.
-const ROUND_MAGIC: f64 = 6_755_399_441_055_744.0;
+pub(crate) const ROUND_MAGIC: f64 = 6_755_399_441_055_744.0;
 
 /// sin r and cos r for |r| ≤ π/4 (plus the reduction's round-off): Taylor series to degree 17 / 18,
 /// whose truncation error is below 5·10⁻¹⁷ relative there. Horner form in r².
 #[inline(always)]
 fn sin_cos_kernel(r: f64) -> (f64, f64) {
     let z = r * r;
-    // sin: r + r³·(−1/3! + z(1/5! − z(...)))
-    const S: [f64; 8] = [
-        -1.0 / 6.0,
-        1.0 / 120.0,
-        -1.0 / 5040.0,
-        1.0 / 362_880.0,
-        -1.0 / 39_916_800.0,
-        1.0 / 6_227_020_800.0,
-        -1.0 / 1_307_674_368_000.0,
-        1.0 / 355_687_428_096_000.0,
-    ];
-    const C: [f64; 8] = [
-        1.0 / 24.0,
-        -1.0 / 720.0,
-        1.0 / 40_320.0,
-        -1.0 / 3_628_800.0,
-        1.0 / 479_001_600.0,
-        -1.0 / 87_178_291_200.0,
-        1.0 / 20_922_789_888_000.0,
-        -1.0 / 6_402_373_705_728_000.0,
-    ];
-    let mut ps = S[7];
-    let mut pc = C[7];
+    let mut ps = SIN_TAYLOR[7];
+    let mut pc = COS_TAYLOR[7];
     for k in (0..7).rev() {
-        ps = ps * z + S[k];
-        pc = pc * z + C[k];
+        ps = ps * z + SIN_TAYLOR[k];
+        pc = pc * z + COS_TAYLOR[k];
     }
     let s = r + r * z * ps;
     // cos r = 1 − z/2 + z²·pc, summed so that the large terms cancel last.
@@ -69,6 +48,29 @@ fn sin_cos_kernel(r: f64) -> (f64, f64) {
     let c = w + (((1.0 - w) - hz) + z * z * pc);
     (s, c)
 }
+
+/// The sine series of [`sin_cos`] after r + r³·(…): −1/3!, 1/5!, …, 1/17! (Horner in r²).
+pub(crate) const SIN_TAYLOR: [f64; 8] = [
+    -1.0 / 6.0,
+    1.0 / 120.0,
+    -1.0 / 5040.0,
+    1.0 / 362_880.0,
+    -1.0 / 39_916_800.0,
+    1.0 / 6_227_020_800.0,
+    -1.0 / 1_307_674_368_000.0,
+    1.0 / 355_687_428_096_000.0,
+];
+/// The cosine series of [`sin_cos`] after 1 − r²/2 + r⁴·(…): 1/4!, −1/6!, …, −1/18!.
+pub(crate) const COS_TAYLOR: [f64; 8] = [
+    1.0 / 24.0,
+    -1.0 / 720.0,
+    1.0 / 40_320.0,
+    -1.0 / 3_628_800.0,
+    1.0 / 479_001_600.0,
+    -1.0 / 87_178_291_200.0,
+    1.0 / 20_922_789_888_000.0,
+    -1.0 / 6_402_373_705_728_000.0,
+];
 
 /// (sin x, cos x) for |x| ≤ 2²⁰, branch-free (see the module's accuracy table). Outside that range
 /// the reduction loses accuracy (the batch paths only pass azimuths in [0, 2π]).

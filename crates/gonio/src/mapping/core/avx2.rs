@@ -1,0 +1,691 @@
+//! Explicit AVX2 kernels of the f64 batch paths: the forward map on blocks of [`BLOCK`] points
+//! (K = 4 independent `__m256d` chains of four lanes), with the table searches as vector descents
+//! over AVX2 gathers.
+//!
+//! The generic lane kernels ([`super::lanes`]) keep the table searches per-lane scalar loops, and
+//! profiling showed that those loops, the per-lane table reads and their address arithmetic made up
+//! more than half of the f64 forward map's instructions (`docs/PERFORMANCE.md`). Here every stage
+//! runs on whole vectors: the guide-table lookups and the descents of the wedge and radial searches
+//! read the tables with `vgatherqpd`, the searches' rare settling steps (an answer that round-off
+//! left outside its bracket) are detected on the vector and redone per lane only where needed.
+//!
+//! **Bit for bit the lanes' results.** Every operation is the one the lane kernel performs, in its
+//! order, with the same IEEE-rounded instructions (no fused multiply–add); `f64::min`/`max` are
+//! spelled out with their NaN rules ([`fmin`], [`fmax`]), and the lanes' `sin_cos` is ported
+//! operation by operation ([`sin_cos`]). The batch tests compare this backend with the portable
+//! one bit for bit.
+//!
+//! **Memory safety.** Every gather index is clamped into its table ([`gather`]), so that no input
+//! (NaN, infinities, points outside the square) can make a gather read outside a table; the clamp
+//! never changes an index the lane kernel would use, since those are in bounds by construction.
+
+use super::HdsCore;
+use crate::mapping::simd::math::{
+    COS_TAYLOR, PIO2_1, PIO2_2, PIO2_3, ROUND_MAGIC, SIN_TAYLOR, TWO_OVER_PI,
+};
+use std::arch::x86_64::*;
+use std::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI, TAU};
+
+/// Vectors per block: independent chains that the core overlaps (the kernel's stages are long
+/// dependency chains of gathers, divisions and square roots).
+const K: usize = 4;
+/// Points per block.
+pub(crate) const BLOCK: usize = 4 * K;
+
+/// K vectors of four f64 lanes (a value, or a mask of all-ones / all-zeros lanes).
+#[derive(Clone, Copy)]
+struct F([__m256d; K]);
+/// K vectors of four i64 lanes (table indices).
+#[derive(Clone, Copy)]
+struct I([__m256i; K]);
+
+macro_rules! f_binary {
+    ($($name:ident => $op:expr;)*) => {$(
+        #[inline]
+        #[target_feature(enable = "avx2,fma")]
+        fn $name(a: F, b: F) -> F {
+            let mut o = a;
+            for k in 0..K {
+                o.0[k] = $op(a.0[k], b.0[k]);
+            }
+            o
+        }
+    )*};
+}
+f_binary! {
+    add => _mm256_add_pd;
+    sub => _mm256_sub_pd;
+    mul => _mm256_mul_pd;
+    div => _mm256_div_pd;
+    lt => _mm256_cmp_pd::<_CMP_LT_OQ>;
+    le => _mm256_cmp_pd::<_CMP_LE_OQ>;
+    gt => _mm256_cmp_pd::<_CMP_GT_OQ>;
+    ge => _mm256_cmp_pd::<_CMP_GE_OQ>;
+    eq => _mm256_cmp_pd::<_CMP_EQ_OQ>;
+    and => _mm256_and_pd;
+    or => _mm256_or_pd;
+}
+
+macro_rules! i_binary {
+    ($($name:ident => $op:expr;)*) => {$(
+        #[inline]
+        #[target_feature(enable = "avx2,fma")]
+        fn $name(a: I, b: I) -> I {
+            let mut o = a;
+            for k in 0..K {
+                o.0[k] = $op(a.0[k], b.0[k]);
+            }
+            o
+        }
+    )*};
+}
+i_binary! {
+    iadd => _mm256_add_epi64;
+    isub => _mm256_sub_epi64;
+    imin => |a, b| _mm256_blendv_epi8(a, b, _mm256_cmpgt_epi64(a, b));
+    imax => |a, b| _mm256_blendv_epi8(b, a, _mm256_cmpgt_epi64(a, b));
+    // a · b for lanes below 2³² (the low halves' 64-bit product).
+    imul => _mm256_mul_epu32;
+}
+
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn splat(x: f64) -> F {
+    F([_mm256_set1_pd(x); K])
+}
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn zero() -> F {
+    splat(0.0)
+}
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn sqrt(a: F) -> F {
+    let mut o = a;
+    for k in 0..K {
+        o.0[k] = _mm256_sqrt_pd(a.0[k]);
+    }
+    o
+}
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn abs(a: F) -> F {
+    let mut o = a;
+    for k in 0..K {
+        o.0[k] = _mm256_andnot_pd(_mm256_set1_pd(-0.0), a.0[k]);
+    }
+    o
+}
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn neg(a: F) -> F {
+    let mut o = a;
+    for k in 0..K {
+        o.0[k] = _mm256_xor_pd(a.0[k], _mm256_set1_pd(-0.0));
+    }
+    o
+}
+/// NaN lanes of `a`.
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn isnan(a: F) -> F {
+    let mut o = a;
+    for k in 0..K {
+        o.0[k] = _mm256_cmp_pd::<_CMP_UNORD_Q>(a.0[k], a.0[k]);
+    }
+    o
+}
+/// `!m`.
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn not(m: F) -> F {
+    let mut o = m;
+    for k in 0..K {
+        o.0[k] = _mm256_xor_pd(m.0[k], _mm256_castsi256_pd(_mm256_set1_epi64x(-1)));
+    }
+    o
+}
+/// Per lane `if m { a } else { b }`.
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn sel(m: F, a: F, b: F) -> F {
+    let mut o = a;
+    for k in 0..K {
+        o.0[k] = _mm256_blendv_pd(b.0[k], a.0[k], m.0[k]);
+    }
+    o
+}
+/// Whether any lane of the mask is set.
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn any(m: F) -> bool {
+    let mut acc = m.0[0];
+    for k in 1..K {
+        acc = _mm256_or_pd(acc, m.0[k]);
+    }
+    _mm256_movemask_pd(acc) != 0
+}
+/// `a.max(b)` as Rust computes it on x86 (`maxnum`): `b` where `b > a` or `a` is NaN, else `a`.
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn fmax(a: F, b: F) -> F {
+    sel(or(gt(b, a), isnan(a)), b, a)
+}
+/// `a.min(b)` as Rust computes it on x86 (`minnum`): `b` where `b < a` or `a` is NaN, else `a`.
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn fmin(a: F, b: F) -> F {
+    sel(or(lt(b, a), isnan(a)), b, a)
+}
+/// `Lane::clamp` (NaN passes through).
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn clamp(x: F, lo: F, hi: F) -> F {
+    let x = sel(lt(x, lo), lo, x);
+    sel(gt(x, hi), hi, x)
+}
+/// Lanes with |a| < ∞ (not NaN, not ±∞).
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn is_finite(a: F) -> F {
+    lt(abs(a), splat(f64::INFINITY))
+}
+
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn isplat(x: usize) -> I {
+    I([_mm256_set1_epi64x(x as i64); K])
+}
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn izero() -> I {
+    isplat(0)
+}
+/// Per lane `if m { a } else { b }`, `m` an f64 mask.
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn isel(m: F, a: I, b: I) -> I {
+    let mut o = a;
+    for k in 0..K {
+        o.0[k] = _mm256_castpd_si256(_mm256_blendv_pd(
+            _mm256_castsi256_pd(b.0[k]),
+            _mm256_castsi256_pd(a.0[k]),
+            m.0[k],
+        ));
+    }
+    o
+}
+/// `a == b` as an f64 mask.
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn ieq(a: I, b: I) -> F {
+    let mut o = zero();
+    for k in 0..K {
+        o.0[k] = _mm256_castsi256_pd(_mm256_cmpeq_epi64(a.0[k], b.0[k]));
+    }
+    o
+}
+/// `a > b` (signed) as an f64 mask.
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn igt(a: I, b: I) -> F {
+    let mut o = zero();
+    for k in 0..K {
+        o.0[k] = _mm256_castsi256_pd(_mm256_cmpgt_epi64(a.0[k], b.0[k]));
+    }
+    o
+}
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn ilanes(a: I) -> [usize; BLOCK] {
+    let mut o = [0i64; BLOCK];
+    for k in 0..K {
+        // SAFETY: `o` holds 4K i64; unaligned store of four.
+        unsafe { _mm256_storeu_si256(o[4 * k..].as_mut_ptr().cast(), a.0[k]) };
+    }
+    o.map(|x| x as usize)
+}
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn flanes(a: F) -> [f64; BLOCK] {
+    let mut o = [0.0; BLOCK];
+    for k in 0..K {
+        // SAFETY: `o` holds 4K f64; unaligned store of four.
+        unsafe { _mm256_storeu_pd(o[4 * k..].as_mut_ptr(), a.0[k]) };
+    }
+    o
+}
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn fload(a: &[f64; BLOCK]) -> F {
+    let mut o = zero();
+    for k in 0..K {
+        // SAFETY: `a` holds 4K f64; unaligned load of four.
+        o.0[k] = unsafe { _mm256_loadu_pd(a[4 * k..].as_ptr()) };
+    }
+    o
+}
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn ifrom(a: [usize; BLOCK]) -> I {
+    let mut o = izero();
+    for k in 0..K {
+        let q = &a[4 * k..4 * k + 4];
+        o.0[k] = _mm256_setr_epi64x(q[0] as i64, q[1] as i64, q[2] as i64, q[3] as i64);
+    }
+    o
+}
+
+/// `(x as usize).min(kmax)` per lane (NaN and negatives give 0), for `kmax` < 2³¹.
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn to_index(x: F, kmax: usize) -> I {
+    // maxpd returns its second operand for a NaN lane: 0, as `as usize` does.
+    let mut o = izero();
+    for k in 0..K {
+        let v = _mm256_min_pd(
+            _mm256_max_pd(x.0[k], _mm256_setzero_pd()),
+            _mm256_set1_pd(kmax as f64),
+        );
+        o.0[k] = _mm256_cvtepi32_epi64(_mm256_cvttpd_epi32(v));
+    }
+    o
+}
+
+/// `t[idx]` per lane, the index clamped into `t` first (`t` must not be empty).
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn gather(t: &[f64], idx: I) -> F {
+    assert!(!t.is_empty());
+    let idx = imax(imin(idx, isplat(t.len() - 1)), izero());
+    let mut o = zero();
+    for k in 0..K {
+        // SAFETY: every index lies in 0..t.len().
+        o.0[k] = unsafe { _mm256_i64gather_pd::<8>(t.as_ptr(), idx.0[k]) };
+    }
+    o
+}
+
+/// `t[idx] as usize` per lane for a u32 table, the index clamped into `t` first.
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn gather_u32(t: &[u32], idx: I) -> I {
+    assert!(!t.is_empty());
+    let idx = imax(imin(idx, isplat(t.len() - 1)), izero());
+    let mut o = idx;
+    for k in 0..K {
+        // SAFETY: every index lies in 0..t.len(); u32 and i32 have the same layout.
+        let g = unsafe { _mm256_i64gather_epi32::<4>(t.as_ptr().cast(), idx.0[k]) };
+        o.0[k] = _mm256_cvtepu32_epi64(g);
+    }
+    o
+}
+
+/// The lanes' `descend`: per lane the largest j in [lo, hi] with `probe(j)` ≤ `w` (lo when none
+/// is), by the same bit-by-bit steps.
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn descend(lo: I, hi: I, w: F, probe: impl Fn(I) -> F) -> I {
+    let span = ilanes(imax(isub(hi, lo), izero()))
+        .into_iter()
+        .max()
+        .unwrap_or(0);
+    let mut base = lo;
+    if span == 0 {
+        return base;
+    }
+    let top = imax(hi, lo);
+    let mut h = 1usize << (usize::BITS - 1 - span.leading_zeros());
+    while h > 0 {
+        let cand = imin(iadd(base, isplat(h)), top);
+        base = isel(le(probe(cand), w), cand, base);
+        h >>= 1;
+    }
+    base
+}
+
+/// The lanes' `guided_block`: per lane the largest i ≤ `last` with a_i ≤ x (0 if none) for
+/// non-decreasing `a`, from the guide table's bracket, then the settling steps (per lane, only
+/// where the vector check finds one needed).
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn guided(a: &[f64], guide: &[u32], scale: f64, x: F, last: usize) -> I {
+    let kmax = guide.len() - 1;
+    let k = to_index(mul(x, splat(scale)), kmax);
+    let lastv = isplat(last);
+    let lo = imin(gather_u32(guide, k), lastv);
+    let below_top = igt(isplat(kmax), k);
+    let hi = isel(
+        below_top,
+        imin(gather_u32(guide, iadd(k, isplat(1))), lastv),
+        lastv,
+    );
+    let found = descend(lo, hi, x, |j| gather(a, j));
+    // Settling: i > 0 with a_i > x, or i < last with a_{i+1} ≤ x.
+    let zero_i = izero();
+    let down = and(igt(found, zero_i), gt(gather(a, found), x));
+    let up = and(igt(lastv, found), le(gather(a, iadd(found, isplat(1))), x));
+    if !any(or(down, up)) {
+        return found;
+    }
+    let (mut f, xs) = (ilanes(found), flanes(x));
+    for l in 0..BLOCK {
+        let i = &mut f[l];
+        while *i > 0 && a[*i] > xs[l] {
+            *i -= 1;
+        }
+        while *i < last && a[*i + 1] <= xs[l] {
+            *i += 1;
+        }
+    }
+    ifrom(f)
+}
+
+/// `math::sin_cos` on four lanes, operation for operation.
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn sin_cos(x: F) -> (F, F) {
+    let magic = splat(ROUND_MAGIC);
+    let k = sub(add(mul(x, splat(TWO_OVER_PI)), magic), magic);
+    let r = sub(
+        sub(sub(x, mul(k, splat(PIO2_1))), mul(k, splat(PIO2_2))),
+        mul(k, splat(PIO2_3)),
+    );
+    let z = mul(r, r);
+    let mut ps = splat(SIN_TAYLOR[7]);
+    let mut pc = splat(COS_TAYLOR[7]);
+    for k in (0..7).rev() {
+        ps = add(mul(ps, z), splat(SIN_TAYLOR[k]));
+        pc = add(mul(pc, z), splat(COS_TAYLOR[k]));
+    }
+    let s = add(r, mul(mul(r, z), ps));
+    let one = splat(1.0);
+    let hz = mul(splat(0.5), z);
+    let w = sub(one, hz);
+    let c = add(w, add(sub(sub(one, w), hz), mul(mul(z, z), pc)));
+    let k4 = mul(k, splat(0.25));
+    let n = sub(add(k4, magic), magic);
+    let q = sub(k, mul(splat(4.0), sel(gt(n, k4), sub(n, one), n)));
+    let (q1, q2, q3) = (eq(q, one), eq(q, splat(2.0)), eq(q, splat(3.0)));
+    let swap = or(q1, q3);
+    let (s1, c1) = (sel(swap, c, s), sel(swap, s, c));
+    let sin = sel(or(q2, q3), neg(s1), s1);
+    let cos = sel(or(q1, q2), neg(c1), c1);
+    (sin, cos)
+}
+
+/// `radial::partial_mass`, same operation order.
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn partial_mass(x0: F, d0: F, k: F, tau: F) -> F {
+    let two = splat(2.0);
+    mul(
+        tau,
+        add(
+            mul(mul(two, x0), d0),
+            mul(
+                tau,
+                add(add(mul(x0, k), d0), mul(mul(tau, splat(2.0 / 3.0)), k)),
+            ),
+        ),
+    )
+}
+
+/// The lanes' `solve_radius_block` (Halley safeguarded by bisection, masked per lane).
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn solve_radius(x0: F, x1: F, d0: F, d1: F, m: F) -> F {
+    let (z, one, two, half) = (zero(), splat(1.0), splat(2.0), splat(0.5));
+    let h = sub(x1, x0);
+    let kk = div(sub(d1, d0), h);
+    let dbar = mul(half, add(d0, d1));
+    let q = div(m, dbar);
+    let t = div(q, add(sqrt(add(mul(x0, x0), q)), x0));
+    let early = or(or(not(gt(m, z)), not(gt(h, z))), not(gt(dbar, z)));
+    let konst = eq(kk, z);
+    let res = sel(early, x0, sel(konst, add(x0, fmin(t, h)), z));
+    let mut active = and(not(early), not(konst));
+    let iterated = active;
+    let k = kk;
+    let mut hi = h;
+    let mut lo = z;
+    // radial::area_guess
+    let ka = div(sub(d1, d0), mul(h, add(x0, x1)));
+    let ds = div(
+        mul(two, m),
+        add(d0, sqrt(fmax(add(mul(d0, d0), mul(mul(two, ka), m)), z))),
+    );
+    let g = div(ds, add(x0, sqrt(add(mul(x0, x0), ds))));
+    let g = sel(is_finite(g), g, t);
+    let mut tau = clamp(g, z, h);
+    let (stop_step, stop_cubic, halley_small) = (splat(1e-15), splat(1e-17), splat(1e-5));
+    for _ in 0..60 {
+        if !any(active) {
+            break;
+        }
+        let t = tau;
+        let f = sub(partial_mass(x0, d0, k, t), m);
+        let exact = eq(f, z);
+        let pos = gt(f, z);
+        let (nlo, nhi) = (sel(pos, lo, t), sel(pos, t, hi));
+        let xx = add(x0, t);
+        let dd = add(d0, mul(k, t));
+        let g1 = mul(mul(two, xx), dd);
+        let g2 = mul(two, add(dd, mul(k, xx)));
+        let den = sub(mul(g1, g1), mul(mul(half, f), g2));
+        let next = sel(
+            and(gt(g1, z), gt(den, z)),
+            sub(t, div(mul(f, g1), den)),
+            splat(f64::NAN),
+        );
+        let halley = and(gt(next, nlo), lt(next, nhi));
+        let next = sel(halley, next, mul(half, add(nlo, nhi)));
+        let next = sel(exact, t, next);
+        let step = abs(sub(next, t));
+        let scale = add(x0, next);
+        let stop = or(
+            le(step, mul(stop_step, scale)),
+            le(sub(nhi, nlo), mul(stop_step, add(x0, nhi))),
+        );
+        let cc = add(
+            mul(mul(splat(0.25), g2), g2),
+            mul(mul(abs(mul(splat(4.0), k)), g1), splat(1.0 / 6.0)),
+        );
+        let predicted = le(
+            mul(cc, mul(mul(step, step), step)),
+            mul(mul(stop_cubic, scale), mul(g1, g1)),
+        );
+        let stop = or(
+            or(stop, exact),
+            and(and(halley, le(step, mul(halley_small, scale))), predicted),
+        );
+        let (nlo, nhi) = (sel(exact, lo, nlo), sel(exact, hi, nhi));
+        tau = sel(active, next, t);
+        lo = sel(active, nlo, lo);
+        hi = sel(active, nhi, hi);
+        active = and(active, not(stop));
+    }
+    let _ = one;
+    sel(iterated, add(x0, tau), res)
+}
+
+impl HdsCore {
+    /// Whether the explicit kernels can index this map's tables (indices below 2³¹; every map
+    /// that fits in memory today, checked anyway).
+    pub(crate) fn avx2_indexable(&self) -> bool {
+        let lim = 1usize << 31;
+        self.radial.u.len() < lim
+            && self.radial.radial_guide.len() < lim
+            && self.angular.wedge_guide.len() < lim
+            && self.angular.m < lim
+            && self.radial.n < lim
+    }
+
+    /// The forward map on one block: directions and the disk density D (as
+    /// `lanes::sample_block`).
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    fn sample_block_avx2(&self, u: F, v: F) -> [F; 4] {
+        let (ang, rad) = (&self.angular, &self.radial);
+        let n = rad.n;
+        let (z, one, two, half) = (zero(), splat(1.0), splat(2.0), splat(0.5));
+        // M_B (concentric::square_to_disk), branch-free.
+        let a = sub(mul(two, u), one);
+        let b = sub(mul(two, v), one);
+        let big = gt(abs(a), abs(b));
+        let (r, num, den) = (sel(big, a, b), sel(big, b, a), sel(big, a, b));
+        let q = div(num, den);
+        let quarter = splat(FRAC_PI_4);
+        let phi = sel(big, mul(quarter, q), sub(splat(FRAC_PI_2), mul(quarter, q)));
+        let negr = lt(r, z);
+        let r = sel(negr, neg(r), r);
+        let phi = sel(negr, add(phi, splat(PI)), phi);
+        let phi = sel(lt(phi, z), add(phi, splat(TAU)), phi);
+        let phi = sel(ge(phi, splat(TAU)), z, phi);
+        let origin = and(eq(a, z), eq(b, z));
+        let rb = sel(origin, z, r);
+        let pb = sel(origin, z, phi);
+
+        // M_C: the wedge search, then the wedge equation (angular::solve_wedge).
+        let wi = guided(&ang.cum, &ang.wedge_guide, ang.guide_scale, pb, ang.m - 1);
+        let beta = gather(&ang.beta, wi);
+        let ra = gather(&ang.r2, wi);
+        let rbb = gather(&ang.r2, iadd(wi, isplat(1)));
+        let cum = gather(&ang.cum, wi);
+        let phi0 = gather(&ang.phi, wi);
+        let kappa = splat(ang.kappa);
+        let gamma = div(sub(pb, cum), kappa);
+        let aa = mul(mul(half, beta), sub(rbb, ra));
+        let bb = mul(beta, ra);
+        let cc = fmax(gamma, z);
+        let den = add(
+            bb,
+            sqrt(fmax(add(mul(bb, bb), mul(mul(splat(4.0), aa), cc)), z)),
+        );
+        let eps = sel(gt(den, z), clamp(div(mul(two, cc), den), z, one), z);
+        let phic = add(phi0, mul(eps, beta));
+
+        // M_D: the radial search over the blended CDF of the wedge's two meridians.
+        let w1 = iadd(wi, isplat(1));
+        let wn = isel(ieq(w1, isplat(ang.m)), izero(), w1);
+        let nv = isplat(n);
+        let (a_off, b_off) = (imul(wi, nv), imul(wn, nv));
+        let ome = sub(one, eps);
+        let blend = |t: &[f64], j: I| {
+            add(
+                mul(ome, gather(t, iadd(a_off, j))),
+                mul(eps, gather(t, iadd(b_off, j))),
+            )
+        };
+        let r2b = mul(rb, rb);
+        let w = mul(r2b, blend(&rad.u, isplat(n - 1)));
+        let kg = rad.radial_k;
+        let kk = to_index(mul(r2b, splat(kg as f64)), kg - 1);
+        let kgv = isplat(kg + 1);
+        let ga = iadd(imul(wi, kgv), kk);
+        let gb = iadd(imul(wn, kgv), kk);
+        let rg = &rad.radial_guide;
+        let lo = imin(gather_u32(rg, ga), gather_u32(rg, gb));
+        let i1 = isplat(1);
+        let hi = imax(gather_u32(rg, iadd(ga, i1)), gather_u32(rg, iadd(gb, i1)));
+        let mut j = descend(lo, hi, w, |j| blend(&rad.u, j));
+        let mut uj = blend(&rad.u, j);
+        let uj1 = blend(&rad.u, iadd(j, i1));
+        // The lanes' settling loops, redone per lane where any of their conditions holds.
+        let zi = izero();
+        let jpos = igt(j, zi);
+        let settle = or(
+            or(
+                and(jpos, gt(uj, w)),
+                and(igt(isplat(n), iadd(j, isplat(2))), le(uj1, w)),
+            ),
+            and(jpos, le(uj1, uj)),
+        );
+        if any(settle) {
+            let (mut js, ujs) = (ilanes(j), flanes(uj));
+            let (ws, es, ais, bis) = (flanes(w), flanes(eps), ilanes(a_off), ilanes(b_off));
+            let mut ujo = ujs;
+            for l in 0..BLOCK {
+                let (e, wl) = (es[l], ws[l]);
+                let (ua, ub) = (&rad.u[ais[l]..ais[l] + n], &rad.u[bis[l]..bis[l] + n]);
+                let ut = |j: usize| (1.0 - e) * ua[j] + e * ub[j];
+                let mut j = js[l];
+                let (mut uj, mut uj1) = (ut(j), ut(j + 1));
+                if j > 0 && uj > wl {
+                    while j > 0 && ut(j) > wl {
+                        j -= 1;
+                    }
+                    (uj, uj1) = (ut(j), ut(j + 1));
+                }
+                if j + 2 < n && uj1 <= wl {
+                    while j + 2 < n && ut(j + 1) <= wl {
+                        j += 1;
+                    }
+                    (uj, uj1) = (ut(j), ut(j + 1));
+                }
+                if j > 0 && uj1 <= uj {
+                    while j > 0 && ut(j + 1) <= ut(j) {
+                        j -= 1;
+                    }
+                    uj = ut(j);
+                }
+                js[l] = j;
+                ujo[l] = uj;
+            }
+            j = ifrom(js);
+            uj = fload(&ujo);
+        }
+        let d0 = blend(&rad.d, j);
+        let d1 = blend(&rad.d, iadd(j, i1));
+        let x0 = gather(&rad.x, j);
+        let x1 = gather(&rad.x, iadd(j, i1));
+        let inv_dx = gather(&rad.inv_dx, j);
+        let m = sub(w, uj);
+        let xr = solve_radius(x0, x1, d0, d1, m);
+
+        // Density at the radius and M_E (lift::disk_to_sphere).
+        let north = fmax(splat(rad.d[0]), z);
+        let south = fmax(splat(rad.d[n - 1]), z);
+        let xr = fmin(xr, x1);
+        let r2 = mul(xr, xr);
+        let s = mul(xr, sqrt(fmax(sub(two, r2), z)));
+        let (sp, cp) = sin_cos(phic);
+        let ox = mul(s, cp);
+        let oy = mul(s, sp);
+        let oz = sub(one, r2);
+        let up = gt(oz, z);
+        let rd2 = sel(
+            up,
+            div(add(mul(ox, ox), mul(oy, oy)), add(one, oz)),
+            sub(one, oz),
+        );
+        let xd = sqrt(fmin(fmax(rd2, z), two));
+        let t = fmin(fmax(mul(sub(xd, x0), inv_dx), z), one);
+        let od = fmax(add(d0, mul(sub(d1, d0), t)), z);
+        let pole = and(eq(ox, z), eq(oy, z));
+        let od = sel(pole, sel(up, north, south), od);
+        [ox, oy, oz, od]
+    }
+
+    /// [`HdsCore::sample_block_avx2`] over slices of any (equal) length; directions to `x, y, z`, the disk
+    /// density D to `d`.
+    #[target_feature(enable = "avx2,fma")]
+    pub(crate) fn sample_slices_avx2(&self, u: &[f64], v: &[f64], out: [&mut [f64]; 4]) {
+        let [x, y, z, d] = out;
+        let len = u.len();
+        assert!(v.len() == len && x.len() == len && y.len() == len);
+        assert!(z.len() == len && d.len() == len);
+        let mut start = 0;
+        while start < len {
+            let cnt = (len - start).min(BLOCK);
+            let (mut bu, mut bv) = ([0.5; BLOCK], [0.5; BLOCK]);
+            bu[..cnt].copy_from_slice(&u[start..start + cnt]);
+            bv[..cnt].copy_from_slice(&v[start..start + cnt]);
+            let o = self.sample_block_avx2(fload(&bu), fload(&bv));
+            for (col, ov) in [&mut *x, &mut *y, &mut *z, &mut *d].into_iter().zip(o) {
+                col[start..start + cnt].copy_from_slice(&flanes(ov)[..cnt]);
+            }
+            start += cnt;
+        }
+    }
+}
