@@ -78,12 +78,24 @@ mod avx2 {
     /// The CPU must support AVX2 and FMA.
     #[target_feature(enable = "avx2,fma")]
     pub(super) unsafe fn density<T: Lane>(c: &HdsCore, dir: [&[T]; 3], out: &mut [T]) {
+        if let (Some(x), Some(y), Some(z)) = (as_f64(dir[0]), as_f64(dir[1]), as_f64(dir[2])) {
+            if c.avx2_indexable() {
+                let out = as_f64_mut(out).expect("T is f64");
+                return c.density_slices_avx2([x, y, z], out);
+            }
+        }
         c.density_slices(dir, out)
     }
     /// # Safety
     /// The CPU must support AVX2 and FMA.
     #[target_feature(enable = "avx2,fma")]
     pub(super) unsafe fn invert<T: Lane>(c: &HdsCore, dir: [&[T]; 3], out: [&mut [T]; 2]) {
+        if let (Some(x), Some(y), Some(z)) = (as_f64(dir[0]), as_f64(dir[1]), as_f64(dir[2])) {
+            if c.avx2_indexable() {
+                let [u, v] = out.map(|o| as_f64_mut(o).expect("T is f64"));
+                return c.invert_slices_avx2([x, y, z], [u, v]);
+            }
+        }
         c.invert_slices(dir, out)
     }
 }

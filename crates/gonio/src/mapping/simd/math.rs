@@ -104,9 +104,42 @@ const ATAN_K8: [(f64, f64); 9] = [
     (0.718_829_999_621_624_5, -2.147_838_844_445_698_3e-17),
     (std::f64::consts::FRAC_PI_4, 3.061_616_997_868_383e-17),
 ];
+/// The series of [`atan_unit`] after z + z³·(…): −1/3, 1/5, …, 1/17 (Horner in z²).
+pub(crate) const ATAN_TAYLOR: [f64; 8] = [
+    -1.0 / 3.0,
+    1.0 / 5.0,
+    -1.0 / 7.0,
+    1.0 / 9.0,
+    -1.0 / 11.0,
+    1.0 / 13.0,
+    -1.0 / 15.0,
+    1.0 / 17.0,
+];
+
+/// The high parts of [`ATAN_K8`] (atan(k/8), k = 0..=8), as an array of their own for gathers.
+pub(crate) const ATAN_K8_HI: [f64; 9] = {
+    let mut a = [0.0; 9];
+    let mut k = 0;
+    while k < 9 {
+        a[k] = ATAN_K8[k].0;
+        k += 1;
+    }
+    a
+};
+/// The low parts of [`ATAN_K8`].
+pub(crate) const ATAN_K8_LO: [f64; 9] = {
+    let mut a = [0.0; 9];
+    let mut k = 0;
+    while k < 9 {
+        a[k] = ATAN_K8[k].1;
+        k += 1;
+    }
+    a
+};
+
 /// π/2 and π as double-doubles.
-const PIO2_LO: f64 = 6.123_233_995_736_766e-17;
-const PI_LO: f64 = 1.224_646_799_147_353_2e-16;
+pub(crate) const PIO2_LO: f64 = 6.123_233_995_736_766e-17;
+pub(crate) const PI_LO: f64 = 1.224_646_799_147_353_2e-16;
 
 /// atan t for 0 ≤ t ≤ 1: c = ⌊8t⌋/8 and atan t = atan c + atan z with z = (t − c)/(1 + tc),
 /// 0 ≤ z < 1/8, by its Taylor series to z¹⁷ (truncation below 3·10⁻¹⁸ relative).
@@ -119,19 +152,9 @@ fn atan_unit(t: f64) -> f64 {
     let c = kf * 0.125;
     let z = (t - c) / (1.0 + t * c);
     let z2 = z * z;
-    const A: [f64; 8] = [
-        -1.0 / 3.0,
-        1.0 / 5.0,
-        -1.0 / 7.0,
-        1.0 / 9.0,
-        -1.0 / 11.0,
-        1.0 / 13.0,
-        -1.0 / 15.0,
-        1.0 / 17.0,
-    ];
-    let mut p = A[7];
+    let mut p = ATAN_TAYLOR[7];
     for k in (0..7).rev() {
-        p = p * z2 + A[k];
+        p = p * z2 + ATAN_TAYLOR[k];
     }
     let k = kf as usize;
     // k ∈ 0..=8 always (t ∈ [0, 1]); `min` keeps the index in bounds for a NaN t (k = 0).
