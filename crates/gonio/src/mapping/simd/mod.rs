@@ -2,27 +2,32 @@
 //! run time, the lane element types (f64, f32) and the branch-free transcendental functions
 //! ([`math`]).
 //!
-//! **How the lanes are written.** The batch kernels work on blocks of [`LANES`] points held in
-//! plain arrays, structure-of-arrays. Each stage is a loop over the block: the arithmetic stages
+//! **How the lanes are written.** The generic batch kernels work on blocks of [`LANES`] points held
+//! in plain arrays, structure-of-arrays. Each stage is a loop over the block: the arithmetic stages
 //! (the concentric map, the wedge equation, the Halley iteration of the radial cubic, the lift, the
 //! inverse's closed form, sin/cos/atan2) are branch-free and vectorise; the table searches (guide
-//! tables, short binary searches) stay per-lane scalar loops, because their trip counts differ per
-//! lane and AVX2 gathers are no faster than scalar loads from L1/L2. The same source is compiled
+//! tables, branch-free descents) run lane by lane over scalar loads. The same source is compiled
 //! twice: once inside a function with `#[target_feature(enable = "avx2,fma")]`, chosen at run time
 //! when the CPU has both ([`Backend::detect`]), and once for the baseline x86-64 (SSE2) or any other
-//! target ([`Backend::Portable`]).
+//! target ([`Backend::Portable`]). On the AVX2 backend the **f64** paths (forward, pdf, inverse) go
+//! instead through explicit `core::arch` kernels (`mapping/core/avx2.rs`) that run every stage,
+//! the searches included, on whole vectors with gathers: 37–59 % fewer instructions per point than
+//! the compiled lane loops (`docs/PERFORMANCE.md`). The f32 paths keep the generic kernels on both
+//! backends.
 //!
-//! **Why this and not `wide`/`pulp`/`multiversion`.** Hand-written `core::arch` intrinsics would need
-//! a second copy of every kernel per width and element type; `wide` and `pulp` give vector types but
-//! the per-lane searches would still be scalar, and `multiversion` is the two-function pattern above
-//! as a macro. Plain loops over fixed-size arrays plus one `target_feature` function per entry point
-//! need no dependency, keep one source for f64 and f32, and let the compiler choose the width: the
-//! measured instruction counts are in `docs/PERFORMANCE.md`.
+//! **Why this and not `wide`/`pulp`/`multiversion`.** The generic kernels need no vector type: plain
+//! loops over fixed-size arrays plus one `target_feature` function per entry point keep one source
+//! for f64 and f32 and let the compiler choose the width (`multiversion` is that pattern as a
+//! macro). What the compiler does not produce from them are gathers and vector descents; for those
+//! the explicit kernels use `core::arch` directly, since `wide` has no gathers and `pulp` would add
+//! a dependency for one instruction set that `core::arch` covers on stable Rust.
 //!
 //! **Bit-identical at every width.** No fused multiply–add is used (Rust never contracts on its
 //! own), and every lane is computed independently of its neighbours (the Halley iteration is masked
 //! per lane with the scalar path's stopping rule), so the AVX2 and the portable paths give the same
-//! bits, and so do any block size and any thread count. The f64 lanes perform the scalar path's
+//! bits, and so do any block size and any thread count; the explicit AVX2 f64 kernels perform the
+//! same operations in the same order and give the same bits too (tested, including on NaN,
+//! infinite and out-of-domain inputs). The f64 lanes perform the scalar path's
 //! operations in its order: they equal [`crate::HemisphereMap`]'s scalar results bit for bit except
 //! through sin/cos and atan2 (see [`math`] for their bounds; `docs/PERFORMANCE.md` for the measured
 //! end-to-end differences).
