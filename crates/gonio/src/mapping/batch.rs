@@ -52,9 +52,9 @@ mod avx2 {
     #[target_feature(enable = "avx2,fma")]
     pub(super) unsafe fn sample<T: Lane>(c: &HdsCore, u: &[T], v: &[T], out: [&mut [T]; 4]) {
         if let (Some(u), Some(v)) = (as_f64(u), as_f64(v)) {
-            if c.avx2_indexable() {
+            if c.explicit_indexable() {
                 let [x, y, z, d] = out.map(|o| as_f64_mut(o).expect("T is f64"));
-                return c.sample_slices_avx2(u, v, [x, y, z, d]);
+                return crate::mapping::core::avx2::sample_slices(c, u, v, [x, y, z, d]);
             }
         }
         c.sample_slices(u, v, out)
@@ -79,9 +79,9 @@ mod avx2 {
     #[target_feature(enable = "avx2,fma")]
     pub(super) unsafe fn density<T: Lane>(c: &HdsCore, dir: [&[T]; 3], out: &mut [T]) {
         if let (Some(x), Some(y), Some(z)) = (as_f64(dir[0]), as_f64(dir[1]), as_f64(dir[2])) {
-            if c.avx2_indexable() {
+            if c.explicit_indexable() {
                 let out = as_f64_mut(out).expect("T is f64");
-                return c.density_slices_avx2([x, y, z], out);
+                return crate::mapping::core::avx2::density_slices(c, [x, y, z], out);
             }
         }
         c.density_slices(dir, out)
@@ -91,9 +91,9 @@ mod avx2 {
     #[target_feature(enable = "avx2,fma")]
     pub(super) unsafe fn invert<T: Lane>(c: &HdsCore, dir: [&[T]; 3], out: [&mut [T]; 2]) {
         if let (Some(x), Some(y), Some(z)) = (as_f64(dir[0]), as_f64(dir[1]), as_f64(dir[2])) {
-            if c.avx2_indexable() {
+            if c.explicit_indexable() {
                 let [u, v] = out.map(|o| as_f64_mut(o).expect("T is f64"));
-                return c.invert_slices_avx2([x, y, z], [u, v]);
+                return crate::mapping::core::avx2::invert_slices(c, [x, y, z], [u, v]);
             }
         }
         c.invert_slices(dir, out)

@@ -15,7 +15,9 @@ use crate::sampler::Vec3;
 use std::f64::consts::PI;
 
 #[cfg(target_arch = "x86_64")]
-mod avx2;
+pub(crate) mod avx2;
+#[cfg(target_arch = "x86_64")]
+mod kernels;
 mod lanes;
 
 /// One HDS map (ALGORITHM §4): the tables of its two table-driven stages, M_C ([`Angular`]) and
@@ -37,6 +39,17 @@ pub(crate) struct HdsCore {
 }
 
 impl HdsCore {
+    /// Whether the explicit kernels can index this map's tables (indices below 2³¹; every map
+    /// that fits in memory today, checked anyway).
+    pub(crate) fn explicit_indexable(&self) -> bool {
+        let lim = 1usize << 31;
+        self.radial.u.len() < lim
+            && self.radial.radial_guide.len() < lim
+            && self.angular.wedge_guide.len() < lim
+            && self.angular.m < lim
+            && self.radial.n < lim
+    }
+
     /// Builds the tables from a completed diagram (θ_0 = 0, φ_0 = 0, N ≥ 2), values normalised
     /// (largest 1, see `complete`). Refuses a diagram whose light the disk cannot resolve (every
     /// cell with light thinner than an ulp of x): [`DiagramError::UnresolvedLight`].

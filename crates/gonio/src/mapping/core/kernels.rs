@@ -1,0 +1,583 @@
+//! The explicit SIMD kernels of the f64 batch paths, written once over a small vocabulary of vector
+//! operations (`splat`, `add`, `gather`, `sel`, …) that each instruction-set module defines for its
+//! own vector and mask types ([`super::avx2`]: four `__m256d` per value; [`super::avx512`]: two
+//! `__m512d`) and then instantiates with [`explicit_kernels!`]. See [`super::avx2`] for the design,
+//! the exactness argument and the measurements.
+
+/// Defines, in the calling module, the forward, pdf and inverse kernels over the module's vector
+/// vocabulary, their entry points compiled with `#[target_feature(enable = $feat)]`.
+macro_rules! explicit_kernels {
+    ($feat:literal) => {
+        /// The lanes' `descend`: per lane the largest j in [lo, hi] with `probe(j)` ≤ `w` (lo when none
+        /// is), by the same bit-by-bit steps.
+        #[inline(always)]
+        unsafe fn descend(lo: I, hi: I, w: F, probe: impl Fn(I) -> F) -> I {
+            let span = ilanes(imax(isub(hi, lo), izero()))
+                .into_iter()
+                .max()
+                .unwrap_or(0);
+            let mut base = lo;
+            if span == 0 {
+                return base;
+            }
+            let top = imax(hi, lo);
+            let mut h = 1usize << (usize::BITS - 1 - span.leading_zeros());
+            while h > 0 {
+                let cand = imin(iadd(base, isplat(h)), top);
+                base = isel(le(probe(cand), w), cand, base);
+                h >>= 1;
+            }
+            base
+        }
+
+        /// The lanes' `guided_block`: per lane the largest i ≤ `last` with a_i ≤ x (0 if none) for
+        /// non-decreasing `a`, from the guide table's bracket, then the settling steps (per lane, only
+        /// where the vector check finds one needed).
+        #[inline(always)]
+        unsafe fn guided(a: &[f64], guide: &[u32], scale: f64, x: F, last: usize) -> I {
+            let kmax = guide.len() - 1;
+            let k = to_index(mul(x, splat(scale)), kmax);
+            let lastv = isplat(last);
+            let lo = imin(gather_u32(guide, k), lastv);
+            let below_top = igt(isplat(kmax), k);
+            let hi = isel(
+                below_top,
+                imin(gather_u32(guide, iadd(k, isplat(1))), lastv),
+                lastv,
+            );
+            let found = unsafe { descend(lo, hi, x, |j| gather(a, j)) };
+            // Settling: i > 0 with a_i > x, or i < last with a_{i+1} ≤ x.
+            let zero_i = izero();
+            let down = and(igt(found, zero_i), gt(gather(a, found), x));
+            let up = and(igt(lastv, found), le(gather(a, iadd(found, isplat(1))), x));
+            if !any(or(down, up)) {
+                return found;
+            }
+            let (mut f, xs) = (ilanes(found), flanes(x));
+            for l in 0..BLOCK {
+                let i = &mut f[l];
+                while *i > 0 && a[*i] > xs[l] {
+                    *i -= 1;
+                }
+                while *i < last && a[*i + 1] <= xs[l] {
+                    *i += 1;
+                }
+            }
+            ifrom(f)
+        }
+
+        /// `math::sin_cos` on four lanes, operation for operation.
+        #[inline(always)]
+        unsafe fn sin_cos(x: F) -> (F, F) {
+            let magic = splat(ROUND_MAGIC);
+            let k = sub(add(mul(x, splat(TWO_OVER_PI)), magic), magic);
+            let r = sub(
+                sub(sub(x, mul(k, splat(PIO2_1))), mul(k, splat(PIO2_2))),
+                mul(k, splat(PIO2_3)),
+            );
+            let z = mul(r, r);
+            let mut ps = splat(SIN_TAYLOR[7]);
+            let mut pc = splat(COS_TAYLOR[7]);
+            for k in (0..7).rev() {
+                ps = add(mul(ps, z), splat(SIN_TAYLOR[k]));
+                pc = add(mul(pc, z), splat(COS_TAYLOR[k]));
+            }
+            let s = add(r, mul(mul(r, z), ps));
+            let one = splat(1.0);
+            let hz = mul(splat(0.5), z);
+            let w = sub(one, hz);
+            let c = add(w, add(sub(sub(one, w), hz), mul(mul(z, z), pc)));
+            let k4 = mul(k, splat(0.25));
+            let n = sub(add(k4, magic), magic);
+            let q = sub(k, mul(splat(4.0), sel(gt(n, k4), sub(n, one), n)));
+            let (q1, q2, q3) = (eq(q, one), eq(q, splat(2.0)), eq(q, splat(3.0)));
+            let swap = or(q1, q3);
+            let (s1, c1) = (sel(swap, c, s), sel(swap, s, c));
+            let sin = sel(or(q2, q3), neg(s1), s1);
+            let cos = sel(or(q1, q2), neg(c1), c1);
+            (sin, cos)
+        }
+
+        /// `math::atan2` on the lanes, operation for operation (its `atan_unit` inlined).
+        #[inline(always)]
+        unsafe fn atan2(y: F, x: F) -> F {
+            let (z0, one) = (zero(), splat(1.0));
+            let (ax, ay) = (abs(x), abs(y));
+            let swap = gt(ay, ax);
+            let (num, den) = (sel(swap, ax, ay), sel(swap, ay, ax));
+            let t = sel(gt(den, z0), div(num, den), z0);
+            // atan_unit(t)
+            let t8 = mul(t, splat(8.0));
+            let magic = splat(ROUND_MAGIC);
+            let kf = sub(add(t8, magic), magic);
+            let kf = sel(gt(kf, t8), sub(kf, one), kf);
+            let c = mul(kf, splat(0.125));
+            let z = div(sub(t, c), add(one, mul(t, c)));
+            let z2 = mul(z, z);
+            let mut p = splat(ATAN_TAYLOR[7]);
+            for k in (0..7).rev() {
+                p = add(mul(p, z2), splat(ATAN_TAYLOR[k]));
+            }
+            let k = to_index(kf, 8);
+            let (hi, lo) = (gather(&ATAN_K8_HI, k), gather(&ATAN_K8_LO, k));
+            let a = add(hi, add(lo, add(z, mul(mul(z, z2), p))));
+            let a = sel(swap, add(sub(splat(FRAC_PI_2), a), splat(PIO2_LO)), a);
+            let a = sel(sign_negative(x), add(sub(splat(PI), a), splat(PI_LO)), a);
+            sel(sign_negative(y), neg(a), a)
+        }
+
+        /// `concentric::disk_to_square` as the lanes write it (selects).
+        #[inline(always)]
+        unsafe fn disk_to_square(r: F, phi: F) -> (F, F) {
+            let (z0, one, half) = (zero(), splat(1.0), splat(0.5));
+            let p = sel(ge(phi, splat(7.0 * FRAC_PI_4)), sub(phi, splat(TAU)), phi);
+            let s = mul(r, splat(4.0 / PI));
+            let q0 = lt(p, splat(FRAC_PI_4));
+            let q1 = lt(p, splat(3.0 * FRAC_PI_4));
+            let q2 = lt(p, splat(5.0 * FRAC_PI_4));
+            let a = sel(
+                q0,
+                r,
+                sel(
+                    q1,
+                    mul(neg(sub(p, splat(FRAC_PI_2))), s),
+                    sel(q2, neg(r), mul(sub(p, splat(1.5 * PI)), s)),
+                ),
+            );
+            let b = sel(
+                q0,
+                mul(s, p),
+                sel(q1, r, sel(q2, mul(neg(s), sub(p, splat(PI))), neg(r))),
+            );
+            (
+                clamp(mul(half, add(a, one)), z0, one),
+                clamp(mul(half, add(b, one)), z0, one),
+            )
+        }
+
+        /// `radial::partial_mass`, same operation order.
+        #[inline]
+        #[target_feature(enable = $feat)]
+        fn partial_mass(x0: F, d0: F, k: F, tau: F) -> F {
+            let two = splat(2.0);
+            mul(
+                tau,
+                add(
+                    mul(mul(two, x0), d0),
+                    mul(
+                        tau,
+                        add(add(mul(x0, k), d0), mul(mul(tau, splat(2.0 / 3.0)), k)),
+                    ),
+                ),
+            )
+        }
+
+        /// The lanes' `solve_radius_block` (Halley safeguarded by bisection, masked per lane).
+        #[inline(always)]
+        unsafe fn solve_radius(x0: F, x1: F, d0: F, d1: F, m: F) -> F {
+            let (z, one, two, half) = (zero(), splat(1.0), splat(2.0), splat(0.5));
+            let h = sub(x1, x0);
+            let kk = div(sub(d1, d0), h);
+            let dbar = mul(half, add(d0, d1));
+            let early = or(or(not(gt(m, z)), not(gt(h, z))), not(gt(dbar, z)));
+            let konst = eq(kk, z);
+            let mut active = and(not(early), not(konst));
+            let iterated = active;
+            let k = kk;
+            let mut hi = h;
+            let mut lo = z;
+            // radial::area_guess
+            let ka = div(sub(d1, d0), mul(h, add(x0, x1)));
+            let ds = div(
+                mul(two, m),
+                add(d0, sqrt(fmax(add(mul(d0, d0), mul(mul(two, ka), m)), z))),
+            );
+            let g = div(ds, add(x0, sqrt(add(mul(x0, x0), ds))));
+            let finite = is_finite(g);
+            // The constant-density root t, needed only by a constant segment's lane or where the guess
+            // is not finite (rare): two divisions and a square root skipped otherwise.
+            let (res, g) = if any(and(not(early), or(konst, not(finite)))) {
+                let q = div(m, dbar);
+                let t = div(q, add(sqrt(add(mul(x0, x0), q)), x0));
+                (
+                    sel(early, x0, sel(konst, add(x0, fmin(t, h)), z)),
+                    sel(finite, g, t),
+                )
+            } else {
+                (x0, g)
+            };
+            let mut tau = clamp(g, z, h);
+            let (stop_step, stop_cubic, halley_small) = (splat(1e-15), splat(1e-17), splat(1e-5));
+            for _ in 0..60 {
+                if !any(active) {
+                    break;
+                }
+                let t = tau;
+                let f = sub(partial_mass(x0, d0, k, t), m);
+                let exact = eq(f, z);
+                let pos = gt(f, z);
+                let (nlo, nhi) = (sel(pos, lo, t), sel(pos, t, hi));
+                let xx = add(x0, t);
+                let dd = add(d0, mul(k, t));
+                let g1 = mul(mul(two, xx), dd);
+                let g2 = mul(two, add(dd, mul(k, xx)));
+                let den = sub(mul(g1, g1), mul(mul(half, f), g2));
+                let next = sel(
+                    and(gt(g1, z), gt(den, z)),
+                    sub(t, div(mul(f, g1), den)),
+                    splat(f64::NAN),
+                );
+                let halley = and(gt(next, nlo), lt(next, nhi));
+                let next = sel(halley, next, mul(half, add(nlo, nhi)));
+                let next = sel(exact, t, next);
+                let step = abs(sub(next, t));
+                let scale = add(x0, next);
+                let stop = or(
+                    le(step, mul(stop_step, scale)),
+                    le(sub(nhi, nlo), mul(stop_step, add(x0, nhi))),
+                );
+                let cc = add(
+                    mul(mul(splat(0.25), g2), g2),
+                    mul(mul(abs(mul(splat(4.0), k)), g1), splat(1.0 / 6.0)),
+                );
+                let predicted = le(
+                    mul(cc, mul(mul(step, step), step)),
+                    mul(mul(stop_cubic, scale), mul(g1, g1)),
+                );
+                let stop = or(
+                    or(stop, exact),
+                    and(and(halley, le(step, mul(halley_small, scale))), predicted),
+                );
+                let (nlo, nhi) = (sel(exact, lo, nlo), sel(exact, hi, nhi));
+                tau = sel(active, next, t);
+                lo = sel(active, nlo, lo);
+                hi = sel(active, nhi, hi);
+                active = and(active, not(stop));
+            }
+            let _ = one;
+            sel(iterated, add(x0, tau), res)
+        }
+
+        /// The forward map on one block: directions and the disk density D (as
+        /// `lanes::sample_block`).
+        #[inline]
+        #[target_feature(enable = $feat)]
+        fn sample_block(c: &HdsCore, u: F, v: F) -> [F; 4] {
+            let (ang, rad) = (&c.angular, &c.radial);
+            let n = rad.n;
+            let (z, one, two, half) = (zero(), splat(1.0), splat(2.0), splat(0.5));
+            // M_B (concentric::square_to_disk), branch-free.
+            let a = sub(mul(two, u), one);
+            let b = sub(mul(two, v), one);
+            let big = gt(abs(a), abs(b));
+            let (r, num, den) = (sel(big, a, b), sel(big, b, a), sel(big, a, b));
+            let q = div(num, den);
+            let quarter = splat(FRAC_PI_4);
+            let phi = sel(big, mul(quarter, q), sub(splat(FRAC_PI_2), mul(quarter, q)));
+            let negr = lt(r, z);
+            let r = sel(negr, neg(r), r);
+            let phi = sel(negr, add(phi, splat(PI)), phi);
+            let phi = sel(lt(phi, z), add(phi, splat(TAU)), phi);
+            let phi = sel(ge(phi, splat(TAU)), z, phi);
+            let origin = and(eq(a, z), eq(b, z));
+            let rb = sel(origin, z, r);
+            let pb = sel(origin, z, phi);
+
+            // M_C: the wedge search, then the wedge equation (angular::solve_wedge).
+            let wi = unsafe { guided(&ang.cum, &ang.wedge_guide, ang.guide_scale, pb, ang.m - 1) };
+            let beta = gather(&ang.beta, wi);
+            let ra = gather(&ang.r2, wi);
+            let rbb = gather(&ang.r2, iadd(wi, isplat(1)));
+            let cum = gather(&ang.cum, wi);
+            let phi0 = gather(&ang.phi, wi);
+            let kappa = splat(ang.kappa);
+            let gamma = div(sub(pb, cum), kappa);
+            let aa = mul(mul(half, beta), sub(rbb, ra));
+            let bb = mul(beta, ra);
+            let cc = fmax(gamma, z);
+            let den = add(
+                bb,
+                sqrt(fmax(add(mul(bb, bb), mul(mul(splat(4.0), aa), cc)), z)),
+            );
+            let eps = sel(gt(den, z), clamp(div(mul(two, cc), den), z, one), z);
+            let phic = add(phi0, mul(eps, beta));
+
+            // M_D: the radial search over the blended CDF of the wedge's two meridians.
+            let w1 = iadd(wi, isplat(1));
+            let wn = isel(ieq(w1, isplat(ang.m)), izero(), w1);
+            let nv = isplat(n);
+            let (a_off, b_off) = (imul(wi, nv), imul(wn, nv));
+            let ome = sub(one, eps);
+            let blend = |t: &[f64], j: I| {
+                add(
+                    mul(ome, gather(t, iadd(a_off, j))),
+                    mul(eps, gather(t, iadd(b_off, j))),
+                )
+            };
+            let r2b = mul(rb, rb);
+            let w = mul(r2b, blend(&rad.u, isplat(n - 1)));
+            let kg = rad.radial_k;
+            let kk = to_index(mul(r2b, splat(kg as f64)), kg - 1);
+            let kgv = isplat(kg + 1);
+            let ga = iadd(imul(wi, kgv), kk);
+            let gb = iadd(imul(wn, kgv), kk);
+            let rg = &rad.radial_guide;
+            let lo = imin(gather_u32(rg, ga), gather_u32(rg, gb));
+            let i1 = isplat(1);
+            let hi = imax(gather_u32(rg, iadd(ga, i1)), gather_u32(rg, iadd(gb, i1)));
+            let mut j = unsafe { descend(lo, hi, w, |j| blend(&rad.u, j)) };
+            let mut uj = blend(&rad.u, j);
+            let uj1 = blend(&rad.u, iadd(j, i1));
+            // The lanes' settling loops, redone per lane where any of their conditions holds.
+            let zi = izero();
+            let jpos = igt(j, zi);
+            let settle = or(
+                or(
+                    and(jpos, gt(uj, w)),
+                    and(igt(isplat(n), iadd(j, isplat(2))), le(uj1, w)),
+                ),
+                and(jpos, le(uj1, uj)),
+            );
+            if any(settle) {
+                let (mut js, ujs) = (ilanes(j), flanes(uj));
+                let (ws, es, ais, bis) = (flanes(w), flanes(eps), ilanes(a_off), ilanes(b_off));
+                let mut ujo = ujs;
+                for l in 0..BLOCK {
+                    let (e, wl) = (es[l], ws[l]);
+                    let (ua, ub) = (&rad.u[ais[l]..ais[l] + n], &rad.u[bis[l]..bis[l] + n]);
+                    let ut = |j: usize| (1.0 - e) * ua[j] + e * ub[j];
+                    let mut j = js[l];
+                    let (mut uj, mut uj1) = (ut(j), ut(j + 1));
+                    if j > 0 && uj > wl {
+                        while j > 0 && ut(j) > wl {
+                            j -= 1;
+                        }
+                        (uj, uj1) = (ut(j), ut(j + 1));
+                    }
+                    if j + 2 < n && uj1 <= wl {
+                        while j + 2 < n && ut(j + 1) <= wl {
+                            j += 1;
+                        }
+                        (uj, uj1) = (ut(j), ut(j + 1));
+                    }
+                    if j > 0 && uj1 <= uj {
+                        while j > 0 && ut(j + 1) <= ut(j) {
+                            j -= 1;
+                        }
+                        uj = ut(j);
+                    }
+                    js[l] = j;
+                    ujo[l] = uj;
+                }
+                j = ifrom(js);
+                uj = fload(&ujo);
+            }
+            let d0 = blend(&rad.d, j);
+            let d1 = blend(&rad.d, iadd(j, i1));
+            let x0 = gather(&rad.x, j);
+            let x1 = gather(&rad.x, iadd(j, i1));
+            let inv_dx = gather(&rad.inv_dx, j);
+            let m = sub(w, uj);
+            let xr = unsafe { solve_radius(x0, x1, d0, d1, m) };
+
+            // Density at the radius and M_E (lift::disk_to_sphere).
+            let north = fmax(splat(rad.d[0]), z);
+            let south = fmax(splat(rad.d[n - 1]), z);
+            let xr = fmin(xr, x1);
+            let r2 = mul(xr, xr);
+            let s = mul(xr, sqrt(fmax(sub(two, r2), z)));
+            let (sp, cp) = unsafe { sin_cos(phic) };
+            let ox = mul(s, cp);
+            let oy = mul(s, sp);
+            let oz = sub(one, r2);
+            let up = gt(oz, z);
+            let rd2 = sel(
+                up,
+                div(add(mul(ox, ox), mul(oy, oy)), add(one, oz)),
+                sub(one, oz),
+            );
+            let xd = sqrt(fmin(fmax(rd2, z), two));
+            let t = fmin(fmax(mul(sub(xd, x0), inv_dx), z), one);
+            let od = fmax(add(d0, mul(sub(d1, d0), t)), z);
+            let pole = and(eq(ox, z), eq(oy, z));
+            let od = sel(pole, sel(up, north, south), od);
+            [ox, oy, oz, od]
+        }
+
+        /// The disk radius and the azimuth of a block of directions (the lanes' `radius_azimuth`).
+        #[inline(always)]
+        unsafe fn radius_azimuth(x: F, y: F, z: F) -> (F, F) {
+            let (z0, one, two) = (zero(), splat(1.0), splat(2.0));
+            let r2 = sel(
+                gt(z, z0),
+                div(add(mul(x, x), mul(y, y)), add(one, z)),
+                sub(one, z),
+            );
+            let xr = sqrt(clamp(r2, z0, two));
+            let phi = unsafe { atan2(y, x) };
+            let phi = sel(lt(phi, z0), add(phi, splat(TAU)), phi);
+            let phi = sel(ge(phi, splat(TAU)), z0, phi);
+            let pole = and(eq(x, z0), eq(y, z0));
+            (xr, sel(pole, z0, phi))
+        }
+
+        /// Sector, next meridian and ε of a block of azimuths (the lanes' `sectors`).
+        #[inline(always)]
+        unsafe fn sectors(c: &HdsCore, p: F) -> (I, I, F) {
+            let ang = &c.angular;
+            let m = ang.m;
+            let i = if ang.inv_uniform_beta > 0.0 {
+                let i = to_index(mul(p, splat(ang.inv_uniform_beta)), m - 1);
+                // Round-off of the product: one step either way.
+                let down = lt(p, gather(&ang.phi, i));
+                let up = and(
+                    and(not(down), igt(isplat(m), iadd(i, isplat(1)))),
+                    ge(p, gather(&ang.phi, iadd(i, isplat(1)))),
+                );
+                let i = isel(down, isub(i, isplat(1)), i);
+                isel(up, iadd(i, isplat(1)), i)
+            } else {
+                let ps = flanes(p);
+                let mut o = [0usize; BLOCK];
+                for l in 0..BLOCK {
+                    o[l] = crate::diagram::segment(&ang.phi, ps[l]);
+                }
+                ifrom(o)
+            };
+            let i1 = iadd(i, isplat(1));
+            let i1 = isel(ieq(i1, isplat(m)), izero(), i1);
+            let phi0 = gather(&ang.phi, i);
+            let beta = gather(&ang.beta, i);
+            let eps = clamp(div(sub(p, phi0), beta), zero(), splat(1.0));
+            (i, i1, eps)
+        }
+
+        /// The disk density D at a block of directions (the lanes' `density_block`).
+        #[inline]
+        #[target_feature(enable = $feat)]
+        fn density_block(c: &HdsCore, x: F, y: F, z: F) -> F {
+            let rad = &c.radial;
+            let n = rad.n;
+            let (z0, one) = (zero(), splat(1.0));
+            let (xr, p) = unsafe { radius_azimuth(x, y, z) };
+            let (i, i1, eps) = unsafe { sectors(c, p) };
+            let j = unsafe { guided(&rad.x, &rad.radius_guide, rad.radius_scale, xr, n - 2) };
+            let t = clamp(
+                mul(sub(xr, gather(&rad.x, j)), gather(&rad.inv_dx, j)),
+                z0,
+                one,
+            );
+            let nv = isplat(n);
+            let (a, b) = (iadd(imul(i, nv), j), iadd(imul(i1, nv), j));
+            let i1v = isplat(1);
+            let (a0, a1) = (gather(&rad.d, a), gather(&rad.d, iadd(a, i1v)));
+            let (b0, b1) = (gather(&rad.d, b), gather(&rad.d, iadd(b, i1v)));
+            let ra = add(a0, mul(t, sub(a1, a0)));
+            let rb = add(b0, mul(t, sub(b1, b0)));
+            let d = fmax(add(mul(sub(one, eps), ra), mul(eps, rb)), z0);
+            let edge = splat(rad.x[n - 1] * (1.0 + 1e-12));
+            sel(gt(xr, edge), z0, d)
+        }
+
+        /// The inverse map on a block of directions (the lanes' `invert_block`).
+        #[inline]
+        #[target_feature(enable = $feat)]
+        fn invert_block(c: &HdsCore, x: F, y: F, z: F) -> (F, F) {
+            let (ang, rad) = (&c.angular, &c.radial);
+            let n = rad.n;
+            let (z0, one, half) = (zero(), splat(1.0), splat(0.5));
+            let (xr, p) = unsafe { radius_azimuth(x, y, z) };
+            let (i, i1, e) = unsafe { sectors(c, p) };
+            let j = unsafe { guided(&rad.x, &rad.radius_guide, rad.radius_scale, xr, n - 2) };
+            let i1v = isplat(1);
+            let (x0, x1) = (gather(&rad.x, j), gather(&rad.x, iadd(j, i1v)));
+            let idx = gather(&rad.inv_dx, j);
+            let nv = isplat(n);
+            let (ra, rb) = (imul(i, nv), imul(i1, nv));
+            let (a, b) = (iadd(ra, j), iadd(rb, j));
+            let (da0, da1) = (gather(&rad.d, a), gather(&rad.d, iadd(a, i1v)));
+            let (db0, db1) = (gather(&rad.d, b), gather(&rad.d, iadd(b, i1v)));
+            let (ua, ub) = (gather(&rad.u, a), gather(&rad.u, b));
+            let last = isplat(n - 1);
+            let (uan, ubn) = (
+                gather(&rad.u, iadd(ra, last)),
+                gather(&rad.u, iadd(rb, last)),
+            );
+            let (cum0, cum1) = (gather(&ang.cum, i), gather(&ang.cum, iadd(i, i1v)));
+            let beta = gather(&ang.beta, i);
+            let (r2a, r2b) = (gather(&ang.r2, i), gather(&ang.r2, iadd(i, i1v)));
+            let ome = sub(one, e);
+            let d0 = add(mul(ome, da0), mul(e, db0));
+            let d1 = add(mul(ome, da1), mul(e, db1));
+            let k = mul(sub(d1, d0), idx);
+            let tau = clamp(sub(xr, x0), z0, sub(x1, x0));
+            let w = add(add(mul(ome, ua), mul(e, ub)), partial_mass(x0, d0, k, tau));
+            let wn = add(mul(ome, uan), mul(e, ubn));
+            let rbd = sel(gt(wn, z0), sqrt(clamp(div(w, wn), z0, one)), z0);
+            let wedge = mul(mul(beta, e), add(r2a, mul(mul(half, sub(r2b, r2a)), e)));
+            let phib = fmin(add(cum0, mul(splat(ang.kappa), wedge)), cum1);
+            unsafe { disk_to_square(rbd, phib) }
+        }
+
+        /// [`density_block`] over slices.
+        #[target_feature(enable = $feat)]
+        pub(crate) fn density_slices(c: &HdsCore, dir: [&[f64]; 3], out: &mut [f64]) {
+            let len = out.len();
+            assert!(dir.iter().all(|c| c.len() == len));
+            let mut start = 0;
+            while start < len {
+                let cnt = (len - start).min(BLOCK);
+                let mut b = [[0.0; BLOCK], [0.0; BLOCK], [1.0; BLOCK]];
+                for (k, bk) in b.iter_mut().enumerate() {
+                    bk[..cnt].copy_from_slice(&dir[k][start..start + cnt]);
+                }
+                let o = density_block(c, fload(&b[0]), fload(&b[1]), fload(&b[2]));
+                out[start..start + cnt].copy_from_slice(&flanes(o)[..cnt]);
+                start += cnt;
+            }
+        }
+
+        /// [`invert_block`] over slices.
+        #[target_feature(enable = $feat)]
+        pub(crate) fn invert_slices(c: &HdsCore, dir: [&[f64]; 3], out: [&mut [f64]; 2]) {
+            let [u, v] = out;
+            let len = u.len();
+            assert!(v.len() == len && dir.iter().all(|c| c.len() == len));
+            let mut start = 0;
+            while start < len {
+                let cnt = (len - start).min(BLOCK);
+                let mut b = [[0.0; BLOCK], [0.0; BLOCK], [1.0; BLOCK]];
+                for (k, bk) in b.iter_mut().enumerate() {
+                    bk[..cnt].copy_from_slice(&dir[k][start..start + cnt]);
+                }
+                let (ou, ov) = invert_block(c, fload(&b[0]), fload(&b[1]), fload(&b[2]));
+                u[start..start + cnt].copy_from_slice(&flanes(ou)[..cnt]);
+                v[start..start + cnt].copy_from_slice(&flanes(ov)[..cnt]);
+                start += cnt;
+            }
+        }
+
+        /// [`sample_block`] over slices of any (equal) length; directions to `x, y, z`, the disk
+        /// density D to `d`.
+        #[target_feature(enable = $feat)]
+        pub(crate) fn sample_slices(c: &HdsCore, u: &[f64], v: &[f64], out: [&mut [f64]; 4]) {
+            let [x, y, z, d] = out;
+            let len = u.len();
+            assert!(v.len() == len && x.len() == len && y.len() == len);
+            assert!(z.len() == len && d.len() == len);
+            let mut start = 0;
+            while start < len {
+                let cnt = (len - start).min(BLOCK);
+                let (mut bu, mut bv) = ([0.5; BLOCK], [0.5; BLOCK]);
+                bu[..cnt].copy_from_slice(&u[start..start + cnt]);
+                bv[..cnt].copy_from_slice(&v[start..start + cnt]);
+                let o = sample_block(c, fload(&bu), fload(&bv));
+                for (col, ov) in [&mut *x, &mut *y, &mut *z, &mut *d].into_iter().zip(o) {
+                    col[start..start + cnt].copy_from_slice(&flanes(ov)[..cnt]);
+                }
+                start += cnt;
+            }
+        }
+    };
+}
+pub(super) use explicit_kernels;
