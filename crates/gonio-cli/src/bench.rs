@@ -123,7 +123,7 @@ pub struct SoaTimes {
 /// The SoA measurements: in a one-thread pool and on all batch threads.
 #[derive(Debug, Clone, Serialize)]
 pub struct SoaBench {
-    /// The SIMD backend the CPU runs (`avx2+fma` or `portable`).
+    /// The SIMD backend the CPU runs (`avx512`, `avx2+fma` or `portable`).
     pub backend: String,
     /// Threads of the `all` measurement.
     pub threads: usize,

@@ -10,7 +10,8 @@
 //!     target/release/examples/soa_profile $op 181 361 2>&1 | grep 'refs'
 //! done
 //! ```
-//! Arguments: OP [N M] [portable]; `portable` forces the portable backend. Environment:
+//! Arguments: OP [N M] [portable|avx2]; `portable` or `avx2` forces that backend (else the
+//! fastest the CPU has). Environment:
 //! `GONIO_PROFILE_REPEAT=K` runs a batch operation K times and prints its wall-clock time per point
 //! (for `perf record`); `GONIO_PROFILE_FAMILY=peaky` uses the side-by-side script's grid (values
 //! r⁴ + 10⁻³, r uniform, θ 0…90°, φ 0…360°) instead of the "lobes" diagram.
@@ -27,10 +28,10 @@ fn main() {
     let op = args.get(1).map_or("setup", |s| s.as_str());
     let n: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(181);
     let m: usize = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(361);
-    let backend = if args.get(4).is_some_and(|s| s == "portable") {
-        Backend::Portable
-    } else {
-        Backend::detect()
+    let backend = match args.get(4).map(|s| s.as_str()) {
+        Some("portable") => Backend::Portable,
+        Some("avx2") => Backend::Avx2Fma,
+        _ => Backend::detect(),
     };
     let count = 1 << 16;
     let repeat: usize = std::env::var("GONIO_PROFILE_REPEAT")

@@ -61,14 +61,14 @@ mod avx2 {
     }
 
     /// `s` as an f64 slice when `T` is f64 (the explicit f64 kernels), else `None`.
-    fn as_f64<T: Lane>(s: &[T]) -> Option<&[f64]> {
+    pub(super) fn as_f64<T: Lane>(s: &[T]) -> Option<&[f64]> {
         (TypeId::of::<T>() == TypeId::of::<f64>())
             // SAFETY: T is f64: same layout, same length.
             .then(|| unsafe { std::slice::from_raw_parts(s.as_ptr().cast::<f64>(), s.len()) })
     }
 
     /// [`as_f64`] for a mutable slice.
-    fn as_f64_mut<T: Lane>(s: &mut [T]) -> Option<&mut [f64]> {
+    pub(super) fn as_f64_mut<T: Lane>(s: &mut [T]) -> Option<&mut [f64]> {
         (TypeId::of::<T>() == TypeId::of::<f64>()).then(|| {
             // SAFETY: T is f64: same layout, same length; `s` is borrowed mutably for the result.
             unsafe { std::slice::from_raw_parts_mut(s.as_mut_ptr().cast::<f64>(), s.len()) }
@@ -100,6 +100,54 @@ mod avx2 {
     }
 }
 
+#[cfg(target_arch = "x86_64")]
+mod avx512 {
+    use super::avx2::{as_f64, as_f64_mut};
+    use super::HdsCore;
+    use crate::mapping::core::avx512 as k;
+    use crate::mapping::simd::Lane;
+
+    /// # Safety
+    /// The CPU must support AVX-512 F and DQ, AVX2 and FMA.
+    #[target_feature(enable = "avx512f,avx512dq,avx2,fma")]
+    pub(super) unsafe fn sample<T: Lane>(c: &HdsCore, u: &[T], v: &[T], out: [&mut [T]; 4]) {
+        if let (Some(u), Some(v)) = (as_f64(u), as_f64(v)) {
+            if c.explicit_indexable() {
+                let [x, y, z, d] = out.map(|o| as_f64_mut(o).expect("T is f64"));
+                return k::sample_slices(c, u, v, [x, y, z, d]);
+            }
+        }
+        // SAFETY: the caller guarantees AVX2 and FMA.
+        unsafe { super::avx2::sample(c, u, v, out) }
+    }
+    /// # Safety
+    /// As [`sample`].
+    #[target_feature(enable = "avx512f,avx512dq,avx2,fma")]
+    pub(super) unsafe fn density<T: Lane>(c: &HdsCore, dir: [&[T]; 3], out: &mut [T]) {
+        if let (Some(x), Some(y), Some(z)) = (as_f64(dir[0]), as_f64(dir[1]), as_f64(dir[2])) {
+            if c.explicit_indexable() {
+                let out = as_f64_mut(out).expect("T is f64");
+                return k::density_slices(c, [x, y, z], out);
+            }
+        }
+        // SAFETY: the caller guarantees AVX2 and FMA.
+        unsafe { super::avx2::density(c, dir, out) }
+    }
+    /// # Safety
+    /// As [`sample`].
+    #[target_feature(enable = "avx512f,avx512dq,avx2,fma")]
+    pub(super) unsafe fn invert<T: Lane>(c: &HdsCore, dir: [&[T]; 3], out: [&mut [T]; 2]) {
+        if let (Some(x), Some(y), Some(z)) = (as_f64(dir[0]), as_f64(dir[1]), as_f64(dir[2])) {
+            if c.explicit_indexable() {
+                let [u, v] = out.map(|o| as_f64_mut(o).expect("T is f64"));
+                return k::invert_slices(c, [x, y, z], [u, v]);
+            }
+        }
+        // SAFETY: the caller guarantees AVX2 and FMA.
+        unsafe { super::avx2::invert(c, dir, out) }
+    }
+}
+
 #[inline(never)]
 fn sample_portable<T: Lane>(c: &HdsCore, u: &[T], v: &[T], out: [&mut [T]; 4]) {
     c.sample_slices(u, v, out)
@@ -115,6 +163,11 @@ fn invert_portable<T: Lane>(c: &HdsCore, dir: [&[T]; 3], out: [&mut [T]; 2]) {
 
 fn core_sample<T: Lane>(b: Backend, c: &HdsCore, u: &[T], v: &[T], out: [&mut [T]; 4]) {
     #[cfg(target_arch = "x86_64")]
+    if b.usable() == Backend::Avx512 {
+        // SAFETY: `usable` returns Avx512 only when the CPU has AVX-512 F/DQ, AVX2 and FMA.
+        return unsafe { avx512::sample(c, u, v, out) };
+    }
+    #[cfg(target_arch = "x86_64")]
     if b.usable() == Backend::Avx2Fma {
         // SAFETY: `usable` returns Avx2Fma only when the CPU has AVX2 and FMA.
         return unsafe { avx2::sample(c, u, v, out) };
@@ -125,6 +178,11 @@ fn core_sample<T: Lane>(b: Backend, c: &HdsCore, u: &[T], v: &[T], out: [&mut [T
 
 fn core_density<T: Lane>(b: Backend, c: &HdsCore, dir: [&[T]; 3], out: &mut [T]) {
     #[cfg(target_arch = "x86_64")]
+    if b.usable() == Backend::Avx512 {
+        // SAFETY: as in `core_sample`.
+        return unsafe { avx512::density(c, dir, out) };
+    }
+    #[cfg(target_arch = "x86_64")]
     if b.usable() == Backend::Avx2Fma {
         // SAFETY: as in `core_sample`.
         return unsafe { avx2::density(c, dir, out) };
@@ -134,6 +192,11 @@ fn core_density<T: Lane>(b: Backend, c: &HdsCore, dir: [&[T]; 3], out: &mut [T])
 }
 
 fn core_invert<T: Lane>(b: Backend, c: &HdsCore, dir: [&[T]; 3], out: [&mut [T]; 2]) {
+    #[cfg(target_arch = "x86_64")]
+    if b.usable() == Backend::Avx512 {
+        // SAFETY: as in `core_sample`.
+        return unsafe { avx512::invert(c, dir, out) };
+    }
     #[cfg(target_arch = "x86_64")]
     if b.usable() == Backend::Avx2Fma {
         // SAFETY: as in `core_sample`.

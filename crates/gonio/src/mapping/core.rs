@@ -17,6 +17,8 @@ use std::f64::consts::PI;
 #[cfg(target_arch = "x86_64")]
 pub(crate) mod avx2;
 #[cfg(target_arch = "x86_64")]
+pub(crate) mod avx512;
+#[cfg(target_arch = "x86_64")]
 mod kernels;
 mod lanes;
 

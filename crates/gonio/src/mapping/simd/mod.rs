@@ -40,6 +40,9 @@ pub const LANES: usize = 8;
 /// The instruction set a batch call runs on.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Backend {
+    /// AVX-512 F and DQ (x86-64 only, detected at run time): the explicit f64 kernels on eight
+    /// lanes per vector; the f32 paths run as on [`Backend::Avx2Fma`] (AVX-512 CPUs have both).
+    Avx512,
     /// AVX2 with FMA available (x86-64 only, detected at run time).
     Avx2Fma,
     /// The baseline instruction set of the target (SSE2 on x86-64).
@@ -51,36 +54,45 @@ impl Backend {
     pub fn detect() -> Backend {
         #[cfg(target_arch = "x86_64")]
         {
-            if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
+            let avx2 =
+                std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma");
+            if avx2
+                && std::is_x86_feature_detected!("avx512f")
+                && std::is_x86_feature_detected!("avx512dq")
+            {
+                return Backend::Avx512;
+            }
+            if avx2 {
                 return Backend::Avx2Fma;
             }
         }
         Backend::Portable
     }
 
-    /// Every backend this CPU can run (the portable one always).
+    /// Every backend this CPU can run, fastest first (the portable one always, last).
     pub fn available() -> Vec<Backend> {
-        let mut v = vec![Backend::Portable];
-        if Backend::detect() == Backend::Avx2Fma {
-            v.insert(0, Backend::Avx2Fma);
-        }
-        v
+        [Backend::Avx512, Backend::Avx2Fma, Backend::Portable]
+            .into_iter()
+            .filter(|&b| b.usable() == b)
+            .collect()
     }
 
     /// Short name, as `gonio bench` prints it.
     pub fn as_str(self) -> &'static str {
         match self {
+            Backend::Avx512 => "avx512",
             Backend::Avx2Fma => "avx2+fma",
             Backend::Portable => "portable",
         }
     }
 
-    /// This backend if the CPU supports it, else [`Backend::Portable`].
+    /// This backend if the CPU supports it, else the fastest one below it that it supports.
     pub(crate) fn usable(self) -> Backend {
-        if self == Backend::Avx2Fma && Backend::detect() != Backend::Avx2Fma {
-            Backend::Portable
-        } else {
-            self
+        let best = Backend::detect();
+        match (self, best) {
+            (Backend::Avx512, b) => b,
+            (Backend::Avx2Fma, Backend::Avx512 | Backend::Avx2Fma) => Backend::Avx2Fma,
+            _ => Backend::Portable,
         }
     }
 }
