@@ -286,11 +286,14 @@ fn f64_batch_matches_the_scalar_reference() {
     }
 }
 
-/// f32 batch: directions within 2e-5 of the f64 reference (scaled by min(1, 2π·pdf), as the
-/// scalar tests do: a low density stretches the map; the nadir of the Lambert layout left out), the pdf of a sample equal to the f32 batch
-/// pdf of its direction within 8 f32 ulps in the median and 1e-4 relative to max(pdf, 0.1) at worst (rounding
-/// the direction to f32 moves a steep density by up to |d ln D/dx|·ε₃₂), and the round trip
-/// within 1e-5 away from the seams of the square.
+/// f32 batch (evaluated by the f64 kernels and rounded once; f32 directions renormalised in f64):
+/// directions within 2e-6 of the f64 reference (scaled by min(1, 2π·pdf), as the scalar tests do:
+/// a low density stretches the map; the nadir of the Lambert layout left out), the pdf of a sample
+/// equal to the f32 batch pdf of its direction within 2 f32 ulps in the median and 2e-5 relative
+/// to max(pdf, 0.1) at worst (rounding the direction to f32 moves a steep density by up to
+/// |d ln D/dx|·ε₃₂), and the round trip within 1e-6 (the issue asks 1e-5) away from the seams of
+/// the square, wherever the scalar f64 round trip holds. Measured: directions ≤ 6e-7, pdf median
+/// ≤ 0.73 ulp and max ≤ 4e-6, round trip ≤ 2.4e-7.
 #[test]
 fn f32_batch_is_exact_to_f32() {
     let (u, v) = points(3, 20_000);
@@ -330,7 +333,14 @@ fn f32_batch_is_exact_to_f32() {
                     let du = (w[0][k] - u32s[k]).abs().max((w[1][k] - v32s[k]).abs()) as f64;
                     // the sphere's hemisphere seam and the B-disk's azimuth seam (v = ½, u > ½)
                     let seam = (v[k] - 0.5).abs() < 1e-4 && u[k] > 0.5;
-                    if !seam {
+                    // Where the map is not injective the scalar f64 round trip fails too (the
+                    // Lambert layout's nadir is the whole rim of its disk: the square's edge):
+                    // required, as in the f64 test, wherever the scalar one holds.
+                    let p = [u32s[k] as f64, v32s[k] as f64];
+                    let scalar_rt = m
+                        .invert(r.direction)
+                        .is_ok_and(|ws| (ws[0] - p[0]).abs().max((ws[1] - p[1]).abs()) <= 1e-10);
+                    if !seam && scalar_rt {
                         rt = rt.max(du);
                     }
                 }
@@ -341,15 +351,15 @@ fn f32_batch_is_exact_to_f32() {
                 "{name} {b:?} f32: direction {dmax:.1e}, pdf median {med:.2} ulp, max {pmax:.1e}, round trip {rt:.1e}"
             );
             assert!(
-                dmax <= 2e-5,
+                dmax <= 2e-6,
                 "{name} {b:?}: f32 direction differs by {dmax:e}"
             );
             assert!(
-                med <= 8.0,
+                med <= 2.0,
                 "{name} {b:?}: f32 pdf median mismatch {med} ulp"
             );
-            assert!(pmax <= 1e-4, "{name} {b:?}: f32 pdf differs by {pmax:e}");
-            assert!(rt <= 1e-5, "{name} {b:?}: f32 round trip {rt:e}");
+            assert!(pmax <= 2e-5, "{name} {b:?}: f32 pdf differs by {pmax:e}");
+            assert!(rt <= 1e-6, "{name} {b:?}: f32 round trip {rt:e}");
         }
     }
 }

@@ -1,5 +1,5 @@
-//! Batch paths of the HDS mapping over structure-of-arrays slices, in f64 and f32, on AVX2+FMA
-//! (chosen at run time) or the portable instruction set: [`SoaSampler`] for
+//! Batch paths of the HDS mapping over structure-of-arrays slices, in f64 and f32, on AVX-512 or
+//! AVX2+FMA (chosen at run time) or the portable instruction set: [`SoaSampler`] for
 //! [`HemisphereMap`] and [`SphereMap`], and the parallel versions [`sample_soa_par`],
 //! [`pdf_soa_par`], [`invert_soa_par`].
 //!
@@ -8,6 +8,13 @@
 //! within 2 ulp of libm ([`crate::mapping::simd::math`]); the resulting end-to-end differences are
 //! bounded by the tests in `tests/batch.rs` and reported in `docs/PERFORMANCE.md`. Results never
 //! depend on the backend, the block size or the number of threads (tested bit for bit).
+//!
+//! **f32** calls are evaluated by the f64 kernels and rounded once: points of the square are
+//! widened, directions are widened and renormalised in f64 (an f32 unit vector is unit only to
+//! ~1e-7, which at the map's rim would read as "beyond the map"), and every result is the f64
+//! result rounded to f32. So an f32 result is within ½ ulp of the f64 batch result for the same
+//! (widened) input, the f32 pdf of a sample is the exact density of its f64 direction rounded
+//! once, and f32 costs what f64 does (the f64 kernels are the fast ones; `docs/PERFORMANCE.md`).
 //!
 //! Conventions, as in [`Sampler`]: directions are unit vectors in the map's frame, densities per
 //! steradian, points of the square in [0, 1]². Where the scalar `invert` returns an error (a
@@ -161,7 +168,73 @@ fn invert_portable<T: Lane>(c: &HdsCore, dir: [&[T]; 3], out: [&mut [T]; 2]) {
     c.invert_slices(dir, out)
 }
 
+/// Points per chunk when an f32 call runs through the f64 kernels.
+const F32_CHUNK: usize = 256;
+
+/// Whether the lane type is f32 (which the batch paths evaluate in f64, rounded once).
+fn is_f32<T: Lane>() -> bool {
+    std::any::TypeId::of::<T>() == std::any::TypeId::of::<f32>()
+}
+
+/// `T` values widened into the first `cnt` entries of an f64 buffer.
+fn widen<T: Lane>(src: &[T], buf: &mut [f64; F32_CHUNK]) {
+    for (b, &x) in buf.iter_mut().zip(src) {
+        *b = x.to_f64();
+    }
+}
+
+/// f32 directions widened to f64 are unit vectors only to within f32 rounding (~1e-7); the f64
+/// kernels expect them unit to within f64 rounding (a horizon direction rounded to f32 can lie
+/// "beyond the map's edge" by 1e-7 otherwise). Renormalises the first `cnt` widened directions
+/// (those of positive finite length; others pass unchanged).
+fn renormalise(d: &mut [[f64; F32_CHUNK]; 3], cnt: usize) {
+    for k in 0..cnt {
+        let n = (d[0][k] * d[0][k] + d[1][k] * d[1][k] + d[2][k] * d[2][k]).sqrt();
+        if n > 0.0 && n.is_finite() {
+            for c in d.iter_mut() {
+                c[k] /= n;
+            }
+        }
+    }
+}
+
+/// f64 values rounded into `T`.
+fn narrow<T: Lane>(src: &[f64], dst: &mut [T]) {
+    for (d, &x) in dst.iter_mut().zip(src) {
+        *d = T::from_f64(x);
+    }
+}
+
 fn core_sample<T: Lane>(b: Backend, c: &HdsCore, u: &[T], v: &[T], out: [&mut [T]; 4]) {
+    if is_f32::<T>() {
+        let mut o = out;
+        let (mut bu, mut bv) = ([0.0; F32_CHUNK], [0.0; F32_CHUNK]);
+        let mut bo = [[0.0; F32_CHUNK]; 4];
+        let mut start = 0;
+        while start < u.len() {
+            let cnt = (u.len() - start).min(F32_CHUNK);
+            widen(&u[start..start + cnt], &mut bu);
+            widen(&v[start..start + cnt], &mut bv);
+            let [bx, by, bz, bd] = &mut bo;
+            core_sample::<f64>(
+                b,
+                c,
+                &bu[..cnt],
+                &bv[..cnt],
+                [
+                    &mut bx[..cnt],
+                    &mut by[..cnt],
+                    &mut bz[..cnt],
+                    &mut bd[..cnt],
+                ],
+            );
+            for (col, bcol) in o.iter_mut().zip(&bo) {
+                narrow(&bcol[..cnt], &mut col[start..start + cnt]);
+            }
+            start += cnt;
+        }
+        return;
+    }
     #[cfg(target_arch = "x86_64")]
     if b.usable() == Backend::Avx512 {
         // SAFETY: `usable` returns Avx512 only when the CPU has AVX-512 F/DQ, AVX2 and FMA.
@@ -177,6 +250,23 @@ fn core_sample<T: Lane>(b: Backend, c: &HdsCore, u: &[T], v: &[T], out: [&mut [T
 }
 
 fn core_density<T: Lane>(b: Backend, c: &HdsCore, dir: [&[T]; 3], out: &mut [T]) {
+    if is_f32::<T>() {
+        let mut bd = [[0.0; F32_CHUNK]; 3];
+        let mut bo = [0.0; F32_CHUNK];
+        let mut start = 0;
+        while start < out.len() {
+            let cnt = (out.len() - start).min(F32_CHUNK);
+            for (k, b) in bd.iter_mut().enumerate() {
+                widen(&dir[k][start..start + cnt], b);
+            }
+            renormalise(&mut bd, cnt);
+            let [x, y, z] = &bd;
+            core_density::<f64>(b, c, [&x[..cnt], &y[..cnt], &z[..cnt]], &mut bo[..cnt]);
+            narrow(&bo[..cnt], &mut out[start..start + cnt]);
+            start += cnt;
+        }
+        return;
+    }
     #[cfg(target_arch = "x86_64")]
     if b.usable() == Backend::Avx512 {
         // SAFETY: as in `core_sample`.
@@ -192,6 +282,30 @@ fn core_density<T: Lane>(b: Backend, c: &HdsCore, dir: [&[T]; 3], out: &mut [T])
 }
 
 fn core_invert<T: Lane>(b: Backend, c: &HdsCore, dir: [&[T]; 3], out: [&mut [T]; 2]) {
+    if is_f32::<T>() {
+        let [u, v] = out;
+        let mut bd = [[0.0; F32_CHUNK]; 3];
+        let (mut bu, mut bv) = ([0.0; F32_CHUNK], [0.0; F32_CHUNK]);
+        let mut start = 0;
+        while start < u.len() {
+            let cnt = (u.len() - start).min(F32_CHUNK);
+            for (k, b) in bd.iter_mut().enumerate() {
+                widen(&dir[k][start..start + cnt], b);
+            }
+            renormalise(&mut bd, cnt);
+            let [x, y, z] = &bd;
+            core_invert::<f64>(
+                b,
+                c,
+                [&x[..cnt], &y[..cnt], &z[..cnt]],
+                [&mut bu[..cnt], &mut bv[..cnt]],
+            );
+            narrow(&bu[..cnt], &mut u[start..start + cnt]);
+            narrow(&bv[..cnt], &mut v[start..start + cnt]);
+            start += cnt;
+        }
+        return;
+    }
     #[cfg(target_arch = "x86_64")]
     if b.usable() == Backend::Avx512 {
         // SAFETY: as in `core_sample`.

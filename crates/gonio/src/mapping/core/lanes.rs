@@ -4,7 +4,8 @@
 //! In f64 every arithmetic step is the scalar path's, in its order (so the results are the scalar
 //! ones bit for bit except through sin/cos and atan2); in f32 the same steps run in f32 with the
 //! tables read from their f64 values, while the table searches compare in f64 (exact for f32
-//! inputs).
+//! inputs). The batch paths run only the f64 instantiation (f32 calls are widened to f64 in
+//! `mapping::batch`); the f32 one stays generic, unused by them.
 
 // Lane loops index several arrays by the same lane number on purpose (they vectorise).
 #![allow(clippy::needless_range_loop)]

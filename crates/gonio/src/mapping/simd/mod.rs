@@ -9,11 +9,12 @@
 //! tables, branch-free descents) run lane by lane over scalar loads. The same source is compiled
 //! twice: once inside a function with `#[target_feature(enable = "avx2,fma")]`, chosen at run time
 //! when the CPU has both ([`Backend::detect`]), and once for the baseline x86-64 (SSE2) or any other
-//! target ([`Backend::Portable`]). On the AVX2 backend the **f64** paths (forward, pdf, inverse) go
-//! instead through explicit `core::arch` kernels (`mapping/core/avx2.rs`) that run every stage,
-//! the searches included, on whole vectors with gathers: 37–59 % fewer instructions per point than
-//! the compiled lane loops (`docs/PERFORMANCE.md`). The f32 paths keep the generic kernels on both
-//! backends.
+//! target ([`Backend::Portable`]). On the AVX2 and AVX-512 backends the **f64** paths (forward,
+//! pdf, inverse) go instead through explicit `core::arch` kernels (`mapping/core/kernels.rs`,
+//! instantiated over `avx2.rs` and `avx512.rs`) that run every stage, the searches included, on
+//! whole vectors with gathers: 37–59 % fewer instructions per point than the compiled lane loops on
+//! AVX2, and on AVX-512 eight lanes per vector (`docs/PERFORMANCE.md`). **f32** calls are widened
+//! to f64, run through the same kernels and rounded once (`mapping::batch`).
 //!
 //! **Why this and not `wide`/`pulp`/`multiversion`.** The generic kernels need no vector type: plain
 //! loops over fixed-size arrays plus one `target_feature` function per entry point keep one source
@@ -34,14 +35,14 @@
 
 pub mod math;
 
-/// Points per block of the batch kernels (two AVX2 vectors of f64, one of f32).
+/// Points per block of the generic lane kernels (two AVX2 vectors of f64, one of f32).
 pub const LANES: usize = 8;
 
 /// The instruction set a batch call runs on.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Backend {
-    /// AVX-512 F and DQ (x86-64 only, detected at run time): the explicit f64 kernels on eight
-    /// lanes per vector; the f32 paths run as on [`Backend::Avx2Fma`] (AVX-512 CPUs have both).
+    /// AVX-512 F and DQ with AVX2 and FMA (x86-64 only, detected at run time): the explicit f64
+    /// kernels on eight lanes per vector.
     Avx512,
     /// AVX2 with FMA available (x86-64 only, detected at run time).
     Avx2Fma,
