@@ -190,10 +190,10 @@ fn widen<T: Lane>(src: &[T], buf: &mut [f64; F32_CHUNK]) {
 fn renormalise(d: &mut [[f64; F32_CHUNK]; 3], cnt: usize) {
     for k in 0..cnt {
         let n = (d[0][k] * d[0][k] + d[1][k] * d[1][k] + d[2][k] * d[2][k]).sqrt();
-        if n > 0.0 && n.is_finite() {
-            for c in d.iter_mut() {
-                c[k] /= n;
-            }
+        // One division per direction (the f32 results do not see the last bits of the scale).
+        let s = if n > 0.0 && n.is_finite() { 1.0 / n } else { 1.0 };
+        for c in d.iter_mut() {
+            c[k] *= s;
         }
     }
 }
