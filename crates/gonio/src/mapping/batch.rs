@@ -191,7 +191,11 @@ fn renormalise(d: &mut [[f64; F32_CHUNK]; 3], cnt: usize) {
     for k in 0..cnt {
         let n = (d[0][k] * d[0][k] + d[1][k] * d[1][k] + d[2][k] * d[2][k]).sqrt();
         // One division per direction (the f32 results do not see the last bits of the scale).
-        let s = if n > 0.0 && n.is_finite() { 1.0 / n } else { 1.0 };
+        let s = if n > 0.0 && n.is_finite() {
+            1.0 / n
+        } else {
+            1.0
+        };
         for c in d.iter_mut() {
             c[k] *= s;
         }
