@@ -1,6 +1,8 @@
-//! Explicit AVX2 kernels of the f64 batch paths: the forward map on blocks of [`BLOCK`] points
-//! (K = 4 independent `__m256d` chains of four lanes), with the table searches as vector descents
-//! over AVX2 gathers.
+//! Explicit AVX2 kernels of the f64 batch paths (forward map, pdf, inverse) on blocks of
+//! [`BLOCK`] points (K = 4 independent `__m256d` chains of four lanes), with the table searches as
+//! vector descents over AVX2 gathers. This module defines the AVX2 vector vocabulary; the kernels
+//! themselves are written once in [`super::kernels`] and instantiated here and, for AVX-512, in
+//! [`super::avx512`]. The design notes below hold for both.
 //!
 //! The generic lane kernels ([`super::lanes`]) keep the table searches per-lane scalar loops, and
 //! profiling showed that those loops, the per-lane table reads and their address arithmetic made up
@@ -19,8 +21,8 @@
 //! inlines by itself; the stages used by more than one kernel (searches, `atan2`, the radial solve)
 //! are `#[inline(always)] unsafe fn` without the attribute (the two cannot be combined on stable
 //! Rust), so that they are inlined into every kernel: measured 10–15 % faster on the inverse. Their
-//! one safety condition is the module's: the CPU has AVX2 and FMA, which every caller, a
-//! `#[target_feature(enable = "avx2,fma")]` function, guarantees.
+//! one safety condition is the module's: the CPU has the module's instruction set, which every
+//! caller, an entry point compiled with `#[target_feature]` for it, guarantees.
 //!
 //! **Memory safety.** Every gather index is clamped into its table ([`gather`]), so that no input
 //! (NaN, infinities, points outside the square) can make a gather read outside a table; the clamp
