@@ -43,6 +43,7 @@ pub(crate) struct HdsCore {
 impl HdsCore {
     /// Whether the explicit kernels can index this map's tables (indices below 2³¹; every map
     /// that fits in memory today, checked anyway).
+    #[cfg(target_arch = "x86_64")]
     pub(crate) fn explicit_indexable(&self) -> bool {
         let lim = 1usize << 31;
         self.radial.u.len() < lim

@@ -117,6 +117,7 @@ pub(crate) const ATAN_TAYLOR: [f64; 8] = [
 ];
 
 /// The high parts of [`ATAN_K8`] (atan(k/8), k = 0..=8), as an array of their own for gathers.
+#[cfg(target_arch = "x86_64")]
 pub(crate) const ATAN_K8_HI: [f64; 9] = {
     let mut a = [0.0; 9];
     let mut k = 0;
@@ -127,6 +128,7 @@ pub(crate) const ATAN_K8_HI: [f64; 9] = {
     a
 };
 /// The low parts of [`ATAN_K8`].
+#[cfg(target_arch = "x86_64")]
 pub(crate) const ATAN_K8_LO: [f64; 9] = {
     let mut a = [0.0; 9];
     let mut k = 0;
