@@ -45,6 +45,8 @@ pub(crate) const BLOCK: usize = 4 * K;
 /// K vectors of four f64 lanes (a value, or a mask of all-ones / all-zeros lanes).
 #[derive(Clone, Copy)]
 struct F([__m256d; K]);
+/// Masks are vectors of all-ones / all-zeros lanes on AVX2.
+type M = F;
 /// K vectors of four i64 lanes (table indices).
 #[derive(Clone, Copy)]
 struct I([__m256i; K]);
@@ -174,31 +176,6 @@ fn any(m: F) -> bool {
         acc = _mm256_or_pd(acc, m.0[k]);
     }
     _mm256_movemask_pd(acc) != 0
-}
-/// `a.max(b)` as Rust computes it on x86 (`maxnum`): `b` where `b > a` or `a` is NaN, else `a`.
-#[inline]
-#[target_feature(enable = "avx2,fma")]
-fn fmax(a: F, b: F) -> F {
-    sel(or(gt(b, a), isnan(a)), b, a)
-}
-/// `a.min(b)` as Rust computes it on x86 (`minnum`): `b` where `b < a` or `a` is NaN, else `a`.
-#[inline]
-#[target_feature(enable = "avx2,fma")]
-fn fmin(a: F, b: F) -> F {
-    sel(or(lt(b, a), isnan(a)), b, a)
-}
-/// `Lane::clamp` (NaN passes through).
-#[inline]
-#[target_feature(enable = "avx2,fma")]
-fn clamp(x: F, lo: F, hi: F) -> F {
-    let x = sel(lt(x, lo), lo, x);
-    sel(gt(x, hi), hi, x)
-}
-/// Lanes with |a| < ∞ (not NaN, not ±∞).
-#[inline]
-#[target_feature(enable = "avx2,fma")]
-fn is_finite(a: F) -> F {
-    lt(abs(a), splat(f64::INFINITY))
 }
 
 #[inline]

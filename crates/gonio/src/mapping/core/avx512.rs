@@ -181,31 +181,6 @@ fn sel(m: M, a: F, b: F) -> F {
     }
     o
 }
-/// `a.max(b)` as Rust computes it on x86 (`maxnum`): `b` where `b > a` or `a` is NaN, else `a`.
-#[inline]
-#[target_feature(enable = "avx512f,avx512dq")]
-fn fmax(a: F, b: F) -> F {
-    sel(or(gt(b, a), isnan(a)), b, a)
-}
-/// `a.min(b)` as Rust computes it on x86 (`minnum`): `b` where `b < a` or `a` is NaN, else `a`.
-#[inline]
-#[target_feature(enable = "avx512f,avx512dq")]
-fn fmin(a: F, b: F) -> F {
-    sel(or(lt(b, a), isnan(a)), b, a)
-}
-/// `Lane::clamp` (NaN passes through).
-#[inline]
-#[target_feature(enable = "avx512f,avx512dq")]
-fn clamp(x: F, lo: F, hi: F) -> F {
-    let x = sel(lt(x, lo), lo, x);
-    sel(gt(x, hi), hi, x)
-}
-/// Lanes with |a| < ∞ (not NaN, not ±∞).
-#[inline]
-#[target_feature(enable = "avx512f,avx512dq")]
-fn is_finite(a: F) -> M {
-    lt(abs(a), splat(f64::INFINITY))
-}
 /// Lanes whose sign bit is set (`is_sign_negative`).
 #[inline]
 #[target_feature(enable = "avx512f,avx512dq")]

@@ -8,6 +8,32 @@
 /// vocabulary, their entry points compiled with `#[target_feature(enable = $feat)]`.
 macro_rules! explicit_kernels {
     ($feat:literal) => {
+        /// `a.max(b)` as Rust computes it on x86 (`maxnum`): `b` where `b > a` or `a` is NaN, else `a`.
+        #[inline]
+        #[target_feature(enable = $feat)]
+        fn fmax(a: F, b: F) -> F {
+            sel(or(gt(b, a), isnan(a)), b, a)
+        }
+        /// `a.min(b)` as Rust computes it on x86 (`minnum`): `b` where `b < a` or `a` is NaN, else `a`.
+        #[inline]
+        #[target_feature(enable = $feat)]
+        fn fmin(a: F, b: F) -> F {
+            sel(or(lt(b, a), isnan(a)), b, a)
+        }
+        /// `Lane::clamp` (NaN passes through).
+        #[inline]
+        #[target_feature(enable = $feat)]
+        fn clamp(x: F, lo: F, hi: F) -> F {
+            let x = sel(lt(x, lo), lo, x);
+            sel(gt(x, hi), hi, x)
+        }
+        /// Lanes with |a| < ∞ (not NaN, not ±∞).
+        #[inline]
+        #[target_feature(enable = $feat)]
+        fn is_finite(a: F) -> M {
+            lt(abs(a), splat(f64::INFINITY))
+        }
+
         /// The lanes' `descend`: per lane the largest j in [lo, hi] with `probe(j)` ≤ `w` (lo when none
         /// is), by the same bit-by-bit steps.
         #[inline(always)]
@@ -55,13 +81,7 @@ macro_rules! explicit_kernels {
             }
             let (mut f, xs) = (ilanes(found), flanes(x));
             for l in 0..BLOCK {
-                let i = &mut f[l];
-                while *i > 0 && a[*i] > xs[l] {
-                    *i -= 1;
-                }
-                while *i < last && a[*i + 1] <= xs[l] {
-                    *i += 1;
-                }
+                f[l] = super::lanes::settle_guided(a, f[l], xs[l], last);
             }
             ifrom(f)
         }
@@ -339,35 +359,13 @@ macro_rules! explicit_kernels {
                 and(jpos, le(uj1, uj)),
             );
             if any(settle) {
-                let (mut js, ujs) = (ilanes(j), flanes(uj));
+                let (mut js, mut ujo) = (ilanes(j), flanes(uj));
                 let (ws, es, ais, bis) = (flanes(w), flanes(eps), ilanes(a_off), ilanes(b_off));
-                let mut ujo = ujs;
                 for l in 0..BLOCK {
                     let (e, wl) = (es[l], ws[l]);
                     let (ua, ub) = (&rad.u[ais[l]..ais[l] + n], &rad.u[bis[l]..bis[l] + n]);
                     let ut = |j: usize| (1.0 - e) * ua[j] + e * ub[j];
-                    let mut j = js[l];
-                    let (mut uj, mut uj1) = (ut(j), ut(j + 1));
-                    if j > 0 && uj > wl {
-                        while j > 0 && ut(j) > wl {
-                            j -= 1;
-                        }
-                        (uj, uj1) = (ut(j), ut(j + 1));
-                    }
-                    if j + 2 < n && uj1 <= wl {
-                        while j + 2 < n && ut(j + 1) <= wl {
-                            j += 1;
-                        }
-                        (uj, uj1) = (ut(j), ut(j + 1));
-                    }
-                    if j > 0 && uj1 <= uj {
-                        while j > 0 && ut(j + 1) <= ut(j) {
-                            j -= 1;
-                        }
-                        uj = ut(j);
-                    }
-                    js[l] = j;
-                    ujo[l] = uj;
+                    (js[l], ujo[l]) = super::lanes::settle_radial(js[l], n, wl, ut);
                 }
                 j = ifrom(js);
                 uj = fload(&ujo);

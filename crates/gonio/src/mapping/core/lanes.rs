@@ -210,29 +210,7 @@ impl HdsCore {
             );
             let ut = |j: usize| (T::ONE - e) * c::<T>(ua[j]) + e * c::<T>(ub[j]);
             let w = w[l];
-            // The scalar path's three settling loops, each entered only when its condition holds
-            // at the descent's answer (rarely): Ũ_j and Ũ_{j+1} are read once in the usual case.
-            let mut j = found[l];
-            let (mut uj, mut uj1) = (ut(j), ut(j + 1));
-            if j > 0 && uj > w {
-                while j > 0 && ut(j) > w {
-                    j -= 1;
-                }
-                (uj, uj1) = (ut(j), ut(j + 1));
-            }
-            if j + 2 < n && uj1 <= w {
-                while j + 2 < n && ut(j + 1) <= w {
-                    j += 1;
-                }
-                (uj, uj1) = (ut(j), ut(j + 1));
-            }
-            // The square's edge before an unlit zone at the end of the map (as Radial::forward).
-            if j > 0 && uj1 <= uj {
-                while j > 0 && ut(j + 1) <= ut(j) {
-                    j -= 1;
-                }
-                uj = ut(j);
-            }
+            let (j, uj) = settle_radial(found[l], n, w, ut);
             let (da, db) = (
                 &self.radial.d[i * n..i * n + n],
                 &self.radial.d[i1 * n..i1 * n + n],
@@ -487,15 +465,55 @@ fn guided_block<T: Lane>(
     }
     let mut found = descend(&lo, &hi, &x, |_, i| a[i]);
     for l in 0..L {
-        let i = &mut found[l];
-        while *i > 0 && a[*i] > x[l] {
-            *i -= 1;
-        }
-        while *i < last && a[*i + 1] <= x[l] {
-            *i += 1;
-        }
+        found[l] = settle_guided(a, found[l], x[l], last);
     }
     found
+}
+
+/// The scalar search's settling steps after a guided descent (entered only when round-off left
+/// `i` outside its bracket): the largest i ≤ `last` with a_i ≤ x, from a nearby start.
+#[inline(always)]
+pub(super) fn settle_guided(a: &[f64], mut i: usize, x: f64, last: usize) -> usize {
+    while i > 0 && a[i] > x {
+        i -= 1;
+    }
+    while i < last && a[i + 1] <= x {
+        i += 1;
+    }
+    i
+}
+
+/// The scalar path's three settling loops of the radial search at the descent's answer `j`
+/// (each entered only when its condition holds, rarely): Ũ_j and Ũ_{j+1} (`ut`) are read once in
+/// the usual case. Returns the segment j and Ũ_j.
+#[inline(always)]
+pub(super) fn settle_radial<T: Lane>(
+    mut j: usize,
+    n: usize,
+    w: T,
+    ut: impl Fn(usize) -> T,
+) -> (usize, T) {
+    let (mut uj, mut uj1) = (ut(j), ut(j + 1));
+    if j > 0 && uj > w {
+        while j > 0 && ut(j) > w {
+            j -= 1;
+        }
+        (uj, uj1) = (ut(j), ut(j + 1));
+    }
+    if j + 2 < n && uj1 <= w {
+        while j + 2 < n && ut(j + 1) <= w {
+            j += 1;
+        }
+        (uj, uj1) = (ut(j), ut(j + 1));
+    }
+    // The square's edge before an unlit zone at the end of the map (as Radial::forward).
+    if j > 0 && uj1 <= uj {
+        while j > 0 && ut(j + 1) <= ut(j) {
+            j -= 1;
+        }
+        uj = ut(j);
+    }
+    (j, uj)
 }
 
 /// Per lane, the largest index j in [lo, hi] with `probe(lane, j)` ≤ `w` (lo itself when none is:
