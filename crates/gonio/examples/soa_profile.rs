@@ -12,6 +12,7 @@
 //! ```
 //! Arguments: OP [N M] [portable|avx2]; `portable` or `avx2` forces that backend (else the
 //! fastest the CPU has). Environment:
+//! `GONIO_PROFILE_COUNT=P` uses P points instead of 2¹⁶;
 //! `GONIO_PROFILE_REPEAT=K` runs a batch operation K times and prints its wall-clock time per point
 //! (for `perf record`); `GONIO_PROFILE_FAMILY=peaky` uses the side-by-side script's grid (values
 //! r⁴ + 10⁻³, r uniform, θ 0…90°, φ 0…360°) instead of the "lobes" diagram.
@@ -33,7 +34,10 @@ fn main() {
         Some("avx2") => Backend::Avx2Fma,
         _ => Backend::detect(),
     };
-    let count = 1 << 16;
+    let count: usize = std::env::var("GONIO_PROFILE_COUNT")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1 << 16);
     let repeat: usize = std::env::var("GONIO_PROFILE_REPEAT")
         .ok()
         .and_then(|s| s.parse().ok())

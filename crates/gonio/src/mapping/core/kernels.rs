@@ -517,6 +517,30 @@ macro_rules! explicit_kernels {
             unsafe { disk_to_square(rbd, phib) }
         }
 
+        /// The block of `col[s..s + cnt]` (cnt ≤ BLOCK), lanes beyond `cnt` set to `pad`. A full
+        /// block is loaded in place (no staging copy).
+        #[inline(always)]
+        unsafe fn load_block(col: &[f64], s: usize, cnt: usize, pad: f64) -> F {
+            if let Ok(full) = <&[f64; BLOCK]>::try_from(&col[s..s + cnt]) {
+                fload(full)
+            } else {
+                let mut b = [pad; BLOCK];
+                b[..cnt].copy_from_slice(&col[s..s + cnt]);
+                fload(&b)
+            }
+        }
+
+        /// Writes the first `cnt` lanes of `x` to `col[s..s + cnt]` (cnt ≤ BLOCK).
+        #[inline(always)]
+        unsafe fn store_block(col: &mut [f64], s: usize, cnt: usize, x: F) {
+            let lanes = flanes(x);
+            if let Ok(full) = <&mut [f64; BLOCK]>::try_from(&mut col[s..s + cnt]) {
+                *full = lanes;
+            } else {
+                col[s..s + cnt].copy_from_slice(&lanes[..cnt]);
+            }
+        }
+
         /// [`density_block`] over slices.
         #[target_feature(enable = $feat)]
         pub(crate) fn density_slices(c: &HdsCore, dir: [&[f64]; 3], out: &mut [f64]) {
@@ -525,12 +549,9 @@ macro_rules! explicit_kernels {
             let mut start = 0;
             while start < len {
                 let cnt = (len - start).min(BLOCK);
-                let mut b = [[0.0; BLOCK], [0.0; BLOCK], [1.0; BLOCK]];
-                for (k, bk) in b.iter_mut().enumerate() {
-                    bk[..cnt].copy_from_slice(&dir[k][start..start + cnt]);
-                }
-                let o = density_block(c, fload(&b[0]), fload(&b[1]), fload(&b[2]));
-                out[start..start + cnt].copy_from_slice(&flanes(o)[..cnt]);
+                let [x, y, z] = [(0, 0.0), (1, 0.0), (2, 1.0)]
+                    .map(|(k, pad)| unsafe { load_block(dir[k], start, cnt, pad) });
+                unsafe { store_block(out, start, cnt, density_block(c, x, y, z)) };
                 start += cnt;
             }
         }
@@ -544,13 +565,13 @@ macro_rules! explicit_kernels {
             let mut start = 0;
             while start < len {
                 let cnt = (len - start).min(BLOCK);
-                let mut b = [[0.0; BLOCK], [0.0; BLOCK], [1.0; BLOCK]];
-                for (k, bk) in b.iter_mut().enumerate() {
-                    bk[..cnt].copy_from_slice(&dir[k][start..start + cnt]);
+                let [x, y, z] = [(0, 0.0), (1, 0.0), (2, 1.0)]
+                    .map(|(k, pad)| unsafe { load_block(dir[k], start, cnt, pad) });
+                let (ou, ov) = invert_block(c, x, y, z);
+                unsafe {
+                    store_block(u, start, cnt, ou);
+                    store_block(v, start, cnt, ov);
                 }
-                let (ou, ov) = invert_block(c, fload(&b[0]), fload(&b[1]), fload(&b[2]));
-                u[start..start + cnt].copy_from_slice(&flanes(ou)[..cnt]);
-                v[start..start + cnt].copy_from_slice(&flanes(ov)[..cnt]);
                 start += cnt;
             }
         }
@@ -566,12 +587,12 @@ macro_rules! explicit_kernels {
             let mut start = 0;
             while start < len {
                 let cnt = (len - start).min(BLOCK);
-                let (mut bu, mut bv) = ([0.5; BLOCK], [0.5; BLOCK]);
-                bu[..cnt].copy_from_slice(&u[start..start + cnt]);
-                bv[..cnt].copy_from_slice(&v[start..start + cnt]);
-                let o = sample_block(c, fload(&bu), fload(&bv));
+                let (bu, bv) = unsafe {
+                    (load_block(u, start, cnt, 0.5), load_block(v, start, cnt, 0.5))
+                };
+                let o = sample_block(c, bu, bv);
                 for (col, ov) in [&mut *x, &mut *y, &mut *z, &mut *d].into_iter().zip(o) {
-                    col[start..start + cnt].copy_from_slice(&flanes(ov)[..cnt]);
+                    unsafe { store_block(col, start, cnt, ov) };
                 }
                 start += cnt;
             }
