@@ -27,6 +27,10 @@ Run:
 
 What is compared is not identical work: Mitsuba returns a point of the unit square and its density
 in float32; gonio returns a unit direction on the hemisphere and its exact density (f64 or f32).
+A second table therefore also times Mitsuba with the work its caller adds for directions, in the
+same Dr.Jit kernel: the lift of the sampled point to a unit direction (θ = (π/2)y, φ = 2πx, two
+sincos) with the pdf per steradian (÷ π² sin θ), and, before ``invert``, a direction's mapping back
+to the square (atan2, acos). The issue's targets are stated against the first table.
 """
 
 import argparse
@@ -91,8 +95,35 @@ def time_mitsuba(values, u, v, repeats, threads):
             dr.sync_thread()
 
         ti = best_of(repeats, invert)
+
+        # Like for like: Mitsuba's sample lifted to a unit direction with its pdf per steradian, and
+        # a direction mapped back to the square before invert. The grid's columns are φ = 2πx and
+        # its rows θ = (π/2)y, so dω = π² sin θ dx dy.
+        def sample_dir():
+            p, pdf = dist.sample(pts)
+            st, ct = dr.sincos(p.y * (dr.pi / 2))
+            sp, cp = dr.sincos(p.x * (2 * dr.pi))
+            d = mi.Vector3f(st * cp, st * sp, ct)
+            res["d"] = (d, pdf / (dr.pi * dr.pi * st))
+            dr.eval(res["d"])
+            dr.sync_thread()
+
+        tsd = best_of(repeats, sample_dir)
+        dirs = mi.Vector3f(res["d"][0])
+        dr.eval(dirs)
+
+        def invert_dir():
+            phi = dr.atan2(dirs.y, dirs.x)
+            phi = dr.select(phi < 0, phi + 2 * dr.pi, phi)
+            q = mi.Point2f(phi / (2 * dr.pi), dr.acos(dirs.z) / (dr.pi / 2))
+            r = dist.invert(q)
+            dr.eval(r)
+            dr.sync_thread()
+
+        tid = best_of(repeats, invert_dir)
         n = len(u)
-        out[label] = {"sample_ns": ts / n * 1e9, "invert_ns": ti / n * 1e9}
+        out[label] = {"sample_ns": ts / n * 1e9, "invert_ns": ti / n * 1e9,
+                      "sample_dir_ns": tsd / n * 1e9, "invert_dir_ns": tid / n * 1e9}
     return out
 
 
@@ -143,6 +174,21 @@ def main():
                      f"{mi_['invert_ns']:.1f}", f"{go['inverse_f64_ns']:.1f}",
                      f"{mi_['invert_ns'] / go['inverse_f64_ns']:.2f}",
                      f"{go['inverse_f32_ns']:.1f}", f"{mi_['invert_ns'] / go['inverse_f32_ns']:.2f}"]
+            print(" | ".join(cells))
+    print()
+    print("like for like: Mitsuba plus the lift to a unit direction and its pdf per steradian (sample),")
+    print("and a direction mapped back to the square first (invert); ratio = Mitsuba / gonio f64")
+    hdr = ("grid", "threads", "mi sample+dir", "gonio f64 fwd", "ratio", "mi dir+invert", "gonio f64 inv", "ratio")
+    print(" | ".join(hdr))
+    for r in rows:
+        for label in ("one", "all"):
+            mi_ = r["mitsuba"][label]
+            go = r["gonio"][label]
+            cells = [r["grid"], label,
+                     f"{mi_['sample_dir_ns']:.1f}", f"{go['forward_f64_ns']:.1f}",
+                     f"{mi_['sample_dir_ns'] / go['forward_f64_ns']:.2f}",
+                     f"{mi_['invert_dir_ns']:.1f}", f"{go['inverse_f64_ns']:.1f}",
+                     f"{mi_['invert_dir_ns'] / go['inverse_f64_ns']:.2f}"]
             print(" | ".join(cells))
     print("scaling (one thread / all threads): " + ", ".join(
         f"{r['grid']}: Mitsuba sample {r['mitsuba']['one']['sample_ns'] / r['mitsuba']['all']['sample_ns']:.2f}, "

@@ -279,14 +279,23 @@ macro_rules! explicit_kernels {
         }
 
         /// The forward map on one block: directions and the disk density D (as
-        /// `lanes::sample_block`).
+        /// `lanes::sample_block`), in four stages whose costs `docs/PERFORMANCE.md` reports.
         #[inline]
         #[target_feature(enable = $feat)]
         fn sample_block(c: &HdsCore, u: F, v: F) -> [F; 4] {
-            let (ang, rad) = (&c.angular, &c.radial);
-            let n = rad.n;
-            let (z, one, two, half) = (zero(), splat(1.0), splat(2.0), splat(0.5));
-            // M_B (concentric::square_to_disk), branch-free.
+            let (rb, pb, wi) = sample_stage_disk(c, u, v);
+            let (phic, eps, a_off, b_off, j, uj, w) = sample_stage_search(c, rb, pb, wi);
+            let seg = sample_stage_solve(c, eps, a_off, b_off, j, uj, w);
+            sample_stage_lift(c, phic, seg)
+        }
+
+        /// Forward stage 1: M_B (concentric::square_to_disk, branch-free) and the wedge search.
+        /// Returns r_B, φ_B and the wedge index.
+        #[inline]
+        #[target_feature(enable = $feat)]
+        fn sample_stage_disk(c: &HdsCore, u: F, v: F) -> (F, F, I) {
+            let ang = &c.angular;
+            let (z, one, two) = (zero(), splat(1.0), splat(2.0));
             let a = sub(mul(two, u), one);
             let b = sub(mul(two, v), one);
             let big = gt(abs(a), abs(b));
@@ -302,9 +311,19 @@ macro_rules! explicit_kernels {
             let origin = and(eq(a, z), eq(b, z));
             let rb = sel(origin, z, r);
             let pb = sel(origin, z, phi);
-
-            // M_C: the wedge search, then the wedge equation (angular::solve_wedge).
             let wi = unsafe { guided(&ang.cum, &ang.wedge_guide, ang.guide_scale, pb, ang.m - 1) };
+            (rb, pb, wi)
+        }
+
+        /// Forward stage 2: the wedge equation (angular::solve_wedge), then the radial search over
+        /// the blended CDF of the wedge's two meridians. Returns φ_C, ε, the two meridians' table
+        /// offsets, the segment j, its blended cumulative mass Ũ_j and the target mass w.
+        #[inline]
+        #[target_feature(enable = $feat)]
+        fn sample_stage_search(c: &HdsCore, rb: F, pb: F, wi: I) -> (F, F, I, I, I, F, F) {
+            let (ang, rad) = (&c.angular, &c.radial);
+            let n = rad.n;
+            let (z, one, two, half) = (zero(), splat(1.0), splat(2.0), splat(0.5));
             let beta = gather(&ang.beta, wi);
             let ra = gather(&ang.r2, wi);
             let rbb = gather(&ang.r2, iadd(wi, isplat(1)));
@@ -322,7 +341,6 @@ macro_rules! explicit_kernels {
             let eps = sel(gt(den, z), clamp(div(mul(two, cc), den), z, one), z);
             let phic = add(phi0, mul(eps, beta));
 
-            // M_D: the radial search over the blended CDF of the wedge's two meridians.
             let w1 = iadd(wi, isplat(1));
             let wn = isel(ieq(w1, isplat(ang.m)), izero(), w1);
             let nv = isplat(n);
@@ -370,6 +388,31 @@ macro_rules! explicit_kernels {
                 j = ifrom(js);
                 uj = fload(&ujo);
             }
+            (phic, eps, a_off, b_off, j, uj, w)
+        }
+
+        /// Forward stage 3: the radial solve on segment j. Returns the disk radius, x_j, 1/(x_{j+1} −
+        /// x_j) and the blended segment-end densities d_j, d_{j+1}.
+        #[inline]
+        #[target_feature(enable = $feat)]
+        fn sample_stage_solve(
+            c: &HdsCore,
+            eps: F,
+            a_off: I,
+            b_off: I,
+            j: I,
+            uj: F,
+            w: F,
+        ) -> [F; 5] {
+            let rad = &c.radial;
+            let ome = sub(splat(1.0), eps);
+            let blend = |t: &[f64], j: I| {
+                add(
+                    mul(ome, gather(t, iadd(a_off, j))),
+                    mul(eps, gather(t, iadd(b_off, j))),
+                )
+            };
+            let i1 = isplat(1);
             let d0 = blend(&rad.d, j);
             let d1 = blend(&rad.d, iadd(j, i1));
             let x0 = gather(&rad.x, j);
@@ -377,11 +420,20 @@ macro_rules! explicit_kernels {
             let inv_dx = gather(&rad.inv_dx, j);
             let m = sub(w, uj);
             let xr = unsafe { solve_radius(x0, x1, d0, d1, m) };
+            [fmin(xr, x1), x0, inv_dx, d0, d1]
+        }
 
-            // Density at the radius and M_E (lift::disk_to_sphere).
+        /// Forward stage 4: the density at the radius and M_E (lift::disk_to_sphere). Returns the
+        /// direction and the disk density D at it.
+        #[inline]
+        #[target_feature(enable = $feat)]
+        fn sample_stage_lift(c: &HdsCore, phic: F, seg: [F; 5]) -> [F; 4] {
+            let [xr, x0, inv_dx, d0, d1] = seg;
+            let rad = &c.radial;
+            let n = rad.n;
+            let (z, one, two) = (zero(), splat(1.0), splat(2.0));
             let north = fmax(splat(rad.d[0]), z);
             let south = fmax(splat(rad.d[n - 1]), z);
-            let xr = fmin(xr, x1);
             let r2 = mul(xr, xr);
             let s = mul(xr, sqrt(fmax(sub(two, r2), z)));
             let (sp, cp) = unsafe { sin_cos(phic) };
@@ -588,7 +640,10 @@ macro_rules! explicit_kernels {
             while start < len {
                 let cnt = (len - start).min(BLOCK);
                 let (bu, bv) = unsafe {
-                    (load_block(u, start, cnt, 0.5), load_block(v, start, cnt, 0.5))
+                    (
+                        load_block(u, start, cnt, 0.5),
+                        load_block(v, start, cnt, 0.5),
+                    )
                 };
                 let o = sample_block(c, bu, bv);
                 for (col, ov) in [&mut *x, &mut *y, &mut *z, &mut *d].into_iter().zip(o) {
