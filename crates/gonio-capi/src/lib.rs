@@ -17,8 +17,8 @@
 //!   [`GONIO_ERR_PANIC`] (a bug of gonio; the message says where).
 //! * **Pointers** are checked for NULL and for the alignment of their type before use; outputs are
 //!   written only on success, except that batch functions may have written part of their output
-//!   when they fail. Inputs and outputs of a batch may overlap (they are accessed element by
-//!   element through raw pointers).
+//!   when they fail. A batch reads the inputs of a chunk of 256 elements before it writes their
+//!   outputs, so an output may overwrite its own or an earlier element's input (in place).
 //! * **Threads**: a [`GonioSampler`] and a [`GonioDiagram`] are immutable after creation; any
 //!   number of threads may use one handle at the same time. Freeing must not race with use.
 //! * **Frames and units**: directions are `[x, y, z]` in gonio's frame (θ from +z, φ from +x toward
@@ -1162,8 +1162,11 @@ unsafe fn sample_n<T: Real>(
     }
 }
 
-/// Evaluates `f` at n directions (normalised first); a zero or non-finite direction stops with
-/// [`GONIO_ERR_INVALID_ARGUMENT`] naming its index.
+/// Evaluates a batch function at n directions, a chunk of [`CHUNK`] at a time: the chunk's
+/// directions are read and normalised (a zero or non-finite one stops with
+/// [`GONIO_ERR_INVALID_ARGUMENT`] naming its index), `f` fills the chunk's results, which are then
+/// written. Every input of a chunk is read before any of its outputs is written, so an output may
+/// overwrite its own or an earlier element's input (in place).
 ///
 /// # Safety
 /// The views are valid for n elements.
@@ -1171,24 +1174,41 @@ unsafe fn eval_n<T: Real, const K: usize>(
     n: usize,
     dirs: &In<T, 3>,
     out: &Out<T, K>,
-    mut f: impl FnMut(Vec3) -> Result<[f64; K], Failure>,
+    mut f: impl FnMut(&[Vec3], &mut [[f64; K]]) -> Result<(), Failure>,
 ) -> Result<(), Failure> {
-    for i in 0..n {
-        let d = dirs.get(i);
-        let d = unit(d).map_err(|e| Failure::invalid(format!("direction #{i}: {}", e.message)))?;
-        out.set(i, f(d)?);
+    let mut unit_dirs = [[0.0; 3]; CHUNK];
+    let mut res = [[0.0; K]; CHUNK];
+    let mut start = 0;
+    while start < n {
+        let m = CHUNK.min(n - start);
+        for (k, d) in unit_dirs[..m].iter_mut().enumerate() {
+            let i = start + k;
+            *d = unit(dirs.get(i))
+                .map_err(|e| Failure::invalid(format!("direction #{i}: {}", e.message)))?;
+        }
+        f(&unit_dirs[..m], &mut res[..m])?;
+        for (k, r) in res[..m].iter().enumerate() {
+            out.set(start + k, *r);
+        }
+        start += m;
     }
     Ok(())
 }
 
-/// The result of `invert` in a batch: the point, or NaN for a direction outside the domain or of
-/// density 0 (no preimage).
-fn invert_or_nan(s: &dyn Sampler, d: Vec3) -> Result<[f64; 2], Failure> {
-    match s.invert(d) {
-        Ok(p) => Ok(p),
-        Err(InvertError::OutsideDomain | InvertError::ZeroDensity) => Ok([f64::NAN, f64::NAN]),
-        Err(e @ InvertError::Unsupported) => Err(invert_error(e)),
+/// `invert` of a chunk of unit directions through the sampler's batch path: a point, or NaN for a
+/// direction outside the domain or of density 0 (no preimage).
+fn invert_or_nan(s: &dyn Sampler, dirs: &[Vec3], out: &mut [[f64; 2]]) -> Result<(), Failure> {
+    let mut res = [Ok([0.0; 2]); CHUNK];
+    let res = &mut res[..dirs.len()];
+    s.invert_batch(dirs, res);
+    for (o, r) in out.iter_mut().zip(res.iter()) {
+        *o = match *r {
+            Ok(p) => p,
+            Err(InvertError::OutsideDomain | InvertError::ZeroDensity) => [f64::NAN, f64::NAN],
+            Err(e @ InvertError::Unsupported) => return Err(invert_error(e)),
+        };
     }
+    Ok(())
 }
 
 // The generic bodies of the batch functions; the exported functions below are one line each
@@ -1232,15 +1252,24 @@ unsafe fn sample_soa<T: Real>(
     })
 }
 
-/// A density of a sampler at a unit direction (pdf or target pdf).
-type DensityFn = fn(&dyn Sampler, Vec3) -> f64;
+/// A density of a sampler at a chunk of unit directions (pdf or target pdf).
+type DensityFn = fn(&dyn Sampler, &[Vec3], &mut [[f64; 1]]);
 
-fn pdf_of(s: &dyn Sampler, d: Vec3) -> f64 {
-    s.pdf(d)
+/// The pdf through the sampler's batch path (the SIMD kernels of the HDS maps).
+fn pdf_of(s: &dyn Sampler, dirs: &[Vec3], out: &mut [[f64; 1]]) {
+    let mut p = [0.0; CHUNK];
+    let p = &mut p[..dirs.len()];
+    s.pdf_batch(dirs, p);
+    for (o, p) in out.iter_mut().zip(p.iter()) {
+        *o = [*p];
+    }
 }
 
-fn target_of(s: &dyn Sampler, d: Vec3) -> f64 {
-    s.target_pdf(d)
+/// The target density, one direction at a time (no sampler has a batch path for it).
+fn target_of(s: &dyn Sampler, dirs: &[Vec3], out: &mut [[f64; 1]]) {
+    for (o, d) in out.iter_mut().zip(dirs) {
+        *o = [s.target_pdf(*d)];
+    }
 }
 
 unsafe fn density_aos<T: Real>(
@@ -1254,7 +1283,10 @@ unsafe fn density_aos<T: Real>(
         let s = r(sampler, "sampler")?;
         let d = In::<T, 3>::aos(directions, n, "directions")?;
         let o = Out::<T, 1>::aos(out, n, "out")?;
-        eval_n(n, &d, &o, |dir| Ok([f(s.inner.as_ref(), dir)]))
+        eval_n(n, &d, &o, |dirs, res| {
+            f(s.inner.as_ref(), dirs, res);
+            Ok(())
+        })
     })
 }
 
@@ -1271,7 +1303,10 @@ unsafe fn density_soa<T: Real>(
         let s = r(sampler, "sampler")?;
         let d = In::<T, 3>::soa([(x, "x"), (y, "y"), (z, "z")], n)?;
         let o = Out::<T, 1>::soa([(out, "out")], n)?;
-        eval_n(n, &d, &o, |dir| Ok([f(s.inner.as_ref(), dir)]))
+        eval_n(n, &d, &o, |dirs, res| {
+            f(s.inner.as_ref(), dirs, res);
+            Ok(())
+        })
     })
 }
 
@@ -1285,7 +1320,9 @@ unsafe fn invert_aos<T: Real>(
         let s = r(sampler, "sampler")?;
         let d = In::<T, 3>::aos(directions, n, "directions")?;
         let o = Out::<T, 2>::aos(uv, n, "uv")?;
-        eval_n(n, &d, &o, |dir| invert_or_nan(s.inner.as_ref(), dir))
+        eval_n(n, &d, &o, |dirs, res| {
+            invert_or_nan(s.inner.as_ref(), dirs, res)
+        })
     })
 }
 
@@ -1303,7 +1340,9 @@ unsafe fn invert_soa<T: Real>(
         let s = r(sampler, "sampler")?;
         let d = In::<T, 3>::soa([(x, "x"), (y, "y"), (z, "z")], n)?;
         let o = Out::<T, 2>::soa([(u, "u"), (v, "v")], n)?;
-        eval_n(n, &d, &o, |dir| invert_or_nan(s.inner.as_ref(), dir))
+        eval_n(n, &d, &o, |dirs, res| {
+            invert_or_nan(s.inner.as_ref(), dirs, res)
+        })
     })
 }
 
