@@ -278,11 +278,18 @@ pub fn direction(theta: f64, phi: f64) -> Vec3 {
 }
 
 /// `d` scaled to unit length, or `None` if it is zero or not finite. Any finite non-zero vector is
-/// normalised, however long or short (1e-300 … 1e300 components): it is first divided by its largest
-/// component magnitude, so the sum of squares neither overflows nor underflows.
+/// normalised, however long or short (1e-300 … 1e300 components). Where the sum of squares is far
+/// from overflow and underflow (between 1e-290 and 1e290), `d` is multiplied by the reciprocal of
+/// its length (one division; within 3 ulp of unit length); otherwise it is first divided by its
+/// largest component magnitude, so the sum of squares neither overflows nor underflows.
 pub fn normalize(d: Vec3) -> Option<Vec3> {
     if !d.iter().all(|c| c.is_finite()) {
         return None;
+    }
+    let ss = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    if (1e-290..=1e290).contains(&ss) {
+        let inv = 1.0 / ss.sqrt();
+        return Some([d[0] * inv, d[1] * inv, d[2] * inv]);
     }
     let big = d.iter().fold(0.0f64, |a, c| a.max(c.abs()));
     if !(big > 0.0) {

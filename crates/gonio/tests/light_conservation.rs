@@ -326,6 +326,12 @@ fn directions_of_any_finite_length_are_normalised() {
         [f64::MAX, f64::MAX, f64::MAX],
         [5e-324, 0.0, 0.0],
         [-3.0, 4.0, 0.0],
+        // Either side of the fast path's bounds (sum of squares 1e-290 and 1e290).
+        [1e-145, 0.0, 0.0],
+        [0.9e-145, 0.0, 0.0],
+        [1e145, 0.0, 0.0],
+        [1.1e145, 0.0, 0.0],
+        [1e-200, 1.0, -1e-170],
     ] {
         let n = normalize(d).unwrap_or_else(|| panic!("{d:?} refused"));
         let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
