@@ -121,7 +121,7 @@ mod avx512 {
         if let (Some(u), Some(v)) = (as_f64(u), as_f64(v)) {
             if c.explicit_indexable() {
                 let [x, y, z, d] = out.map(|o| as_f64_mut(o).expect("T is f64"));
-                return k::sample_slices(c, u, v, [x, y, z, d]);
+                return k::k2::sample_slices(c, u, v, [x, y, z, d]);
             }
         }
         // SAFETY: the caller guarantees AVX2 and FMA.
@@ -134,7 +134,7 @@ mod avx512 {
         if let (Some(x), Some(y), Some(z)) = (as_f64(dir[0]), as_f64(dir[1]), as_f64(dir[2])) {
             if c.explicit_indexable() {
                 let out = as_f64_mut(out).expect("T is f64");
-                return k::density_slices(c, [x, y, z], out);
+                return k::k4::density_slices(c, [x, y, z], out);
             }
         }
         // SAFETY: the caller guarantees AVX2 and FMA.
@@ -147,7 +147,7 @@ mod avx512 {
         if let (Some(x), Some(y), Some(z)) = (as_f64(dir[0]), as_f64(dir[1]), as_f64(dir[2])) {
             if c.explicit_indexable() {
                 let [u, v] = out.map(|o| as_f64_mut(o).expect("T is f64"));
-                return k::invert_slices(c, [x, y, z], [u, v]);
+                return k::k4::invert_slices(c, [x, y, z], [u, v]);
             }
         }
         // SAFETY: the caller guarantees AVX2 and FMA.

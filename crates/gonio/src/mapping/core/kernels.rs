@@ -81,7 +81,7 @@ macro_rules! explicit_kernels {
             }
             let (mut f, xs) = (ilanes(found), flanes(x));
             for l in 0..BLOCK {
-                f[l] = super::lanes::settle_guided(a, f[l], xs[l], last);
+                f[l] = crate::mapping::core::lanes::settle_guided(a, f[l], xs[l], last);
             }
             ifrom(f)
         }
@@ -383,7 +383,7 @@ macro_rules! explicit_kernels {
                     let (e, wl) = (es[l], ws[l]);
                     let (ua, ub) = (&rad.u[ais[l]..ais[l] + n], &rad.u[bis[l]..bis[l] + n]);
                     let ut = |j: usize| (1.0 - e) * ua[j] + e * ub[j];
-                    (js[l], ujo[l]) = super::lanes::settle_radial(js[l], n, wl, ut);
+                    (js[l], ujo[l]) = crate::mapping::core::lanes::settle_radial(js[l], n, wl, ut);
                 }
                 j = ifrom(js);
                 uj = fload(&ujo);
