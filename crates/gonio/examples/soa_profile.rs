@@ -5,7 +5,8 @@
 //! ```sh
 //! cargo build --release -p gonio --example soa_profile
 //! for op in setup scalar-sample scalar-pdf scalar-invert soa-sample-f64 soa-pdf-f64 \
-//!           soa-invert-f64 soa-sample-f32 soa-invert-f32; do
+//!           soa-invert-f64 soa-sample-f32 soa-invert-f32 aos-sample-f64 aos-pdf-f64 \
+//!           aos-invert-f64; do
 //!   valgrind --tool=callgrind --callgrind-out-file=/tmp/cg.$op \
 //!     target/release/examples/soa_profile $op 181 361 2>&1 | grep 'refs'
 //! done
@@ -67,6 +68,11 @@ fn main() {
     );
     let mut o = vec![vec![0.0f64; count]; 4];
     let mut o32 = vec![vec![0.0f32; count]; 4];
+    // Outputs of the AoS batch paths (`Sampler::{sample,pdf,invert}_batch`).
+    let mut aos = (
+        vec![gonio::Sample::default(); count],
+        vec![Ok([0.0; 2]); count],
+    );
     let mut acc = 0.0;
     let mut best = f64::INFINITY;
     for _ in 0..repeat {
@@ -81,6 +87,7 @@ fn main() {
             (&u32s, &v32s),
             (&d, &d32),
             (&mut o, &mut o32),
+            (&mut aos.0, &mut aos.1),
             &mut acc,
         );
         best = best.min(t0.elapsed().as_secs_f64());
@@ -117,6 +124,10 @@ fn run(
     (u32s, v32s): (&Vec<f32>, &Vec<f32>),
     (d, d32): (&Vec<Vec<f64>>, &Vec<Vec<f32>>),
     (o, o32): (&mut Vec<Vec<f64>>, &mut Vec<Vec<f32>>),
+    (samples, points): (
+        &mut [gonio::Sample],
+        &mut [Result<[f64; 2], gonio::InvertError>],
+    ),
     acc: &mut f64,
 ) {
     match op {
@@ -136,6 +147,9 @@ fn run(
                 *acc += map.invert(black_box(w)).map_or(0.0, |x| x[0]);
             }
         }
+        "aos-sample-f64" => map.sample_batch(black_box(pts), samples),
+        "aos-pdf-f64" => map.pdf_batch(black_box(dirs), &mut o[0]),
+        "aos-invert-f64" => map.invert_batch(black_box(dirs), points),
         "soa-sample-f64" => {
             let [x, y, z, p] = &mut o[..] else {
                 unreachable!()
