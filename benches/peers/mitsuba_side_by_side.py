@@ -160,36 +160,34 @@ def main():
     print(f"machine: {machine.get('cpu_model')}, {machine.get('logical_cores')} logical cores, "
           f"load average {machine.get('load_average')}, gonio backend {rows[0]['gonio']['backend']}")
     print(f"{a.points} points, best of {a.repeats}; ns per sample; ratio = Mitsuba / gonio (> 1: gonio faster)")
-    hdr = ("grid", "threads", "mi sample", "gonio f64 fwd", "ratio", "gonio f32 fwd", "ratio",
-           "mi invert", "gonio f64 inv", "ratio", "gonio f32 inv", "ratio")
-    print(" | ".join(hdr))
-    for r in rows:
-        for label in ("one", "all"):
-            mi_ = r["mitsuba"][label]
-            go = r["gonio"][label]
-            cells = [r["grid"], label,
-                     f"{mi_['sample_ns']:.1f}", f"{go['forward_f64_ns']:.1f}",
-                     f"{mi_['sample_ns'] / go['forward_f64_ns']:.2f}",
-                     f"{go['forward_f32_ns']:.1f}", f"{mi_['sample_ns'] / go['forward_f32_ns']:.2f}",
-                     f"{mi_['invert_ns']:.1f}", f"{go['inverse_f64_ns']:.1f}",
-                     f"{mi_['invert_ns'] / go['inverse_f64_ns']:.2f}",
-                     f"{go['inverse_f32_ns']:.1f}", f"{mi_['invert_ns'] / go['inverse_f32_ns']:.2f}"]
-            print(" | ".join(cells))
+    def table(cols):
+        """One row per grid and thread count: for each (Mitsuba key, gonio key) pair of `cols`, the
+        Mitsuba time (when the key differs from the previous pair's), the gonio time and the ratio."""
+        hdr = ["grid", "threads"]
+        for i, (mk, gk, mname, gname) in enumerate(cols):
+            if i == 0 or mk != cols[i - 1][0]:
+                hdr.append(mname)
+            hdr += [gname, "ratio"]
+        print(" | ".join(hdr))
+        for r in rows:
+            for label in ("one", "all"):
+                mi_, go = r["mitsuba"][label], r["gonio"][label]
+                cells = [r["grid"], label]
+                for i, (mk, gk, _, _) in enumerate(cols):
+                    if i == 0 or mk != cols[i - 1][0]:
+                        cells.append(f"{mi_[mk]:.1f}")
+                    cells += [f"{go[gk]:.1f}", f"{mi_[mk] / go[gk]:.2f}"]
+                print(" | ".join(cells))
+
+    table([("sample_ns", "forward_f64_ns", "mi sample", "gonio f64 fwd"),
+           ("sample_ns", "forward_f32_ns", "mi sample", "gonio f32 fwd"),
+           ("invert_ns", "inverse_f64_ns", "mi invert", "gonio f64 inv"),
+           ("invert_ns", "inverse_f32_ns", "mi invert", "gonio f32 inv")])
     print()
     print("like for like: Mitsuba plus the lift to a unit direction and its pdf per steradian (sample),")
     print("and a direction mapped back to the square first (invert); ratio = Mitsuba / gonio f64")
-    hdr = ("grid", "threads", "mi sample+dir", "gonio f64 fwd", "ratio", "mi dir+invert", "gonio f64 inv", "ratio")
-    print(" | ".join(hdr))
-    for r in rows:
-        for label in ("one", "all"):
-            mi_ = r["mitsuba"][label]
-            go = r["gonio"][label]
-            cells = [r["grid"], label,
-                     f"{mi_['sample_dir_ns']:.1f}", f"{go['forward_f64_ns']:.1f}",
-                     f"{mi_['sample_dir_ns'] / go['forward_f64_ns']:.2f}",
-                     f"{mi_['invert_dir_ns']:.1f}", f"{go['inverse_f64_ns']:.1f}",
-                     f"{mi_['invert_dir_ns'] / go['inverse_f64_ns']:.2f}"]
-            print(" | ".join(cells))
+    table([("sample_dir_ns", "forward_f64_ns", "mi sample+dir", "gonio f64 fwd"),
+           ("invert_dir_ns", "inverse_f64_ns", "mi dir+invert", "gonio f64 inv")])
     print("scaling (one thread / all threads): " + ", ".join(
         f"{r['grid']}: Mitsuba sample {r['mitsuba']['one']['sample_ns'] / r['mitsuba']['all']['sample_ns']:.2f}, "
         f"gonio f64 forward {r['gonio']['one']['forward_f64_ns'] / r['gonio']['all']['forward_f64_ns']:.2f}"

@@ -1257,12 +1257,7 @@ type DensityFn = fn(&dyn Sampler, &[Vec3], &mut [[f64; 1]]);
 
 /// The pdf through the sampler's batch path (the SIMD kernels of the HDS maps).
 fn pdf_of(s: &dyn Sampler, dirs: &[Vec3], out: &mut [[f64; 1]]) {
-    let mut p = [0.0; CHUNK];
-    let p = &mut p[..dirs.len()];
-    s.pdf_batch(dirs, p);
-    for (o, p) in out.iter_mut().zip(p.iter()) {
-        *o = [*p];
-    }
+    s.pdf_batch(dirs, out.as_flattened_mut());
 }
 
 /// The target density, one direction at a time (no sampler has a batch path for it).
