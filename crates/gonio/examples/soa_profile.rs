@@ -11,7 +11,9 @@
 //!     target/release/examples/soa_profile $op 181 361 2>&1 | grep 'refs'
 //! done
 //! ```
-//! Arguments: OP [N M] [portable|avx2]; `portable` or `avx2` forces that backend (else the
+//! Op `par-sample-f64` runs `sample_soa_par` (chunks of 4096 on the rayon pool; set
+//! `RAYON_NUM_THREADS=1` for one thread), the path `gonio bench --soa` and the side-by-side script
+//! time. Arguments: OP [N M] [portable|avx2]; `portable` or `avx2` forces that backend (else the
 //! fastest the CPU has). Environment:
 //! `GONIO_PROFILE_COUNT=P` uses P points instead of 2¹⁶;
 //! `GONIO_PROFILE_REPEAT=K` runs a batch operation K times and prints its wall-clock time per point
@@ -155,6 +157,12 @@ fn run(
                 unreachable!()
             };
             map.sample_soa_with(backend, black_box(u), v, [x, y, z], p);
+        }
+        "par-sample-f64" => {
+            let [x, y, z, p] = &mut o[..] else {
+                unreachable!()
+            };
+            gonio::mapping::batch::sample_soa_par(map, black_box(u), v, [x, y, z], p);
         }
         "soa-pdf-f64" => map.pdf_soa_with(backend, [black_box(&d[0]), &d[1], &d[2]], &mut o[0]),
         "soa-invert-f64" => {

@@ -134,7 +134,7 @@ impl HdsCore {
     pub(crate) fn table_bytes(diagram: &Diagram) -> usize {
         let (n, m) = (diagram.n_parallels(), diagram.n_meridians());
         let radial_k = n.div_ceil(2).max(1);
-        8 * (n + (m + 1) + m + 2 * m * n + 2 * (m + 1))
+        8 * (n + (m + 1) + m + 2 * m * n + m + 2 * (m + 1))
             + 8 * (n - 1)
             + 4 * (2 * m + 2 * n + m * (radial_k + 1))
             + std::mem::size_of::<Self>()

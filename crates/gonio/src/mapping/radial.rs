@@ -188,6 +188,10 @@ pub(crate) struct Radial {
     pub(super) d: Vec<f64>,
     /// Cumulative radial masses U(i, j) = 2∫₀^{x_j} d_i(x) x dx, row-major M × N.
     pub(super) u: Vec<f64>,
+    /// U(i, N−1), the total radial mass of each meridian (M entries): the last column of `u`,
+    /// kept apart so that the batch kernels read it from 8·M contiguous bytes instead of one
+    /// cache line per meridian (the inverse at 1024 × 1024: 54 → 47 ns per point).
+    pub(super) total: Vec<f64>,
     /// Guide table of the parallel search: entry k is the segment of x that holds radius
     /// k·x_{N−1}/K (K = the table's length, 2N), for `pdf` and `invert`.
     pub(super) radius_guide: Vec<u32>,
@@ -241,8 +245,10 @@ impl Radial {
                 radial_guide.push(j.min(n - 2) as u32);
             }
         }
+        let total = (0..m).map(|i| u[i * n + n - 1]).collect();
         Radial {
             n,
+            total,
             radius_scale: radius_len as f64 / x_max,
             x,
             d,
@@ -257,7 +263,7 @@ impl Radial {
     /// U(i, N−1): the total radial mass of meridian `i`.
     #[inline]
     pub(crate) fn meridian_mass(&self, i: usize) -> f64 {
-        self.u[i * self.n + self.n - 1]
+        self.total[i]
     }
 
     /// U(i, j + 1) − U(i, j): the radial mass of meridian `i` between parallels `j` and `j + 1`.
@@ -268,7 +274,7 @@ impl Radial {
 
     /// Bytes of the tables' contents (f64 and u32 entries).
     pub(crate) fn table_bytes(&self) -> usize {
-        8 * (self.x.len() + self.d.len() + self.u.len() + self.inv_dx.len())
+        8 * (self.x.len() + self.d.len() + self.u.len() + self.total.len() + self.inv_dx.len())
             + 4 * (self.radius_guide.len() + self.radial_guide.len())
     }
 

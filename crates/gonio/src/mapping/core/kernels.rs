@@ -353,7 +353,13 @@ macro_rules! explicit_kernels {
                 )
             };
             let r2b = mul(rb, rb);
-            let w = mul(r2b, blend(&rad.u, isplat(n - 1)));
+            let w = mul(
+                r2b,
+                add(
+                    mul(ome, gather(&rad.total, wi)),
+                    mul(eps, gather(&rad.total, wn)),
+                ),
+            );
             let kg = rad.radial_k;
             let kk = to_index(mul(r2b, splat(kg as f64)), kg - 1);
             let kgv = isplat(kg + 1);
@@ -548,11 +554,7 @@ macro_rules! explicit_kernels {
             let (da0, da1) = (gather(&rad.d, a), gather(&rad.d, iadd(a, i1v)));
             let (db0, db1) = (gather(&rad.d, b), gather(&rad.d, iadd(b, i1v)));
             let (ua, ub) = (gather(&rad.u, a), gather(&rad.u, b));
-            let last = isplat(n - 1);
-            let (uan, ubn) = (
-                gather(&rad.u, iadd(ra, last)),
-                gather(&rad.u, iadd(rb, last)),
-            );
+            let (uan, ubn) = (gather(&rad.total, i), gather(&rad.total, i1));
             let (cum0, cum1) = (gather(&ang.cum, i), gather(&ang.cum, iadd(i, i1v)));
             let beta = gather(&ang.beta, i);
             let (r2a, r2b) = (gather(&ang.r2, i), gather(&ang.r2, iadd(i, i1v)));

@@ -189,7 +189,9 @@ impl HdsCore {
             rb_off[l] = b;
             let e = eps[l];
             let r2b = rb[l] * rb[l];
-            w[l] = r2b * ((T::ONE - e) * c::<T>(ru[a + n - 1]) + e * c::<T>(ru[b + n - 1]));
+            let rt = &self.radial.total;
+            let (ta, tb) = (rt[wi[l]], rt[self.angular.next(wi[l])]);
+            w[l] = r2b * ((T::ONE - e) * c::<T>(ta) + e * c::<T>(tb));
             let k = (r2b * c::<T>(kg as f64)).to_usize().min(kg - 1);
             let (ga, gb) = (
                 wi[l] * (kg + 1) + k,
@@ -343,8 +345,8 @@ impl HdsCore {
             let (uwa, uwb) = (&self.radial.u[a..][..n], &self.radial.u[b..][..n]);
             ua[l] = c(uwa[j]);
             ub[l] = c(uwb[j]);
-            uan[l] = c(uwa[n - 1]);
-            ubn[l] = c(uwb[n - 1]);
+            uan[l] = c(self.radial.total[i[l]]);
+            ubn[l] = c(self.radial.total[i1[l]]);
             let s = i[l];
             let (cw, rw) = (&self.angular.cum[s..][..2], &self.angular.r2[s..][..2]);
             cum0[l] = c(cw[0]);
