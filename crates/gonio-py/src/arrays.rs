@@ -181,6 +181,31 @@ pub(crate) fn new_2d<'py>(py: Python<'py>, data: Vec<f64>, k: usize) -> Bound<'p
         .into_pyarray(py)
 }
 
+/// A new (n, K) float64 array of zeros for a batch's output, allocated by numpy. numpy asks the
+/// kernel for huge pages for arrays of 4 MiB and more, so filling a fresh output faults 512× fewer
+/// pages than a fresh `Vec` (whose 4 KiB page faults took ~20 % of `Sampler.sample`).
+pub(crate) fn zeros_2d<'py>(py: Python<'py>, n: usize, k: usize) -> Bound<'py, PyArray2<f64>> {
+    PyArray2::zeros(py, [n, k], false)
+}
+
+/// A new 1-D float64 array of zeros for a batch's output, allocated by numpy (see [`zeros_2d`]).
+pub(crate) fn zeros_1d<'py>(py: Python<'py>, n: usize) -> Bound<'py, PyArray1<f64>> {
+    PyArray1::zeros(py, n, false)
+}
+
+/// Runs `fill` on the contiguous data of `a`, a fresh array from [`zeros_1d`] or [`zeros_2d`]
+/// that no other code has seen yet.
+pub(crate) fn fill<'py, D: numpy::ndarray::Dimension, T>(
+    a: &Bound<'py, numpy::PyArray<f64, D>>,
+    fill: impl FnOnce(&mut [f64]) -> PyResult<T>,
+) -> PyResult<T> {
+    let mut w = a.readwrite();
+    let data = w
+        .as_slice_mut()
+        .map_err(|e| crate::InternalError::new_err(format!("a fresh output array: {e}")))?;
+    fill(data)
+}
+
 /// A new 1-D float64 array (no copy).
 pub(crate) fn new_1d<'py>(py: Python<'py>, data: Vec<f64>) -> Bound<'py, PyArray1<f64>> {
     Array1::from_vec(data).into_pyarray(py)

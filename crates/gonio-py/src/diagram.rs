@@ -399,12 +399,11 @@ impl PyDiagram {
         let rows = arrays::rows::<3>(directions, "directions")?;
         let dirs = rows.as_slice();
         let d = &self.diagram;
-        let out = crate::sampler::map_rows(py, "intensity", &dirs, |v| {
+        crate::sampler::map_rows(py, "intensity", &dirs, |v| {
             let v = normalize(*v)?;
             let (t, p) = spherical(v);
             Some(d.interpolate(t, p))
-        })?;
-        Ok(arrays::new_1d(py, out))
+        })
     }
 
     /// A sampler of this diagram: see `gonio.Sampler`.

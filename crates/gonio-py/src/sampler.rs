@@ -14,35 +14,37 @@ use rayon::prelude::*;
 /// depend on the number of threads.
 const CHUNK: usize = 4096;
 
-/// Applies `f` to every row on all rayon threads with the GIL released; `None` from `f` marks an
-/// invalid row, and the first invalid row (lowest index) is reported.
-pub(crate) fn map_rows<const K: usize>(
-    py: Python<'_>,
+/// Applies `f` to every row on all rayon threads with the GIL released, into a new array; `None`
+/// from `f` marks an invalid row, and the first invalid row (lowest index) is reported.
+pub(crate) fn map_rows<'py, const K: usize>(
+    py: Python<'py>,
     what: &str,
     rows: &[[f64; K]],
     f: impl Fn(&[f64; K]) -> Option<f64> + Sync,
-) -> PyResult<Vec<f64>> {
-    let mut out = vec![0.0; rows.len()];
-    let bad = detached(py, what, || {
-        out.par_chunks_mut(CHUNK)
-            .zip(rows.par_chunks(CHUNK))
-            .enumerate()
-            .filter_map(|(c, (o, r))| {
-                let mut first_bad = None;
-                for (k, (o, r)) in o.iter_mut().zip(r).enumerate() {
-                    match f(r) {
-                        Some(v) => *o = v,
-                        None => {
-                            first_bad.get_or_insert(c * CHUNK + k);
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    let arr = arrays::zeros_1d(py, rows.len());
+    let bad = arrays::fill(&arr, |out| {
+        detached(py, what, || {
+            out.par_chunks_mut(CHUNK)
+                .zip(rows.par_chunks(CHUNK))
+                .enumerate()
+                .filter_map(|(c, (o, r))| {
+                    let mut first_bad = None;
+                    for (k, (o, r)) in o.iter_mut().zip(r).enumerate() {
+                        match f(r) {
+                            Some(v) => *o = v,
+                            None => {
+                                first_bad.get_or_insert(c * CHUNK + k);
+                            }
                         }
                     }
-                }
-                first_bad
-            })
-            .min()
+                    first_bad
+                })
+                .min()
+        })
     })?;
     match bad {
-        None => Ok(out),
+        None => Ok(arr),
         Some(k) => Err(InputError::new_err(format!(
             "{what}: row {k}: direction {:?} is zero or not finite",
             rows[k]
@@ -201,17 +203,20 @@ impl PySampler {
         let rows = arrays::rows::<2>(u, "u")?;
         let pts = rows.as_slice();
         let n = pts.len();
-        let mut dirs = vec![0.0; 3 * n];
-        let mut pdf = vec![0.0; n];
+        let (dirs_a, pdf_a) = (arrays::zeros_2d(py, n, 3), arrays::zeros_1d(py, n));
         let s = self.sampler.as_ref();
-        let bad = detached(py, "sample", || sample_into(s, &pts, &mut dirs, &mut pdf))?;
+        let bad = arrays::fill(&dirs_a, |dirs| {
+            arrays::fill(&pdf_a, |pdf| {
+                detached(py, "sample", || sample_into(s, &pts, dirs, pdf))
+            })
+        })?;
         if let Some(k) = bad {
             return Err(InputError::new_err(format!(
                 "u: row {k}: point ({}, {}) is outside the unit square [0, 1]²",
                 pts[k][0], pts[k][1]
             )));
         }
-        Ok((arrays::new_2d(py, dirs, 3), arrays::new_1d(py, pdf)))
+        Ok((dirs_a, pdf_a))
     }
 
     /// Density of `sample` per steradian at `directions` (n, 3), normalised first; 0 outside the
@@ -224,15 +229,17 @@ impl PySampler {
         let rows = arrays::rows::<3>(directions, "directions")?;
         let dirs = rows.as_slice();
         let s = self.sampler.as_ref();
-        let mut out = vec![0.0; dirs.len()];
-        let bad = detached(py, "pdf", || pdf_into(s, &dirs, &mut out))?;
+        let out_a = arrays::zeros_1d(py, dirs.len());
+        let bad = arrays::fill(&out_a, |out| {
+            detached(py, "pdf", || pdf_into(s, &dirs, out))
+        })?;
         if let Some(k) = bad {
             return Err(InputError::new_err(format!(
                 "pdf: row {k}: direction {:?} is zero or not finite",
                 dirs[k]
             )));
         }
-        Ok(arrays::new_1d(py, out))
+        Ok(out_a)
     }
 
     /// The target density per steradian at `directions` (n, 3): the diagram interpolated
@@ -244,10 +251,9 @@ impl PySampler {
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let rows = arrays::rows::<3>(directions, "directions")?;
         let s = self.sampler.as_ref();
-        let out = map_rows(py, "target_pdf", &rows.as_slice(), |d| {
+        map_rows(py, "target_pdf", &rows.as_slice(), |d| {
             normalize(*d).map(|d| s.target_pdf(d))
-        })?;
-        Ok(arrays::new_1d(py, out))
+        })
     }
 
     /// The points (n, 2) of the unit square that `sample` maps to `directions` (n, 3),
@@ -267,9 +273,10 @@ impl PySampler {
         }
         let rows = arrays::rows::<3>(directions, "directions")?;
         let dirs = rows.as_slice();
-        let n = dirs.len();
-        let mut out = vec![0.0; 2 * n];
-        let bad = detached(py, "invert", || invert_into(s, &dirs, &mut out))?;
+        let out_a = arrays::zeros_2d(py, dirs.len(), 2);
+        let bad = arrays::fill(&out_a, |out| {
+            detached(py, "invert", || invert_into(s, &dirs, out))
+        })?;
         if let Some(k) = bad {
             let d = dirs[k];
             let why = match normalize(d).map(|u| s.invert(u)) {
@@ -287,7 +294,7 @@ impl PySampler {
                 d[0], d[1], d[2]
             )));
         }
-        Ok(arrays::new_2d(py, out, 2))
+        Ok(out_a)
     }
 
     fn __repr__(&self) -> String {
