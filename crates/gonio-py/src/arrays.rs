@@ -193,17 +193,48 @@ pub(crate) fn zeros_1d<'py>(py: Python<'py>, n: usize) -> Bound<'py, PyArray1<f6
     PyArray1::zeros(py, n, false)
 }
 
-/// Runs `fill` on the contiguous data of `a`, a fresh array from [`zeros_1d`] or [`zeros_2d`]
-/// that no other code has seen yet.
+/// Runs `fill` on the contiguous data of `a`, an output array: a fresh one from [`zeros_1d`] or
+/// [`zeros_2d`], or the caller's `out` checked by [`out_array`]. Raises InputError when `a` cannot
+/// be written or overlaps an array the call is reading or writing (numpy's borrow check).
 pub(crate) fn fill<'py, D: numpy::ndarray::Dimension, T>(
     a: &Bound<'py, numpy::PyArray<f64, D>>,
+    what: &str,
     fill: impl FnOnce(&mut [f64]) -> PyResult<T>,
 ) -> PyResult<T> {
-    let mut w = a.readwrite();
+    let mut w = a.try_readwrite().map_err(|e| {
+        InputError::new_err(format!(
+            "{what}: cannot be written ({e}): it is read-only or overlaps another argument"
+        ))
+    })?;
     let data = w
         .as_slice_mut()
-        .map_err(|e| crate::InternalError::new_err(format!("a fresh output array: {e}")))?;
+        .map_err(|e| InputError::new_err(format!("{what}: must be C-contiguous ({e})")))?;
     fill(data)
+}
+
+/// The caller's output array `out` for a batch of `n` rows: a C-contiguous, writeable float64
+/// numpy array of shape `shape` (`[n]` or `[n, k]`). Raises InputError naming `what` otherwise.
+pub(crate) fn out_array<'py, D: numpy::ndarray::Dimension>(
+    out: &Bound<'py, PyAny>,
+    what: &str,
+    shape: &[usize],
+) -> PyResult<Bound<'py, numpy::PyArray<f64, D>>> {
+    let want = fmt_shape(shape);
+    let a = out.cast::<numpy::PyArray<f64, D>>().map_err(|_| {
+        InputError::new_err(format!(
+            "{what}: expected a float64 numpy array of shape {want}"
+        ))
+    })?;
+    if a.shape() != shape {
+        return Err(InputError::new_err(format!(
+            "{what}: shape {} where {want} is needed",
+            fmt_shape(a.shape())
+        )));
+    }
+    if !a.is_c_contiguous() {
+        return Err(InputError::new_err(format!("{what}: must be C-contiguous")));
+    }
+    Ok(a.clone())
 }
 
 /// A new 1-D float64 array (no copy).

@@ -23,7 +23,7 @@ pub(crate) fn map_rows<'py, const K: usize>(
     f: impl Fn(&[f64; K]) -> Option<f64> + Sync,
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
     let arr = arrays::zeros_1d(py, rows.len());
-    let bad = arrays::fill(&arr, |out| {
+    let bad = arrays::fill(&arr, what, |out| {
         detached(py, what, || {
             out.par_chunks_mut(CHUNK)
                 .zip(rows.par_chunks(CHUNK))
@@ -199,14 +199,35 @@ impl PySampler {
     /// Maps points `u` of the unit square, shape (n, 2), each coordinate in [0, 1], to unit
     /// directions (n, 3) and their exact density (n,) per steradian. Returns (directions, pdf).
     /// Raises InputError for a point outside [0, 1]² or NaN (naming its row).
-    fn sample<'py>(&self, py: Python<'py>, u: &Bound<'py, PyAny>) -> PyResult<SampleArrays<'py>> {
+    ///
+    /// `out=(directions, pdf)`: C-contiguous float64 arrays of shapes (n, 3) and (n,) to write
+    /// into (and return) instead of new ones; reusing them across calls saves the page faults of
+    /// fresh memory. They must not overlap `u` or each other (InputError).
+    #[pyo3(signature = (u, *, out = None))]
+    fn sample<'py>(
+        &self,
+        py: Python<'py>,
+        u: &Bound<'py, PyAny>,
+        out: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<SampleArrays<'py>> {
         let rows = arrays::rows::<2>(u, "u")?;
         let pts = rows.as_slice();
         let n = pts.len();
-        let (dirs_a, pdf_a) = (arrays::zeros_2d(py, n, 3), arrays::zeros_1d(py, n));
+        let (dirs_a, pdf_a) = match out {
+            None => (arrays::zeros_2d(py, n, 3), arrays::zeros_1d(py, n)),
+            Some(o) => {
+                let (d, p): (Bound<'py, PyAny>, Bound<'py, PyAny>) = o.extract().map_err(|_| {
+                    InputError::new_err("out: expected a tuple (directions, pdf) of numpy arrays")
+                })?;
+                (
+                    arrays::out_array(&d, "out[0] (directions)", &[n, 3])?,
+                    arrays::out_array(&p, "out[1] (pdf)", &[n])?,
+                )
+            }
+        };
         let s = self.sampler.as_ref();
-        let bad = arrays::fill(&dirs_a, |dirs| {
-            arrays::fill(&pdf_a, |pdf| {
+        let bad = arrays::fill(&dirs_a, "out[0] (directions)", |dirs| {
+            arrays::fill(&pdf_a, "out[1] (pdf)", |pdf| {
                 detached(py, "sample", || sample_into(s, &pts, dirs, pdf))
             })
         })?;
@@ -220,17 +241,23 @@ impl PySampler {
     }
 
     /// Density of `sample` per steradian at `directions` (n, 3), normalised first; 0 outside the
-    /// domain. Raises InputError for a zero or non-finite direction.
+    /// domain. Raises InputError for a zero or non-finite direction. `out`: a C-contiguous float64
+    /// array of shape (n,) to write into (and return), not overlapping `directions`.
+    #[pyo3(signature = (directions, *, out = None))]
     fn pdf<'py>(
         &self,
         py: Python<'py>,
         directions: &Bound<'py, PyAny>,
+        out: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let rows = arrays::rows::<3>(directions, "directions")?;
         let dirs = rows.as_slice();
         let s = self.sampler.as_ref();
-        let out_a = arrays::zeros_1d(py, dirs.len());
-        let bad = arrays::fill(&out_a, |out| {
+        let out_a = match out {
+            None => arrays::zeros_1d(py, dirs.len()),
+            Some(o) => arrays::out_array(o, "out", &[dirs.len()])?,
+        };
+        let bad = arrays::fill(&out_a, "out", |out| {
             detached(py, "pdf", || pdf_into(s, &dirs, out))
         })?;
         if let Some(k) = bad {
@@ -259,10 +286,14 @@ impl PySampler {
     /// The points (n, 2) of the unit square that `sample` maps to `directions` (n, 3),
     /// normalised first. Raises InputError for a direction outside the domain or where the density
     /// is 0 (no point maps to it), naming its row, and for a method without inverse ("rejection").
+    /// `out`: a C-contiguous float64 array of shape (n, 2) to write into (and return), not
+    /// overlapping `directions`.
+    #[pyo3(signature = (directions, *, out = None))]
     fn invert<'py>(
         &self,
         py: Python<'py>,
         directions: &Bound<'py, PyAny>,
+        out: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let s = self.sampler.as_ref();
         if s.invert([0.0, 0.0, 1.0]) == Err(InvertError::Unsupported) {
@@ -273,8 +304,11 @@ impl PySampler {
         }
         let rows = arrays::rows::<3>(directions, "directions")?;
         let dirs = rows.as_slice();
-        let out_a = arrays::zeros_2d(py, dirs.len(), 2);
-        let bad = arrays::fill(&out_a, |out| {
+        let out_a = match out {
+            None => arrays::zeros_2d(py, dirs.len(), 2),
+            Some(o) => arrays::out_array(o, "out", &[dirs.len(), 2])?,
+        };
+        let bad = arrays::fill(&out_a, "out", |out| {
             detached(py, "invert", || invert_into(s, &dirs, out))
         })?;
         if let Some(k) = bad {

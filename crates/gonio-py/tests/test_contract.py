@@ -132,6 +132,56 @@ def test_outputs_are_new_arrays():
     assert d2.flags.writeable and d2.flags.c_contiguous
 
 
+@pytest.mark.parametrize("method", INVERTIBLE)
+def test_out_arrays_are_written_and_returned(method):
+    s = gonio.example().sampler(method)
+    u = gonio.sequence(1000, "halton")
+    d_new, p_new = s.sample(u)
+    d_out, p_out = np.full((1000, 3), np.nan), np.full(1000, np.nan)
+    d, p = s.sample(u, out=(d_out, p_out))
+    assert d is d_out and p is p_out
+    np.testing.assert_array_equal(d_out, d_new)
+    np.testing.assert_array_equal(p_out, p_new)
+    q = np.full(1000, np.nan)
+    assert s.pdf(d_new, out=q) is q
+    np.testing.assert_array_equal(q, s.pdf(d_new))
+    w = np.full((1000, 2), np.nan)
+    assert s.invert(d_new, out=w) is w
+    np.testing.assert_array_equal(w, s.invert(d_new))
+    # Reused: the second call overwrites the first one's results.
+    s.sample(u[::-1].copy(), out=(d_out, p_out))
+    np.testing.assert_array_equal(d_out, d_new[::-1])
+
+
+def test_bad_out_arrays_raise():
+    s = gonio.example().sampler()
+    u = gonio.sequence(10, "halton")
+    d, _ = s.sample(u)
+    cases = [
+        ((np.zeros((10, 3)), np.zeros(9)), r"out\[1\] \(pdf\): shape \(9,\) where \(10,\)"),
+        ((np.zeros((10, 3), np.float32), np.zeros(10)), r"out\[0\].*float64"),
+        ((np.zeros((3, 10)).T, np.zeros(10)), r"out\[0\].*C-contiguous"),
+        (np.zeros((10, 3)), r"out: expected a tuple"),
+    ]
+    for out, match in cases:
+        with pytest.raises(gonio.InputError, match=match):
+            s.sample(u, out=out)
+    ro = np.zeros(10)
+    ro.flags.writeable = False
+    with pytest.raises(gonio.InputError, match=r"out.*cannot be written"):
+        s.pdf(d, out=ro)
+    # Overlaps: an output that is the input, and two outputs sharing memory.
+    flat = np.zeros(40)
+    with pytest.raises(gonio.InputError, match=r"out\[1\].*cannot be written"):
+        s.sample(u, out=(flat[:30].reshape(10, 3), flat[25:35]))
+    buf = np.zeros(30)
+    buf[:] = d.ravel()
+    with pytest.raises(gonio.InputError, match=r"out.*cannot be written"):
+        s.pdf(buf.reshape(10, 3), out=buf[5:15])
+    with pytest.raises(gonio.InputError, match=r"out: shape \(10, 3\) where \(10, 2\)"):
+        s.invert(d, out=np.zeros((10, 3)))
+
+
 def test_empty_batches():
     s = gonio.example().sampler()
     d, p = s.sample(np.zeros((0, 2)))

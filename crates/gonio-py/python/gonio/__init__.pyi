@@ -116,15 +116,21 @@ class Sampler:
     @property
     def target_power(self) -> float:
         """∫ of the diagram over the domain (unit × sr): intensity = target_power × target_pdf."""
-    def sample(self, u: ArrayLike) -> Tuple[F64Array, F64Array]:
-        """Points (n, 2) in [0, 1]² → (directions (n, 3), pdf (n,) per sr)."""
-    def pdf(self, directions: ArrayLike) -> F64Array:
-        """Density (n,) per sr of ``sample`` at directions (n, 3); 0 outside the domain."""
+    def sample(
+        self, u: ArrayLike, *, out: Optional[Tuple[F64Array, F64Array]] = None
+    ) -> Tuple[F64Array, F64Array]:
+        """Points (n, 2) in [0, 1]² → (directions (n, 3), pdf (n,) per sr). ``out``: C-contiguous
+        float64 arrays (n, 3) and (n,) to write into and return, overlapping neither ``u`` nor
+        each other."""
+    def pdf(self, directions: ArrayLike, *, out: Optional[F64Array] = None) -> F64Array:
+        """Density (n,) per sr of ``sample`` at directions (n, 3); 0 outside the domain. ``out``:
+        a C-contiguous float64 array (n,) to write into and return."""
     def target_pdf(self, directions: ArrayLike) -> F64Array:
         """Normalised target density (n,) per sr at directions (n, 3)."""
-    def invert(self, directions: ArrayLike) -> F64Array:
+    def invert(self, directions: ArrayLike, *, out: Optional[F64Array] = None) -> F64Array:
         """Points (n, 2) that ``sample`` maps to directions (n, 3); InputError naming the row for a
-        direction outside the domain or of density 0 (no point maps to it)."""
+        direction outside the domain or of density 0 (no point maps to it). ``out``: a
+        C-contiguous float64 array (n, 2) to write into and return."""
 
 def read(path: Union[str, os.PathLike[str]], format: Optional[Format] = None) -> Diagram:
     """Reads a .ies, .ldt or .json file (TILT files resolved next to it)."""
