@@ -5,7 +5,7 @@ use crate::diagram::{domain_name, parse_domain, PyDiagram};
 use crate::{detached, BuildError, InputError};
 use gonio::sampler::normalize;
 use gonio::Method;
-use gonio::{InvertError, Point2, Sample, Sampler, Vec3};
+use gonio::{InvertError, Point2, Sampler, Vec3};
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 use rayon::prelude::*;
@@ -360,13 +360,8 @@ pub(crate) fn sample_into(
             {
                 return Some(c * CHUNK + k);
             }
-            let mut buf = [Sample::default(); CHUNK];
-            let buf = &mut buf[..u.len()];
-            s.sample_batch(u, buf);
-            for ((d, p), b) in d.chunks_exact_mut(3).zip(p.iter_mut()).zip(buf.iter()) {
-                d.copy_from_slice(&b.direction);
-                *p = b.pdf;
-            }
+            let (rows, _) = d.as_chunks_mut::<3>();
+            s.sample_batch_split(u, rows, p);
             None
         })
         .min()

@@ -167,6 +167,34 @@ pub trait Sampler: Send + Sync {
         }
     }
 
+    /// [`Sampler::sample_batch`] with the directions and the densities in separate slices (the
+    /// layout of the Python package's and the C API's outputs): sample k goes to `dirs[k]` and
+    /// `pdf[k]`, the same values as `sample_batch`. Allocates nothing. The default goes through
+    /// `sample_batch` 256 points at a time; the HDS maps write their SIMD batch path's results
+    /// directly.
+    ///
+    /// # Panics
+    /// If the slices differ in length.
+    fn sample_batch_split(&self, u: &[Point2], dirs: &mut [Vec3], pdf: &mut [f64]) {
+        assert!(
+            u.len() == dirs.len() && u.len() == pdf.len(),
+            "sample_batch_split: slices differ in length"
+        );
+        let mut buf = [Sample::default(); 256];
+        for ((u, d), p) in u
+            .chunks(256)
+            .zip(dirs.chunks_mut(256))
+            .zip(pdf.chunks_mut(256))
+        {
+            let b = &mut buf[..u.len()];
+            self.sample_batch(u, b);
+            for ((d, p), b) in d.iter_mut().zip(p.iter_mut()).zip(b.iter()) {
+                *d = b.direction;
+                *p = b.pdf;
+            }
+        }
+    }
+
     /// [`Sampler::pdf`] of every direction of `dirs` into the same position of `out`; allocates
     /// nothing. The HDS maps override it with their SIMD batch path ([`crate::mapping::batch`]).
     ///

@@ -762,6 +762,43 @@ pub(crate) fn sample_batch_aos<S: SoaSampler>(s: &S, u: &[Point2], out: &mut [Sa
     }
 }
 
+/// The AoS `Sampler::sample_batch_split` of the HDS maps through the SoA path: the kernels'
+/// columns are written straight into the direction rows and the densities.
+pub(crate) fn sample_batch_split_aos<S: SoaSampler>(
+    s: &S,
+    u: &[Point2],
+    dirs: &mut [Vec3],
+    pdf: &mut [f64],
+) {
+    assert!(
+        u.len() == dirs.len() && u.len() == pdf.len(),
+        "sample_batch_split: slices differ in length"
+    );
+    for ((u, dirs), pdf) in u
+        .chunks(CHUNK)
+        .zip(dirs.chunks_mut(CHUNK))
+        .zip(pdf.chunks_mut(CHUNK))
+    {
+        let n = u.len();
+        let (mut bu, mut bv) = ([0.0f64; CHUNK], [0.0f64; CHUNK]);
+        for (k, p) in u.iter().enumerate() {
+            bu[k] = p[0];
+            bv[k] = p[1];
+        }
+        let mut o = [[0.0f64; CHUNK]; 3];
+        let [ox, oy, oz] = &mut o;
+        s.sample_soa(
+            &bu[..n],
+            &bv[..n],
+            [&mut ox[..n], &mut oy[..n], &mut oz[..n]],
+            pdf,
+        );
+        for (k, d) in dirs.iter_mut().enumerate() {
+            *d = [ox[k], oy[k], oz[k]];
+        }
+    }
+}
+
 /// Transposes directions into three stack arrays.
 fn split_dirs(d: &[Vec3]) -> [[f64; CHUNK]; 3] {
     let mut b = [[0.0f64; CHUNK]; 3];

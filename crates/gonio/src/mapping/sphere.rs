@@ -660,6 +660,9 @@ impl Sampler for SphereMap {
     fn sample_batch(&self, u: &[Point2], out: &mut [Sample]) {
         super::batch::sample_batch_aos(self, u, out)
     }
+    fn sample_batch_split(&self, u: &[Point2], dirs: &mut [Vec3], pdf: &mut [f64]) {
+        super::batch::sample_batch_split_aos(self, u, dirs, pdf)
+    }
     fn pdf_batch(&self, dirs: &[Vec3], out: &mut [f64]) {
         super::batch::pdf_batch_aos(self, dirs, out)
     }
