@@ -206,9 +206,9 @@ pub(crate) fn fill<'py, D: numpy::ndarray::Dimension, T>(
             "{what}: cannot be written ({e}): it is read-only or overlaps another argument"
         ))
     })?;
-    let data = w
-        .as_slice_mut()
-        .map_err(|e| InputError::new_err(format!("{what}: must be C-contiguous ({e})")))?;
+    let data = w.as_slice_mut().map_err(|e| {
+        InputError::new_err(format!("{what}: must be C-contiguous and aligned ({e})"))
+    })?;
     fill(data)
 }
 

@@ -166,6 +166,10 @@ def test_bad_out_arrays_raise():
     for out, match in cases:
         with pytest.raises(gonio.InputError, match=match):
             s.sample(u, out=out)
+    # Misaligned (a float64 view at a byte offset of 1): refused, never read or written in place.
+    mis = np.frombuffer(bytearray(8 * 10 + 1), dtype=np.float64, count=10, offset=1)
+    with pytest.raises(gonio.InputError, match=r"out: must be C-contiguous and aligned"):
+        s.pdf(d, out=mis)
     ro = np.zeros(10)
     ro.flags.writeable = False
     with pytest.raises(gonio.InputError, match=r"out.*cannot be written"):
