@@ -5,9 +5,9 @@
 //! place (no copy); every other input is copied once into a contiguous float64 buffer.
 
 use crate::InputError;
-use numpy::ndarray::{Array1, Array2, ArrayView2};
+use numpy::ndarray::{Array1, Array2, ArrayView2, Dimension, IxDyn};
 use numpy::{
-    IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2, PyUntypedArray,
+    IntoPyArray, PyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2, PyUntypedArray,
     PyUntypedArrayMethods,
 };
 use pyo3::prelude::*;
@@ -181,23 +181,43 @@ pub(crate) fn new_2d<'py>(py: Python<'py>, data: Vec<f64>, k: usize) -> Bound<'p
         .into_pyarray(py)
 }
 
-/// A new (n, K) float64 array of zeros for a batch's output, allocated by numpy. numpy asks the
-/// kernel for huge pages for arrays of 4 MiB and more, so filling a fresh output faults 512× fewer
-/// pages than a fresh `Vec` (whose 4 KiB page faults took ~20 % of `Sampler.sample`).
-pub(crate) fn zeros_2d<'py>(py: Python<'py>, n: usize, k: usize) -> Bound<'py, PyArray2<f64>> {
-    PyArray2::zeros(py, [n, k], false)
+/// The output array of a batch, of shape `shape` (`[n]` or `[n, k]`): the caller's `out`, which
+/// must be a float64 numpy array of that shape (InputError naming `what` otherwise; [`fill`]
+/// checks the rest), or a new array of zeros allocated by numpy. numpy asks the kernel for huge
+/// pages for arrays of 4 MiB and more, so filling a fresh output faults 512× fewer pages than a
+/// fresh `Vec` (whose 4 KiB page faults took ~20 % of `Sampler.sample`).
+pub(crate) fn output<'py, D: Dimension>(
+    py: Python<'py>,
+    out: Option<&Bound<'py, PyAny>>,
+    what: &str,
+    shape: &[usize],
+) -> PyResult<Bound<'py, PyArray<f64, D>>> {
+    let want = fmt_shape(shape);
+    let Some(out) = out else {
+        let dim = D::from_dimension(&IxDyn(shape)).ok_or_else(|| {
+            crate::InternalError::new_err(format!("{what}: an output of shape {want}"))
+        })?;
+        return Ok(PyArray::zeros(py, dim, false));
+    };
+    let a = out.cast::<PyArray<f64, D>>().map_err(|_| {
+        InputError::new_err(format!(
+            "{what}: expected a float64 numpy array of shape {want}"
+        ))
+    })?;
+    if a.shape() != shape {
+        return Err(InputError::new_err(format!(
+            "{what}: shape {} where {want} is needed",
+            fmt_shape(a.shape())
+        )));
+    }
+    Ok(a.clone())
 }
 
-/// A new 1-D float64 array of zeros for a batch's output, allocated by numpy (see [`zeros_2d`]).
-pub(crate) fn zeros_1d<'py>(py: Python<'py>, n: usize) -> Bound<'py, PyArray1<f64>> {
-    PyArray1::zeros(py, n, false)
-}
-
-/// Runs `fill` on the contiguous data of `a`, an output array: a fresh one from [`zeros_1d`] or
-/// [`zeros_2d`], or the caller's `out` checked by [`out_array`]. Raises InputError when `a` cannot
-/// be written or overlaps an array the call is reading or writing (numpy's borrow check).
-pub(crate) fn fill<'py, D: numpy::ndarray::Dimension, T>(
-    a: &Bound<'py, numpy::PyArray<f64, D>>,
+/// Runs `fill` on the contiguous data of `a`, an output array from [`output`]. Raises InputError
+/// when `a` is not C-contiguous and aligned, cannot be written, or overlaps an array the call is
+/// reading or writing (numpy's borrow check).
+pub(crate) fn fill<'py, D: Dimension, T>(
+    a: &Bound<'py, PyArray<f64, D>>,
     what: &str,
     fill: impl FnOnce(&mut [f64]) -> PyResult<T>,
 ) -> PyResult<T> {
@@ -210,31 +230,6 @@ pub(crate) fn fill<'py, D: numpy::ndarray::Dimension, T>(
         InputError::new_err(format!("{what}: must be C-contiguous and aligned ({e})"))
     })?;
     fill(data)
-}
-
-/// The caller's output array `out` for a batch of `n` rows: a C-contiguous, writeable float64
-/// numpy array of shape `shape` (`[n]` or `[n, k]`). Raises InputError naming `what` otherwise.
-pub(crate) fn out_array<'py, D: numpy::ndarray::Dimension>(
-    out: &Bound<'py, PyAny>,
-    what: &str,
-    shape: &[usize],
-) -> PyResult<Bound<'py, numpy::PyArray<f64, D>>> {
-    let want = fmt_shape(shape);
-    let a = out.cast::<numpy::PyArray<f64, D>>().map_err(|_| {
-        InputError::new_err(format!(
-            "{what}: expected a float64 numpy array of shape {want}"
-        ))
-    })?;
-    if a.shape() != shape {
-        return Err(InputError::new_err(format!(
-            "{what}: shape {} where {want} is needed",
-            fmt_shape(a.shape())
-        )));
-    }
-    if !a.is_c_contiguous() {
-        return Err(InputError::new_err(format!("{what}: must be C-contiguous")));
-    }
-    Ok(a.clone())
 }
 
 /// A new 1-D float64 array (no copy).

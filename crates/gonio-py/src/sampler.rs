@@ -22,7 +22,7 @@ pub(crate) fn map_rows<'py, const K: usize>(
     rows: &[[f64; K]],
     f: impl Fn(&[f64; K]) -> Option<f64> + Sync,
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-    let arr = arrays::zeros_1d(py, rows.len());
+    let arr = arrays::output(py, None, what, &[rows.len()])?;
     let bad = arrays::fill(&arr, what, |out| {
         detached(py, what, || {
             out.par_chunks_mut(CHUNK)
@@ -213,18 +213,13 @@ impl PySampler {
         let rows = arrays::rows::<2>(u, "u")?;
         let pts = rows.as_slice();
         let n = pts.len();
-        let (dirs_a, pdf_a) = match out {
-            None => (arrays::zeros_2d(py, n, 3), arrays::zeros_1d(py, n)),
-            Some(o) => {
-                let (d, p): (Bound<'py, PyAny>, Bound<'py, PyAny>) = o.extract().map_err(|_| {
-                    InputError::new_err("out: expected a tuple (directions, pdf) of numpy arrays")
-                })?;
-                (
-                    arrays::out_array(&d, "out[0] (directions)", &[n, 3])?,
-                    arrays::out_array(&p, "out[1] (pdf)", &[n])?,
-                )
-            }
-        };
+        let outs: Option<(Bound<'py, PyAny>, Bound<'py, PyAny>)> =
+            out.map(|o| o.extract()).transpose().map_err(|_| {
+                InputError::new_err("out: expected a tuple (directions, pdf) of numpy arrays")
+            })?;
+        let (d, p) = (outs.as_ref().map(|o| &o.0), outs.as_ref().map(|o| &o.1));
+        let dirs_a = arrays::output(py, d, "out[0] (directions)", &[n, 3])?;
+        let pdf_a = arrays::output(py, p, "out[1] (pdf)", &[n])?;
         let s = self.sampler.as_ref();
         let bad = arrays::fill(&dirs_a, "out[0] (directions)", |dirs| {
             arrays::fill(&pdf_a, "out[1] (pdf)", |pdf| {
@@ -253,10 +248,7 @@ impl PySampler {
         let rows = arrays::rows::<3>(directions, "directions")?;
         let dirs = rows.as_slice();
         let s = self.sampler.as_ref();
-        let out_a = match out {
-            None => arrays::zeros_1d(py, dirs.len()),
-            Some(o) => arrays::out_array(o, "out", &[dirs.len()])?,
-        };
+        let out_a = arrays::output(py, out, "out", &[dirs.len()])?;
         let bad = arrays::fill(&out_a, "out", |out| {
             detached(py, "pdf", || pdf_into(s, &dirs, out))
         })?;
@@ -304,10 +296,7 @@ impl PySampler {
         }
         let rows = arrays::rows::<3>(directions, "directions")?;
         let dirs = rows.as_slice();
-        let out_a = match out {
-            None => arrays::zeros_2d(py, dirs.len(), 2),
-            Some(o) => arrays::out_array(o, "out", &[dirs.len(), 2])?,
-        };
+        let out_a = arrays::output(py, out, "out", &[dirs.len(), 2])?;
         let bad = arrays::fill(&out_a, "out", |out| {
             detached(py, "invert", || invert_into(s, &dirs, out))
         })?;

@@ -740,11 +740,7 @@ pub(crate) fn sample_batch_aos<S: SoaSampler>(s: &S, u: &[Point2], out: &mut [Sa
     assert_eq!(u.len(), out.len(), "sample_batch: slices differ in length");
     for (u, out) in u.chunks(CHUNK).zip(out.chunks_mut(CHUNK)) {
         let n = u.len();
-        let (mut bu, mut bv) = ([0.0f64; CHUNK], [0.0f64; CHUNK]);
-        for (k, p) in u.iter().enumerate() {
-            bu[k] = p[0];
-            bv[k] = p[1];
-        }
+        let [bu, bv] = split_points(u);
         let mut o = [[0.0f64; CHUNK]; 4];
         let [ox, oy, oz, op] = &mut o;
         s.sample_soa(
@@ -780,11 +776,7 @@ pub(crate) fn sample_batch_split_aos<S: SoaSampler>(
         .zip(pdf.chunks_mut(CHUNK))
     {
         let n = u.len();
-        let (mut bu, mut bv) = ([0.0f64; CHUNK], [0.0f64; CHUNK]);
-        for (k, p) in u.iter().enumerate() {
-            bu[k] = p[0];
-            bv[k] = p[1];
-        }
+        let [bu, bv] = split_points(u);
         let mut o = [[0.0f64; CHUNK]; 3];
         let [ox, oy, oz] = &mut o;
         s.sample_soa(
@@ -797,6 +789,16 @@ pub(crate) fn sample_batch_split_aos<S: SoaSampler>(
             *d = [ox[k], oy[k], oz[k]];
         }
     }
+}
+
+/// Transposes points into two stack arrays.
+fn split_points(u: &[Point2]) -> [[f64; CHUNK]; 2] {
+    let mut b = [[0.0f64; CHUNK]; 2];
+    for (k, p) in u.iter().enumerate() {
+        b[0][k] = p[0];
+        b[1][k] = p[1];
+    }
+    b
 }
 
 /// Transposes directions into three stack arrays.
