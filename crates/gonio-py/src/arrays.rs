@@ -182,8 +182,8 @@ pub(crate) fn new_2d<'py>(py: Python<'py>, data: Vec<f64>, k: usize) -> Bound<'p
 }
 
 /// The output array of a batch, of shape `shape` (`[n]` or `[n, k]`): the caller's `out`, which
-/// must be a float64 numpy array of that shape (InputError naming `what` otherwise; [`fill`]
-/// checks the rest), or a new array of zeros allocated by numpy. numpy asks the kernel for huge
+/// must be a C-contiguous float64 numpy array of that shape (InputError naming `what` otherwise;
+/// [`fill`] checks the rest), or a new array of zeros allocated by numpy. numpy asks the kernel for huge
 /// pages for arrays of 4 MiB and more, so filling a fresh output faults 512× fewer pages than a
 /// fresh `Vec` (whose 4 KiB page faults took ~20 % of `Sampler.sample`).
 pub(crate) fn output<'py, D: Dimension>(
@@ -209,6 +209,10 @@ pub(crate) fn output<'py, D: Dimension>(
             "{what}: shape {} where {want} is needed",
             fmt_shape(a.shape())
         )));
+    }
+    // `fill` accepts any contiguous data, and a Fortran-ordered array is contiguous too.
+    if !a.is_c_contiguous() {
+        return Err(InputError::new_err(format!("{what}: must be C-contiguous")));
     }
     Ok(a.clone())
 }
