@@ -355,6 +355,11 @@ def _make_class(mi, dr, scalar):
     def C3(a):
         return mi.Color3f(F(a))
 
+    def _position_sample(p, n, uv, time, pdf, delta):
+        ps = mi.PositionSample3f()
+        ps.p, ps.n, ps.uv, ps.time, ps.pdf, ps.delta = P3(p), N3(n), P2(uv), time, F(pdf), B(delta)
+        return ps
+
     class GonioEmitter(mi.Emitter):
         """Mitsuba emitter "gonio": see the module gonio.mitsuba."""
 
@@ -363,7 +368,8 @@ def _make_class(mi, dr, scalar):
             name = props.get("filename", None)
             if name is None:
                 raise ValueError('gonio emitter: the property "filename" (an .ies or .ldt file) is required')
-            path = str(mi.Thread.thread().file_resolver().resolve(str(name)))
+            resolver = mi.file_resolver() if hasattr(mi, "file_resolver") else mi.Thread.thread().file_resolver()
+            path = str(resolver.resolve(str(name)))
             self.filename = path
             self.diagram = _read(path)
             self.sampler = self.diagram.sampler("hds", "sphere")
@@ -375,7 +381,7 @@ def _make_class(mi, dr, scalar):
             self.R, self.t = m[:3, :3].copy(), m[:3, 3].copy()
             self.R_inv = np.linalg.inv(self.R)
             self.shape_kind = str(props.get("shape", "point"))
-            dims = {k: float(props[k]) if props.has_property(k) else None for k in ("width", "length", "height")}
+            dims = {k: float(props[k]) if k in props else None for k in ("width", "length", "height")}
             part = int(props.get("part", -1))
             if self.shape_kind == "point":
                 self.opening = None
@@ -534,15 +540,14 @@ def _make_class(mi, dr, scalar):
             n = len(s)
             tt = F(np.broadcast_to(_np(time), (n,)))
             if self.opening is None:
-                ps = mi.PositionSample3f(p=P3(np.broadcast_to(self.t, (n, 3))), n=N3(np.zeros((n, 3))), uv=P2(s),
-                                         time=tt, pdf=F(np.ones(n)), delta=B(np.ones(n, dtype=bool)))
+                ps = _position_sample(np.broadcast_to(self.t, (n, 3)), np.zeros((n, 3)), s, tt, np.ones(n),
+                                      np.ones(n, dtype=bool))
                 return ps, F(np.ones(n))
             xl = self.part.sample_area(s)
             x = xl @ self.R.T + self.t
             nrm = self.part.normal(xl) @ self.R.T
             a = self.part.area
-            ps = mi.PositionSample3f(p=P3(x), n=N3(nrm), uv=P2(s), time=tt, pdf=F(np.full(n, 1.0 / a)),
-                                     delta=B(np.zeros(n, dtype=bool)))
+            ps = _position_sample(x, nrm, s, tt, np.full(n, 1.0 / a), np.zeros(n, dtype=bool))
             return ps, F(np.where(_mask(active, n), a, 0.0))
 
         def pdf_position(self, ps, active=True):
