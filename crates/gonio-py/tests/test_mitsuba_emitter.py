@@ -149,7 +149,7 @@ def test_ptracer_floor_illuminance_matches_exact(mi, rel, pose):
     s = d.sampler("hds", "sphere")
     lo, _ = s.ratio_bound
     T = transforms(mi)[pose]
-    res, half, spp = (8, 2.0, 32) if _scalar(mi) else (16, 2.0, 256)
+    res, half, spp = (8, 2.0, 32) if _scalar(mi) else (16, 2.0, 1024)
     scene = floor_scene(mi, {"lamp": {"type": "gonio", "filename": str(path), "to_world": T}},
                         {"type": "ptracer", "max_depth": 2}, spp, res, half, seed=2)
     E = render_E(mi, scene)
