@@ -309,7 +309,9 @@ def register(jit_flags=True):
 
 
 def _np(v):
-    return np.asarray(v, dtype=np.float64).reshape(-1)
+    """A Mitsuba value as float64 (n,); an unset (empty) field reads as one 0."""
+    a = np.asarray(v, dtype=np.float64).reshape(-1)
+    return a if a.size else np.zeros(1)
 
 
 def _vec(v):
