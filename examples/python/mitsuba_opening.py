@@ -12,7 +12,6 @@ the file (I(ω)/A_proj(ω)), in cd/m².
 """
 
 import argparse
-import math
 import os
 import pathlib
 
@@ -97,7 +96,6 @@ def main():
     out.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(out, dpi=100, bbox_inches="tight")
     print(f"wrote {out}")
-    _ = math
 
 
 if __name__ == "__main__":
