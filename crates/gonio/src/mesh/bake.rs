@@ -60,12 +60,13 @@ pub fn checker_direction(d: Vec3, n: usize) -> [f32; 3] {
     }
 }
 
-/// A checkerboard in texture space: `n` × `n` squares of the unit square (each square covers the
-/// same surface area under the `surface` density), with the charts tinted (the lower chart, u <
-/// `seam`, blue-ish) so the seam shows.
-pub fn checker_uv(uv: [f64; 2], n: usize, seam: f64) -> [f32; 3] {
-    let n = n.max(1) as f64;
-    let i = (uv[0] * n).floor() as i64 + (uv[1] * n).floor() as i64;
+/// A checkerboard in texture space: `nu` × `nv` cells of the unit square (each cell covers the
+/// same surface area under the `surface` density; with the split layout's two charts side by side,
+/// nu = 2 nv gives cells about square on the surface), with the charts tinted (the lower chart,
+/// u < `seam`, blue) so the seam shows.
+pub fn checker_uv(uv: [f64; 2], nu: usize, nv: usize, seam: f64) -> [f32; 3] {
+    let (nu, nv) = (nu.max(1) as f64, nv.max(1) as f64);
+    let i = (uv[0] * nu).floor() as i64 + (uv[1] * nv).floor() as i64;
     let light = i.rem_euclid(2) == 0;
     match (uv[0] < seam, light) {
         (true, true) => [0.8, 0.85, 1.0],

@@ -256,7 +256,7 @@ pub enum MeshError {
         first_edge: [u32; 2],
     },
     /// No centre was found from which the mesh is star-shaped.
-    #[error("the mesh is not star-shaped from {center:?} (the best centre found): {failing} of {triangles} triangles face the wrong way or are seen edge-on (first: {first_failing:?}); projected solid angles sum to {solid_angle_sum:.9} sr, not 4π")]
+    #[error("the mesh is not star-shaped from {center:?} (the best centre found): {failing} of {triangles} triangles face the wrong way or are seen edge-on (first: {first_failing:?}); their projected solid angles sum to {solid_angle_sum:.9} sr (a star-shaped mesh needs no failing triangle and 4π)")]
     NotStarShaped {
         /// The best centre found (fewest failing triangles).
         center: [f64; 3],
