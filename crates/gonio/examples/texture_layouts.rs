@@ -15,8 +15,8 @@ fn main() {
     let faces: usize = args.iter().find_map(|a| a.parse().ok()).unwrap_or(100_000);
     let sweep = args.iter().any(|a| a == "--sweep");
     let n = frequency_for_faces(faces);
-    println!("| shape | layout | aspect | triangles out | flipped | degenerate | ratio min | ratio max | p1 | p99 | area in [0.9, 1.1] | L2 | L∞ | seam / √area | seconds |");
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("| shape | layout | aspect | triangles out | flipped | degenerate | ratio min | ratio max | p1 | p99 | area in [0.9, 1.1] | triangles outside | L2 | L∞ | seam / √area | seconds |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for (name, shape) in named_shapes() {
         let mesh = shape_mesh(&shape, n);
         for layout in [
@@ -45,7 +45,7 @@ fn main() {
                 // Share of the surface with ratio in [0.9, 1.1]: bins 0.9–0.95, 0.95–1.05, 1.05–1.1.
                 let within = m.histogram[3] + m.histogram[4] + m.histogram[5];
                 println!(
-                    "| {name} | {} | {aspect} | {} | {} | {} | {:.3} | {:.3} | {:.3} | {:.3} | {:.1} % | {:.3} | {:.2} | {:.2} | {secs:.3} |",
+                    "| {name} | {} | {aspect} | {} | {} | {} | {:.3} | {:.3} | {:.3} | {:.3} | {:.1} % | {} | {:.3} | {:.2} | {:.2} | {secs:.3} |",
                     layout.name(),
                     m.triangles,
                     m.flipped,
@@ -55,6 +55,7 @@ fn main() {
                     m.ratio_p01_p99.0,
                     m.ratio_p01_p99.1,
                     100.0 * within,
+                    m.outside_10_percent,
                     m.l2,
                     m.linf,
                     m.seam_length / m.area.sqrt(),

@@ -47,6 +47,8 @@ pub struct Metrics {
     pub ratio_range: (f64, f64),
     /// 1st and 99th percentile of the ratio, weighted by target measure.
     pub ratio_p01_p99: (f64, f64),
+    /// Non-degenerate triangles whose ratio lies outside [0.9, 1.1].
+    pub outside_10_percent: usize,
     /// Share of the target measure in each bin of [`RATIO_BINS`].
     pub histogram: Vec<f64>,
     /// Normalised L2 stretch.
@@ -84,7 +86,7 @@ pub fn measure(mesh: &UvMesh, target: &dyn Fn(u32, [Vec3; 3]) -> f64, aspect: f6
         auv.push(s);
         m.push(mt);
     }
-    let (mut flipped, mut degenerate) = (0, 0);
+    let (mut flipped, mut degenerate, mut outside) = (0, 0, 0);
     let mut ratios: Vec<(f64, f64)> = Vec::with_capacity(n);
     let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
     let mut histogram = vec![0.0; RATIO_BINS.len() - 1];
@@ -100,6 +102,7 @@ pub fn measure(mesh: &UvMesh, target: &dyn Fn(u32, [Vec3; 3]) -> f64, aspect: f6
         }
         lo = lo.min(r);
         hi = hi.max(r);
+        outside += usize::from(!(0.9..=1.1).contains(&r));
         ratios.push((r, m[k] / sm));
         let bin = RATIO_BINS.iter().rposition(|&e| r >= e).unwrap_or(0);
         histogram[bin.min(RATIO_BINS.len() - 2)] += m[k] / sm;
@@ -145,6 +148,7 @@ pub fn measure(mesh: &UvMesh, target: &dyn Fn(u32, [Vec3; 3]) -> f64, aspect: f6
         degenerate,
         ratio_range: (lo, hi),
         ratio_p01_p99: (quantile(0.01), quantile(0.99)),
+        outside_10_percent: outside,
         histogram,
         l2: (l2sum / sa).sqrt() * norm,
         linf: gmax * norm,
