@@ -191,3 +191,47 @@ fn obj_written_reads_back() {
     assert_eq!(back.mesh.positions.len(), r.mesh.positions.len());
     assert!(obj::write_mtl("head.png").contains("map_Kd head.png"));
 }
+
+#[test]
+fn mutated_files_give_a_mesh_or_an_error() {
+    use rand::{Rng, SeedableRng};
+    let mesh = shape_mesh(&Shape::Ellipsoid([1.0, 0.8, 0.6]), 2);
+    let r = parameterise(&mesh, &UvOptions::default()).unwrap();
+    let obj_text = obj::write_obj(&r.mesh, None).into_bytes();
+    let ply_bin = gonio::mesh::ply::write_ply_binary(&mesh);
+    let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(29);
+    let (mut ok, mut err) = (0, 0);
+    for round in 0..600 {
+        let mut b = if round % 2 == 0 {
+            obj_text.clone()
+        } else {
+            ply_bin.clone()
+        };
+        for _ in 0..rng.gen_range(1..4) {
+            let i = rng.gen_range(0..b.len());
+            match rng.gen_range(0..3) {
+                0 => b[i] = rng.gen(),
+                1 => b.truncate(i),
+                _ => b[i] = b"0123456789-. \n/e"[rng.gen_range(0..16)],
+            }
+            if b.is_empty() {
+                break;
+            }
+        }
+        let read = if round % 2 == 0 {
+            obj::read_obj(&b).map(|r| r.mesh)
+        } else {
+            gonio::mesh::ply::read_ply(&b).map(|r| r.mesh)
+        };
+        match read {
+            Ok(m) => {
+                ok += 1;
+                m.validate().unwrap();
+                let _ = parameterise(&m, &UvOptions::default());
+            }
+            Err(_) => err += 1,
+        }
+    }
+    // Both outcomes occur: the mutations are neither all harmless nor all fatal.
+    assert!(ok > 0 && err > 0, "{ok} {err}");
+}
