@@ -60,6 +60,10 @@ enum Command {
     Plot(PlotArgs),
     /// Measure speed and memory of the sampling methods.
     Bench(BenchArgs),
+    /// One-chart UVs for a star-shaped mesh from the inverse map (OBJ with `vt`).
+    Uv(commands::uv::UvArgs),
+    /// Bake an equirectangular PNG (or a checkerboard) into the map's square texture.
+    Bake(commands::uv::BakeArgs),
 }
 
 /// `--tolerance`: a number in (0, 1), as `BuildOptions::tolerance` takes it.
@@ -139,6 +143,8 @@ fn main() -> ExitCode {
         Command::Check(a) => commands::check::run(a),
         Command::Plot(a) => plot::run(a).map(|()| true),
         Command::Bench(a) => bench::run(a).map(|()| true),
+        Command::Uv(a) => commands::uv::run_uv(a).map(|()| true),
+        Command::Bake(a) => commands::uv::run_bake(a).map(|()| true),
     };
     match result {
         Ok(true) => ExitCode::SUCCESS,

@@ -22,6 +22,7 @@ use pyo3::prelude::*;
 
 mod arrays;
 mod diagram;
+mod mesh;
 mod misc;
 mod sampler;
 
@@ -105,6 +106,7 @@ fn _gonio(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(misc::check, m)?)?;
     m.add_function(wrap_pyfunction!(misc::convert, m)?)?;
     m.add_function(wrap_pyfunction!(misc::methods, m)?)?;
+    m.add_function(wrap_pyfunction!(mesh::texture_uv, m)?)?;
     m.add_function(wrap_pyfunction!(misc::panic_for_test, m)?)?;
     m.add_function(wrap_pyfunction!(misc::bench_rust_batch, m)?)?;
     Ok(())

@@ -37,6 +37,7 @@ pub mod decimal;
 pub mod diagram;
 pub mod error;
 pub mod mapping;
+pub mod mesh;
 pub mod method;
 pub mod photometry;
 pub mod sampler;

@@ -7,3 +7,4 @@ pub mod directions;
 pub mod info;
 pub mod pbrt;
 pub mod sample;
+pub mod uv;

@@ -34,6 +34,7 @@ from ._gonio import (  # noqa: F401
     read,
     read_bytes,
     sequence,
+    texture_uv,
 )
 
 __all__ = [
@@ -52,4 +53,5 @@ __all__ = [
     "read",
     "read_bytes",
     "sequence",
+    "texture_uv",
 ]

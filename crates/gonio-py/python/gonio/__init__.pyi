@@ -160,3 +160,15 @@ def convert(src: Union[str, os.PathLike[str]], dst: Union[str, os.PathLike[str]]
     """``gonio convert SRC DST``: JSON ↔ IES LM-63-2019 ↔ EULUMDAT by DST's extension."""
 
 def methods() -> list[Method]: ...
+
+def texture_uv(
+    vertices: ArrayLike,
+    faces: ArrayLike,
+    density: str = "surface",
+    weights: Optional[ArrayLike] = None,
+    center: Optional[tuple[float, float, float]] = None,
+    layout: str = "hds",
+) -> dict[str, Any]:
+    """One-chart UVs of a closed star-shaped mesh from the inverse map (docs/TEXTURE.md): a dict
+    with ``positions``, ``uvs``, ``faces``, ``face_uvs``, ``source_face``, ``center``,
+    ``cut_faces``, ``seam``."""

@@ -1,0 +1,158 @@
+//! `gonio uv` and `gonio bake` end to end on small generated meshes (720 triangles).
+
+use gonio::mesh::generate::{banana, shape_mesh, Shape};
+use gonio::mesh::ply::write_ply_binary;
+use gonio::mesh::VertexProperty;
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+const BIN: &str = env!("CARGO_BIN_EXE_gonio");
+
+fn temp_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("gonio-cli-uv-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn run(args: &[&str]) -> Output {
+    Command::new(BIN)
+        .args(args)
+        .arg("--quiet")
+        .output()
+        .expect("the gonio binary runs")
+}
+
+fn names(dir: &PathBuf) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+#[test]
+fn uv_and_bake_write_what_they_say() {
+    let dir = temp_dir("ok");
+    let mut mesh = shape_mesh(&Shape::Head, 6);
+    mesh.vertex_properties.push(VertexProperty {
+        name: "detail".into(),
+        values: mesh.positions.iter().map(|p| 1.0 + p[0].max(0.0)).collect(),
+    });
+    let ply = dir.join("head.ply");
+    std::fs::write(&ply, write_ply_binary(&mesh)).unwrap();
+    let p = ply.to_str().unwrap();
+    let out = dir.join("head.obj");
+    let o = run(&["uv", p, "-o", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("flipped 0, degenerate 0"), "{err}");
+    let text = std::fs::read_to_string(&out).unwrap();
+    let back = gonio::mesh::obj::read_obj(text.as_bytes()).unwrap();
+    assert!(back.mesh.texcoords.len() >= mesh.positions.len());
+    assert!(back.mesh.triangles.len() >= mesh.triangles.len());
+    // The property weight and a compared layout.
+    for extra in [
+        &["--density", "property:detail"][..],
+        &["--layout", "cube"][..],
+        &["--density", "solid-angle", "--center", "0,0,0"][..],
+    ] {
+        let mut args = vec!["uv", p, "-o", out.to_str().unwrap()];
+        args.extend_from_slice(extra);
+        let o = run(&args);
+        assert!(
+            o.status.success(),
+            "{extra:?}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+    }
+    // Bake a checkerboard, and a 8 × 4 equirectangular PNG.
+    let tex = dir.join("tex.png");
+    let obj = dir.join("textured.obj");
+    let pv = dir.join("preview.png");
+    let o = run(&[
+        "bake",
+        p,
+        "--texture",
+        "checker",
+        "--resolution",
+        "32",
+        "-o",
+        tex.to_str().unwrap(),
+        "--obj",
+        obj.to_str().unwrap(),
+        "--preview",
+        pv.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let mtl = std::fs::read_to_string(dir.join("textured.mtl")).unwrap();
+    assert!(mtl.contains("map_Kd tex.png"));
+    assert!(std::fs::read_to_string(&obj)
+        .unwrap()
+        .contains("mtllib textured.mtl"));
+    let png = std::fs::read(&tex).unwrap();
+    assert_eq!(&png[1..4], b"PNG");
+    let eq = dir.join("equirect.png");
+    {
+        let f = std::fs::File::create(&eq).unwrap();
+        let mut enc = png::Encoder::new(f, 8, 4);
+        enc.set_color(png::ColorType::Rgb);
+        enc.set_depth(png::BitDepth::Eight);
+        let data: Vec<u8> = (0..32)
+            .flat_map(|i| [(i * 8) as u8, 0, 255 - (i * 8) as u8])
+            .collect();
+        enc.write_header().unwrap().write_image_data(&data).unwrap();
+    }
+    let o = run(&[
+        "bake",
+        p,
+        "--texture",
+        eq.to_str().unwrap(),
+        "--resolution",
+        "16",
+        "-o",
+        tex.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    // Nothing else was left in the folder (no temporary files).
+    assert_eq!(
+        names(&dir),
+        vec![
+            "equirect.png",
+            "head.obj",
+            "head.ply",
+            "preview.png",
+            "tex.png",
+            "textured.mtl",
+            "textured.obj"
+        ]
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn bad_meshes_and_outputs_are_refused() {
+    let dir = temp_dir("bad");
+    let b = dir.join("banana.ply");
+    std::fs::write(&b, write_ply_binary(&banana(6))).unwrap();
+    let out = dir.join("out.obj");
+    let o = run(&["uv", b.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("not star-shaped"));
+    assert!(!out.exists());
+    // The output may not replace the input.
+    let o = run(&["uv", b.to_str().unwrap(), "-o", b.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
+    // A syntax error is located.
+    let bad = dir.join("bad.obj");
+    std::fs::write(&bad, "v 0 0 0\nv 1 0 0\nf 1 2 9\n").unwrap();
+    let o = run(&["uv", bad.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(e.contains("line 3") && e.contains("index 9"), "{e}");
+    // A directory is not a regular file.
+    let o = run(&["uv", dir.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(!out.exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -1,0 +1,120 @@
+//! `gonio.texture_uv`: the inverse map as a texture parameterisation (docs/TEXTURE.md).
+
+use crate::arrays;
+use crate::{detached, InputError};
+use gonio::mesh::{parameterise, Density, Layout, Mesh, UvOptions};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+/// One-chart UVs of a closed star-shaped triangle mesh: `vertices` (n, 3) floats, `faces` (m, 3)
+/// vertex indices (counter-clockwise seen from outside or consistently clockwise); `density`
+/// "surface" (uniform texels over the surface) or "solid-angle"; `weights` (n,) positive
+/// per-vertex weights × surface (overrides `density`); `center` (3,) or None (found); `layout`
+/// "hds" (the inverse map) or the compared "latlong", "cube", "octahedral".
+///
+/// Returns a dict: `positions` (k, 3) (the input's vertices, then the vertices the seam cut
+/// made), `uvs` (t, 2), `faces` (f, 3) position indices and `face_uvs` (f, 3) uv indices of the
+/// output triangles (as OBJ's `f p/t`), `source_face` (f,) the input face of each, `center` (3,),
+/// `cut_faces` (the input faces cut along a seam) and `seam` (u of the split layout's seam; None
+/// for the other layouts). Errors: `gonio.InputError` (shapes, indices, an open or not
+/// star-shaped mesh, with the message of docs/TEXTURE.md).
+#[pyfunction]
+#[pyo3(signature = (vertices, faces, density = "surface", weights = None, center = None, layout = "hds"))]
+pub(crate) fn texture_uv<'py>(
+    py: Python<'py>,
+    vertices: &Bound<'py, PyAny>,
+    faces: &Bound<'py, PyAny>,
+    density: &str,
+    weights: Option<&Bound<'py, PyAny>>,
+    center: Option<[f64; 3]>,
+    layout: &str,
+) -> PyResult<Bound<'py, PyDict>> {
+    let v = arrays::rows::<3>(vertices, "vertices")?;
+    let f = arrays::rows::<3>(faces, "faces")?;
+    let positions: Vec<[f64; 3]> = v.as_slice().to_vec();
+    let n = positions.len();
+    let mut triangles = Vec::with_capacity(f.as_slice().len());
+    for (i, r) in f.as_slice().iter().enumerate() {
+        let mut t = [0u32; 3];
+        for k in 0..3 {
+            let x = r[k];
+            if !(x >= 0.0 && x.fract() == 0.0 && (x as usize) < n) {
+                return Err(InputError::new_err(format!(
+                    "faces[{i}][{k}] = {x} is not a vertex index in 0..{n}"
+                )));
+            }
+            t[k] = x as u32;
+        }
+        triangles.push(t);
+    }
+    let density = match (weights, density) {
+        (Some(w), _) => Density::VertexWeight(arrays::vector(w, "weights")?),
+        (None, "surface") => Density::Surface,
+        (None, "solid-angle") => Density::SolidAngle,
+        (None, d) => {
+            return Err(InputError::new_err(format!(
+                "density: `{d}` is not \"surface\" or \"solid-angle\""
+            )))
+        }
+    };
+    let layout = match layout {
+        "hds" => Layout::Hds,
+        "latlong" => Layout::LatLong,
+        "cube" => Layout::Cube,
+        "octahedral" => Layout::Octahedral,
+        l => {
+            return Err(InputError::new_err(format!(
+                "layout: `{l}` is not one of hds, latlong, cube, octahedral"
+            )))
+        }
+    };
+    let source_face = (0..triangles.len() as u32).collect();
+    let mesh = Mesh {
+        positions,
+        triangles,
+        source_face,
+        ..Mesh::default()
+    };
+    let opts = UvOptions {
+        density,
+        center,
+        layout,
+        ..UvOptions::default()
+    };
+    let r = detached(py, "texture_uv", || parameterise(&mesh, &opts))?
+        .map_err(|e| InputError::new_err(e.to_string()))?;
+    let m = &r.mesh;
+    let out = PyDict::new(py);
+    out.set_item(
+        "positions",
+        arrays::new_2d(py, m.positions.iter().flatten().copied().collect(), 3),
+    )?;
+    out.set_item(
+        "uvs",
+        arrays::new_2d(py, m.uvs.iter().flatten().copied().collect(), 2),
+    )?;
+    let idx = |pick: fn(&gonio::mesh::Corner) -> u32| -> Vec<Vec<u32>> {
+        m.triangles
+            .iter()
+            .map(|t| t.iter().map(pick).collect())
+            .collect()
+    };
+    let np = py.import("numpy")?;
+    let u32t = np.getattr("uint32")?;
+    out.set_item(
+        "faces",
+        np.call_method1("asarray", (idx(|c| c.position), &u32t))?,
+    )?;
+    out.set_item(
+        "face_uvs",
+        np.call_method1("asarray", (idx(|c| c.uv), &u32t))?,
+    )?;
+    out.set_item(
+        "source_face",
+        np.call_method1("asarray", (m.source_triangle.clone(), &u32t))?,
+    )?;
+    out.set_item("center", r.star.center.to_vec())?;
+    out.set_item("cut_faces", r.cut_triangles)?;
+    out.set_item("seam", r.texture.as_ref().map(|t| t.seam()))?;
+    Ok(out)
+}
