@@ -401,3 +401,53 @@ fn scalar_albedo_is_exact() {
     let a = scalar_albedo(&g, wi);
     assert!((a - q).abs() < 2e-4 * a, "{a} vs {q}");
 }
+
+/// The baselines honour the same contract: pdf(sample) = sample.pdf, finite weights, and their
+/// inverses round-trip where they have one.
+#[test]
+fn baselines_honour_the_contract() {
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(11);
+    for a in [Analytic::families()[1], Analytic::families()[2]] {
+        let t = table(&a);
+        let s = BrdfSampler::new(t.clone(), &SamplerOptions::default()).unwrap();
+        let fit = GgxFit::fit(&t);
+        let (ax, ay) = fit.alpha();
+        if let Analytic::Ggx {
+            alpha_x, alpha_y, ..
+        } = a
+        {
+            // The fit lands near the generating roughness (grid steps are 20 % apart).
+            assert!(
+                (ax / alpha_x).ln().abs() < 0.5 && (ay / alpha_y).ln().abs() < 0.5,
+                "{ax} {ay}"
+            );
+        }
+        let cos = CosineBrdf::new(&t);
+        let pc = PerSliceConstant::new(&s, 32);
+        let methods: [&dyn BrdfMethod; 4] = [&s, &cos, &fit, &pc];
+        for m in methods {
+            for &(ti, pi) in &[(0.0, 0.0), (35.0, 50.0), (70.0, 200.0)] {
+                let wi = incident(ti, pi);
+                for _ in 0..500 {
+                    let u: Point2 = [rng.gen_range(0.001..0.999), rng.gen_range(0.001..0.999)];
+                    let smp = m.sample(wi, u);
+                    assert!(smp.pdf.is_finite() && smp.weight.iter().all(|w| w.is_finite()));
+                    if smp.direction[2] <= 1e-6 || smp.pdf <= 1e-6 {
+                        continue;
+                    }
+                    let p = m.pdf(wi, smp.direction);
+                    assert!(
+                        (p - smp.pdf).abs() <= 1e-8 * p,
+                        "{} {ti}: {p} vs {}",
+                        m.name(),
+                        smp.pdf
+                    );
+                    if let Some(back) = m.invert(wi, smp.direction) {
+                        let e = (back[0] - u[0]).abs().max((back[1] - u[1]).abs());
+                        assert!(e < 1e-7, "{} {ti}: {u:?} -> {back:?}", m.name());
+                    }
+                }
+            }
+        }
+    }
+}
