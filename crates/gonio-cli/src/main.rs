@@ -60,6 +60,9 @@ enum Command {
     Plot(PlotArgs),
     /// Measure speed and memory of the sampling methods.
     Bench(BenchArgs),
+    /// Tabulated BRDFs (MERL, UTIA, gonio BRDF JSON): info, sample, pdf, invert, check, bench
+    /// `FILE --incident THETA,PHI`.
+    Brdf(commands::brdf::BrdfArgs),
 }
 
 /// `--tolerance`: a number in (0, 1), as `BuildOptions::tolerance` takes it.
@@ -139,6 +142,7 @@ fn main() -> ExitCode {
         Command::Check(a) => commands::check::run(a),
         Command::Plot(a) => plot::run(a).map(|()| true),
         Command::Bench(a) => bench::run(a).map(|()| true),
+        Command::Brdf(a) => commands::brdf::run(a),
     };
     match result {
         Ok(true) => ExitCode::SUCCESS,
