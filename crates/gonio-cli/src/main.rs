@@ -64,6 +64,9 @@ enum Command {
     Uv(commands::uv::UvArgs),
     /// Bake an equirectangular PNG (or a checkerboard) into the map's square texture.
     Bake(commands::uv::BakeArgs),
+    /// Tabulated BRDFs (MERL, UTIA, gonio BRDF JSON): info, sample, pdf, invert, check, bench
+    /// `FILE --incident THETA,PHI`.
+    Brdf(commands::brdf::BrdfArgs),
 }
 
 /// `--tolerance`: a number in (0, 1), as `BuildOptions::tolerance` takes it.
@@ -145,6 +148,7 @@ fn main() -> ExitCode {
         Command::Bench(a) => bench::run(a).map(|()| true),
         Command::Uv(a) => commands::uv::run_uv(a).map(|()| true),
         Command::Bake(a) => commands::uv::run_bake(a).map(|()| true),
+        Command::Brdf(a) => commands::brdf::run(a),
     };
     match result {
         Ok(true) => ExitCode::SUCCESS,

@@ -1,6 +1,7 @@
 //! One module per subcommand; each exposes `run(&Args) -> anyhow::Result<()>` (check returns
 //! whether every item passed).
 
+pub mod brdf;
 pub mod check;
 pub mod convert;
 pub mod directions;

@@ -107,6 +107,11 @@ impl HdsCore {
         p
     }
 
+    /// The tables of M_C and M_D (for the blended maps of [`super::blend`]).
+    pub(crate) fn tables(&self) -> (&Angular, &Radial) {
+        (&self.angular, &self.radial)
+    }
+
     /// T = ∫_disk D dA.
     pub(crate) fn total(&self) -> f64 {
         self.total

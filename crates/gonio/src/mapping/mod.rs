@@ -20,6 +20,7 @@
 
 pub mod angular;
 pub mod batch;
+pub mod blend;
 mod bound;
 mod complete;
 pub mod concentric;
@@ -31,6 +32,7 @@ pub mod refine;
 pub mod simd;
 mod sphere;
 
+pub use blend::{BlendError, BlendedMap};
 pub use complete::Completion;
 pub use hemisphere::HemisphereMap;
 pub use refine::{RefineLimits, RefineStop, Refinement};

@@ -1,0 +1,394 @@
+//! `gonio brdf info|sample|pdf|invert|check|bench FILE --incident THETA,PHI`: tabulated BRDFs
+//! (MERL `.binary`, UTIA `.bin`, gonio BRDF JSON; the format is recognised from the content).
+//!
+//! Directions are in the local shading frame (z the normal, x the tangent), both pointing away
+//! from the surface; `--incident` gives ω_i's polar angle and azimuth in degrees.
+
+use anyhow::{bail, Context, Result};
+use clap::{Args, Subcommand, ValueEnum};
+use gonio::brdf::{
+    read_any, BrdfMethod, BrdfSampler, CosineBrdf, GgxFit, IncidentSampler, MerlOptions, MerlRaw,
+    PerSliceConstant, SamplerOptions, TabulatedBrdf,
+};
+use gonio::sampler::direction;
+use gonio::sequence::{Sequence, SequenceKind};
+use gonio::{Sampler, Vec3};
+use std::io::{BufRead, Write};
+use std::path::{Path, PathBuf};
+
+/// `gonio brdf …`.
+#[derive(Debug, Args)]
+pub struct BrdfArgs {
+    #[command(subcommand)]
+    command: BrdfCommand,
+}
+
+#[derive(Debug, Subcommand)]
+enum BrdfCommand {
+    /// Format, grids, slices, memory, build time (MERL: the resampling error).
+    Info(Common),
+    /// Sample outgoing directions: CSV `u,v,x,y,z,pdf,w_r,w_g,w_b`.
+    Sample(SampleArgs),
+    /// The pdf of each direction of `--directions` (CSV `x,y,z` per line): `x,y,z,pdf`.
+    Pdf(DirArgs),
+    /// The point of the square of each direction of `--directions`: `x,y,z,u,v`.
+    Invert(DirArgs),
+    /// The check battery at the incident direction; exit 3 if an item fails.
+    Check(Common),
+    /// Time per sample of every method at the incident direction, against the light map of the
+    /// same slice diagram (`HemisphereMap`), and the sampler's memory.
+    Bench(BenchArgs),
+}
+
+#[derive(Debug, Clone, Copy, ValueEnum)]
+enum MethodArg {
+    Hds,
+    Cosine,
+    GgxFit,
+    PiecewiseConstant,
+}
+
+#[derive(Debug, Args)]
+struct Common {
+    /// The BRDF file.
+    file: PathBuf,
+    /// Incident direction: polar angle and azimuth in degrees, e.g. `30,0`.
+    #[arg(long, default_value = "30,0", value_parser = parse_incident)]
+    incident: (f64, f64),
+    /// MERL resampling: polar nodes 0°…90° (incident and outgoing).
+    #[arg(long, default_value_t = 46)]
+    merl_theta: usize,
+    /// MERL resampling: relative azimuth nodes.
+    #[arg(long, default_value_t = 90)]
+    merl_phi: usize,
+    /// Slice grid (when the table's own grid cannot be used): polar nodes 0°…90°.
+    #[arg(long, default_value_t = 46)]
+    theta_o: usize,
+    /// Slice grid: azimuth nodes.
+    #[arg(long, default_value_t = 90)]
+    phi_o: usize,
+}
+
+#[derive(Debug, Args)]
+struct SampleArgs {
+    #[command(flatten)]
+    common: Common,
+    /// Number of samples.
+    #[arg(short = 'n', long, default_value_t = 10)]
+    count: usize,
+    /// Seed of the iid points of the square.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Sampling method.
+    #[arg(long, value_enum, default_value = "hds")]
+    method: MethodArg,
+}
+
+#[derive(Debug, Args)]
+struct DirArgs {
+    #[command(flatten)]
+    common: Common,
+    /// CSV file of directions `x,y,z` (`-` for stdin).
+    #[arg(long)]
+    directions: PathBuf,
+    /// Sampling method.
+    #[arg(long, value_enum, default_value = "hds")]
+    method: MethodArg,
+}
+
+#[derive(Debug, Args)]
+struct BenchArgs {
+    #[command(flatten)]
+    common: Common,
+    /// Samples per method.
+    #[arg(short = 'n', long, default_value_t = 1_000_000)]
+    count: usize,
+}
+
+fn parse_incident(s: &str) -> Result<(f64, f64), String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    let bad = || format!("--incident takes THETA,PHI in degrees (0 ≤ THETA ≤ 90), got `{s}`");
+    if parts.len() != 2 {
+        return Err(bad());
+    }
+    let t: f64 = parts[0].parse().map_err(|_| bad())?;
+    let p: f64 = parts[1].parse().map_err(|_| bad())?;
+    if !(0.0..=90.0).contains(&t) || !p.is_finite() {
+        return Err(bad());
+    }
+    Ok((t, p))
+}
+
+struct Loaded {
+    brdf: TabulatedBrdf,
+    format: &'static str,
+    merl_error: Option<(f64, usize)>,
+}
+
+fn load(c: &Common) -> Result<Loaded> {
+    let bytes = read_bytes(&c.file)?;
+    let merl = MerlOptions {
+        n_theta: c.merl_theta,
+        n_phi: c.merl_phi,
+    };
+    let brdf = read_any(&bytes, &merl).with_context(|| c.file.display().to_string())?;
+    let first = bytes.iter().find(|b| !b.is_ascii_whitespace());
+    let (format, merl_error) = if first == Some(&b'{') {
+        ("gonio BRDF JSON", None)
+    } else if bytes.len() as u64 == gonio::brdf::UTIA_SIZE {
+        ("UTIA raw", None)
+    } else {
+        let raw = MerlRaw::parse(&bytes)?;
+        (
+            "MERL binary",
+            Some((raw.resampling_error(&brdf), raw.no_data())),
+        )
+    };
+    Ok(Loaded {
+        brdf,
+        format,
+        merl_error,
+    })
+}
+
+fn read_bytes(path: &Path) -> Result<Vec<u8>> {
+    let meta = std::fs::metadata(path).with_context(|| path.display().to_string())?;
+    if meta.len() > (1 << 30) {
+        bail!(
+            "{}: {} bytes, larger than any BRDF file this tool reads",
+            path.display(),
+            meta.len()
+        );
+    }
+    std::fs::read(path).with_context(|| path.display().to_string())
+}
+
+fn sampler_of(c: &Common, brdf: TabulatedBrdf) -> Result<BrdfSampler> {
+    let opts = SamplerOptions {
+        theta_o: c.theta_o,
+        phi_o: c.phi_o,
+        force_resample: false,
+    };
+    Ok(BrdfSampler::new(brdf, &opts)?)
+}
+
+fn incident(c: &Common) -> Vec3 {
+    direction(c.incident.0.to_radians(), c.incident.1.to_radians())
+}
+
+fn read_directions(path: &Path) -> Result<Vec<Vec3>> {
+    let reader: Box<dyn BufRead> = if path.as_os_str() == "-" {
+        Box::new(std::io::BufReader::new(std::io::stdin()))
+    } else {
+        Box::new(std::io::BufReader::new(
+            std::fs::File::open(path).with_context(|| path.display().to_string())?,
+        ))
+    };
+    let mut out = vec![];
+    for (k, line) in reader.lines().enumerate() {
+        let line = line?;
+        let t = line.trim();
+        if t.is_empty() || t.starts_with('#') || t.starts_with('x') {
+            continue;
+        }
+        let v: Vec<f64> = t
+            .split(',')
+            .map(|f| f.trim().parse::<f64>())
+            .collect::<Result<_, _>>()
+            .map_err(|e| anyhow::anyhow!("{}:{}: {e}: `{t}`", path.display(), k + 1))?;
+        if v.len() != 3 {
+            bail!(
+                "{}:{}: expected x,y,z, got {} fields",
+                path.display(),
+                k + 1,
+                v.len()
+            );
+        }
+        let d = gonio::sampler::normalize([v[0], v[1], v[2]])
+            .ok_or_else(|| anyhow::anyhow!("{}:{}: not a direction", path.display(), k + 1))?;
+        out.push(d);
+    }
+    Ok(out)
+}
+
+fn with_method<T>(m: MethodArg, s: &BrdfSampler, f: impl FnOnce(&dyn BrdfMethod) -> T) -> T {
+    match m {
+        MethodArg::Hds => f(s),
+        MethodArg::Cosine => f(&CosineBrdf::new(s.brdf())),
+        MethodArg::GgxFit => f(&GgxFit::fit(s.brdf())),
+        MethodArg::PiecewiseConstant => f(&PerSliceConstant::new(s, 128)),
+    }
+}
+
+/// Runs `gonio brdf …`; `Ok(false)` when `check` found a failure.
+pub fn run(a: &BrdfArgs) -> Result<bool> {
+    let out = std::io::stdout();
+    let mut w = std::io::BufWriter::new(out.lock());
+    match &a.command {
+        BrdfCommand::Info(c) => {
+            let l = load(c)?;
+            let b = &l.brdf;
+            let t0 = std::time::Instant::now();
+            let s = sampler_of(c, b.clone())?;
+            let build = t0.elapsed().as_secs_f64();
+            let deg = |v: &[f64]| {
+                format!(
+                    "{} nodes {:.4}°…{:.4}°",
+                    v.len(),
+                    v[0].to_degrees(),
+                    v[v.len() - 1].to_degrees()
+                )
+            };
+            writeln!(w, "file: {}", c.file.display())?;
+            writeln!(w, "format: {}", l.format)?;
+            writeln!(
+                w,
+                "symmetry: {:?}, channels: {}",
+                b.symmetry(),
+                b.channels()
+            )?;
+            writeln!(w, "theta_i: {}", deg(b.theta_i()))?;
+            writeln!(w, "phi_i: {}", deg(b.phi_i()))?;
+            writeln!(w, "theta_o: {}", deg(b.theta_o()))?;
+            writeln!(w, "phi_o: {}", deg(b.phi_o()))?;
+            let (n, empty) = s.slice_counts();
+            let (gt, gp) = s.grid();
+            writeln!(
+                w,
+                "slices: {n} ({empty} without reflectance), grid {} θ_o × {} φ_o ({})",
+                gt.len(),
+                gp.len(),
+                if s.resampled() {
+                    "resampled"
+                } else {
+                    "the table's own"
+                }
+            )?;
+            writeln!(
+                w,
+                "memory: {:.2} MB (table {:.2} MB), build {:.3} s",
+                s.memory_bytes() as f64 / 1e6,
+                b.memory_bytes() as f64 / 1e6,
+                build
+            )?;
+            if let Some((e, nd)) = l.merl_error {
+                writeln!(
+                    w,
+                    "merl: {nd} values without data; resampling error (mean L1 of the normalised f·cos at θ_i = 0,30,60,75,85°): {e:.4}"
+                )?;
+            }
+            let wi = incident(c);
+            writeln!(
+                w,
+                "albedo at incident {:?}: {:.6} (luminance)",
+                c.incident,
+                gonio::brdf::scalar_albedo(b, wi)
+            )?;
+            Ok(true)
+        }
+        BrdfCommand::Sample(sa) => {
+            let l = load(&sa.common)?;
+            let s = sampler_of(&sa.common, l.brdf)?;
+            let wi = incident(&sa.common);
+            let seq = Sequence::new(SequenceKind::Random, sa.seed);
+            with_method(sa.method, &s, |m| -> Result<()> {
+                writeln!(w, "u,v,x,y,z,pdf,w_r,w_g,w_b")?;
+                for k in 0..sa.count {
+                    let u = seq.point(k as u64);
+                    let r = m.sample(wi, u);
+                    let d = r.direction;
+                    writeln!(
+                        w,
+                        "{},{},{},{},{},{},{},{},{}",
+                        u[0], u[1], d[0], d[1], d[2], r.pdf, r.weight[0], r.weight[1], r.weight[2]
+                    )?;
+                }
+                Ok(())
+            })?;
+            Ok(true)
+        }
+        BrdfCommand::Pdf(da) | BrdfCommand::Invert(da) => {
+            let is_pdf = matches!(a.command, BrdfCommand::Pdf(_));
+            let l = load(&da.common)?;
+            let s = sampler_of(&da.common, l.brdf)?;
+            let wi = incident(&da.common);
+            let dirs = read_directions(&da.directions)?;
+            with_method(da.method, &s, |m| -> Result<()> {
+                writeln!(w, "{}", if is_pdf { "x,y,z,pdf" } else { "x,y,z,u,v" })?;
+                for d in dirs {
+                    if is_pdf {
+                        writeln!(w, "{},{},{},{}", d[0], d[1], d[2], m.pdf(wi, d))?;
+                    } else {
+                        match m.invert(wi, d) {
+                            Some(u) => writeln!(w, "{},{},{},{},{}", d[0], d[1], d[2], u[0], u[1])?,
+                            None => writeln!(w, "{},{},{},nan,nan", d[0], d[1], d[2])?,
+                        }
+                    }
+                }
+                Ok(())
+            })?;
+            Ok(true)
+        }
+        BrdfCommand::Check(c) => {
+            let l = load(c)?;
+            let s = sampler_of(c, l.brdf)?;
+            let inc = IncidentSampler::new(&s, incident(c));
+            let report = gonio::run_battery(&inc, &gonio::BatteryOptions::default());
+            writeln!(w, "incident {:?}: albedo {:.6}", c.incident, inc.albedo())?;
+            writeln!(w, "{report}")?;
+            Ok(report.passed)
+        }
+        BrdfCommand::Bench(ba) => {
+            let l = load(&ba.common)?;
+            let s = sampler_of(&ba.common, l.brdf)?;
+            let wi = incident(&ba.common);
+            let n = ba.count.max(1);
+            let mut us = vec![[0.0; 2]; n];
+            Sequence::new(SequenceKind::Random, 1).fill(0, &mut us);
+            writeln!(w, "method,ns_per_sample,mean_weight_lum,weight_variance")?;
+            // The light map: one slice's HemisphereMap, sampled the same way.
+            if let Some(map) = (0..s.slice_counts().0).find_map(|k| s.slice(k)) {
+                let t0 = std::time::Instant::now();
+                let mut acc = 0.0;
+                for u in &us {
+                    acc += map.sample(*u).pdf;
+                }
+                let ns = t0.elapsed().as_secs_f64() * 1e9 / n as f64;
+                std::hint::black_box(acc);
+                writeln!(w, "light-map,{ns:.1},,")?;
+            }
+            for m in [
+                MethodArg::Hds,
+                MethodArg::Cosine,
+                MethodArg::GgxFit,
+                MethodArg::PiecewiseConstant,
+            ] {
+                with_method(m, &s, |m| -> Result<()> {
+                    let t0 = std::time::Instant::now();
+                    let (mut s1, mut s2) = (0.0, 0.0);
+                    for u in &us {
+                        let r = m.sample(wi, *u);
+                        let v = s.brdf().scalar(r.weight);
+                        s1 += v;
+                        s2 += v * v;
+                    }
+                    let ns = t0.elapsed().as_secs_f64() * 1e9 / n as f64;
+                    let mean = s1 / n as f64;
+                    let var = if mean > 0.0 {
+                        s2 / n as f64 / (mean * mean) - 1.0
+                    } else {
+                        f64::NAN
+                    };
+                    writeln!(w, "{},{ns:.1},{mean:.6},{var:.3e}", m.name())?;
+                    Ok(())
+                })?;
+            }
+            writeln!(
+                w,
+                "# memory of the HDS sampler: {:.2} MB",
+                s.memory_bytes() as f64 / 1e6
+            )?;
+            Ok(true)
+        }
+    }
+}

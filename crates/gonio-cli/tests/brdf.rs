@@ -1,0 +1,109 @@
+//! `gonio brdf …` end to end on files the test writes (JSON, MERL named without its extension,
+//! UTIA): formats recognised from the content, the CSV columns, sample → pdf → invert agreeing.
+
+use gonio::brdf::{write_json, write_merl, write_utia_dirs, Analytic};
+use std::process::Command;
+
+fn gonio(args: &[&str]) -> (bool, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_gonio"))
+        .args(args)
+        .output()
+        .expect("runs");
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn rows(text: &str) -> Vec<Vec<f64>> {
+    text.lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|f| f.parse().unwrap()).collect())
+        .collect()
+}
+
+#[test]
+fn brdf_commands_on_every_format() {
+    let dir = std::env::temp_dir().join(format!("gonio-brdf-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mix = Analytic::families()[4];
+    let json = dir.join("mix.json");
+    std::fs::write(&json, write_json(&mix.table(7, 12).unwrap())).unwrap();
+    let merl = dir.join("mix.dat");
+    std::fs::write(&merl, write_merl(|wi, wo| mix.eval(wi, wo))).unwrap();
+    let utia = dir.join("aniso.bin");
+    let g = Analytic::families()[2];
+    std::fs::write(&utia, write_utia_dirs(|wi, wo| g.eval(wi, wo))).unwrap();
+    let small = [
+        "--merl-theta",
+        "7",
+        "--merl-phi",
+        "12",
+        "--theta-o",
+        "7",
+        "--phi-o",
+        "12",
+    ];
+    for (file, format) in [
+        (&json, "gonio BRDF JSON"),
+        (&merl, "MERL binary"),
+        (&utia, "UTIA raw"),
+    ] {
+        let f = file.to_str().unwrap();
+        let mut a = vec!["brdf", "info", f, "--incident", "40,10"];
+        a.extend(small);
+        let (ok, out, err) = gonio(&a);
+        assert!(ok, "{err}");
+        assert!(out.contains(&format!("format: {format}")), "{out}");
+        let mut a = vec!["brdf", "sample", f, "--incident", "40,10", "-n", "20"];
+        a.extend(small);
+        let (ok, out, err) = gonio(&a);
+        assert!(ok, "{err}");
+        assert!(out.starts_with("u,v,x,y,z,pdf,w_r,w_g,w_b\n"));
+        let samples = rows(&out);
+        assert_eq!(samples.len(), 20);
+        let dirs: String = samples
+            .iter()
+            .filter(|r| r[5] > 1e-6)
+            .map(|r| format!("{},{},{}\n", r[2], r[3], r[4]))
+            .collect();
+        let csv = dir.join("dirs.csv");
+        std::fs::write(&csv, &dirs).unwrap();
+        let c = csv.to_str().unwrap();
+        for cmd in ["pdf", "invert"] {
+            let mut a = vec!["brdf", cmd, f, "--incident", "40,10", "--directions", c];
+            a.extend(small);
+            let (ok, out, err) = gonio(&a);
+            assert!(ok, "{err}");
+            let got = rows(&out);
+            let want: Vec<&Vec<f64>> = samples.iter().filter(|r| r[5] > 1e-6).collect();
+            assert_eq!(got.len(), want.len());
+            for (g, s) in got.iter().zip(want) {
+                if cmd == "pdf" {
+                    assert!(
+                        (g[3] - s[5]).abs() <= 1e-6 * s[5],
+                        "{format}: pdf {} vs {}",
+                        g[3],
+                        s[5]
+                    );
+                } else {
+                    assert!(
+                        (g[3] - s[0]).abs() < 1e-6 && (g[4] - s[1]).abs() < 1e-6,
+                        "{format}: {g:?} vs {s:?}"
+                    );
+                }
+            }
+        }
+    }
+    // A truncated MERL file: one line, located.
+    let bytes = std::fs::read(&merl).unwrap();
+    let cut = dir.join("cut.binary");
+    std::fs::write(&cut, &bytes[..bytes.len() - 5]).unwrap();
+    let (ok, _, err) = gonio(&["brdf", "info", cut.to_str().unwrap()]);
+    assert!(
+        !ok && err.contains("merl") && err.contains("bytes"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
