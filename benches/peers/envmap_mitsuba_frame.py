@@ -62,7 +62,7 @@ def main():
         si = mi.SurfaceInteraction3f()
         si.wi = mi.Vector3f(-g[0], -g[1], -g[2])
         v = np.array(emitter.eval(si))
-        if not np.allclose(v, px, rtol=1e-5):
+        if not np.allclose(v, px, rtol=1e-4):  # Mitsuba interpolates in float32
             bad += 1
             print("mitsuba", g, v, px)
     dpath = os.path.join(d, "dirs.csv")

@@ -83,5 +83,5 @@ def test_frame_matches_mitsuba(tmp_path):
             g = (ml[2], ml[0], ml[1])
             si = mi.SurfaceInteraction3f()
             si.wi = mi.Vector3f(-g[0], -g[1], -g[2])
-            assert np.allclose(np.array(emitter.eval(si)), img[r, c], rtol=1e-5)
+            assert np.allclose(np.array(emitter.eval(si)), img[r, c], rtol=1e-4)  # Mitsuba interpolates in float32
             assert np.allclose(env.eval([g])[0], img[r, c], rtol=1e-6)
