@@ -170,7 +170,7 @@ fn bilinear_radiance_is_the_diagrams_interpolant() {
 
 #[test]
 fn single_bright_pixels_pass_the_check_battery() {
-    // At the pole (top row), on the seam (first and last columns), at the horizon (the row below
+    // At the pole (top row), on the seam (first column), at the horizon (the row below
     // the equator), and anywhere: the map passes the whole battery (chi-square, round trip, pdf
     // consistency, normalisation, ratio, flux), one fixed seed each.
     let (w, h) = (32, 16);
