@@ -12,6 +12,14 @@ mod corpus;
 
 fn main() {
     println!("cargo::rustc-check-cfg=cfg(gonio_corpus)");
+    println!("cargo::rustc-check-cfg=cfg(gonio_envmaps)");
+    println!("cargo:rerun-if-env-changed=GONIO_ENVMAPS");
+    if let Some(e) = corpus::find_envmaps() {
+        let e = e.canonicalize().unwrap_or(e);
+        println!("cargo:rerun-if-changed={}", e.display());
+        println!("cargo:rustc-cfg=gonio_envmaps");
+        println!("cargo:rustc-env=GONIO_ENVMAPS_DIR={}", e.display());
+    }
     println!("cargo:rerun-if-env-changed=GONIO_CORPUS");
     println!("cargo:rerun-if-changed=build.rs");
     println!("cargo:rerun-if-changed=tests/common/corpus.rs");

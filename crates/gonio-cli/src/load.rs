@@ -54,6 +54,9 @@ pub enum InputKind {
     Ies,
     /// An EULUMDAT file (candela after scaling).
     Eulumdat,
+    /// An environment map: a lat-long `.hdr`, `.exr` or `.pfm` image (luminance, W·sr⁻¹·m⁻²
+    /// or the image's unit; see [`crate::envmap_in`]).
+    EnvMap,
 }
 
 impl InputKind {
@@ -64,13 +67,14 @@ impl InputKind {
             InputKind::Json => "json",
             InputKind::Ies => "ies",
             InputKind::Eulumdat => "ldt",
+            InputKind::EnvMap => "envmap",
         }
     }
 
     /// True for IES and EULUMDAT input (and the example, which is in candela too): the diagram's
     /// values are candela and its power is luminous flux in lumens.
     pub fn is_photometric(self) -> bool {
-        !matches!(self, InputKind::Json)
+        !matches!(self, InputKind::Json | InputKind::EnvMap)
     }
 }
 
@@ -85,6 +89,8 @@ pub struct Loaded {
     pub diagram: Diagram,
     /// The photometric file as read, for IES and EULUMDAT input.
     pub photometry: Option<Box<gonio::photometry::Photometry>>,
+    /// The environment map, for image input (its diagram is `diagram`).
+    pub envmap: Option<Box<gonio::envmap::EnvironmentMap>>,
 }
 
 impl Loaded {
@@ -107,6 +113,7 @@ pub fn input_kind(name: &str) -> anyhow::Result<InputKind> {
         Some("json") => Ok(InputKind::Json),
         Some("ies") => Ok(InputKind::Ies),
         Some("ldt") => Ok(InputKind::Eulumdat),
+        Some("hdr" | "pic" | "exr" | "pfm") => Ok(InputKind::EnvMap),
         Some(e) => anyhow::bail!(
             "{name}: unknown input format `.{e}`; expected .json, .ies, .ldt or `{EXAMPLE}`"
         ),
@@ -135,6 +142,7 @@ fn format_name(kind: InputKind) -> &'static str {
         InputKind::Json => "JSON",
         InputKind::Ies => "IES LM-63",
         InputKind::Eulumdat => "EULUMDAT",
+        InputKind::EnvMap => "an environment map image",
     }
 }
 
@@ -153,7 +161,11 @@ pub fn load(name: &str) -> anyhow::Result<Loaded> {
             kind: InputKind::Example,
             diagram: gonio::synthetic::example_luminaire(),
             photometry: None,
+            envmap: None,
         });
+    }
+    if crate::envmap_in::is_image_name(name) {
+        return crate::envmap_in::load_envmap(name);
     }
     let bytes = read_file(name)?;
     let hint = input_kind(name).ok();
@@ -182,7 +194,7 @@ pub fn load(name: &str) -> anyhow::Result<Loaded> {
         }
     };
     let (diagram, photometry) = match kind {
-        InputKind::Example => unreachable!("handled above"),
+        InputKind::Example | InputKind::EnvMap => unreachable!("handled above"),
         InputKind::Json => {
             if let Some(which) = gonio::photometry::utf16_encoding(&bytes) {
                 anyhow::bail!("{name}: the file is UTF-16 text ({which}); save it as UTF-8");
@@ -202,6 +214,7 @@ pub fn load(name: &str) -> anyhow::Result<Loaded> {
         kind,
         diagram,
         photometry,
+        envmap: None,
     })
 }
 

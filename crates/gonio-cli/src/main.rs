@@ -14,6 +14,7 @@ pub mod bench;
 pub mod cleanup;
 pub mod commands;
 pub mod csv_in;
+pub mod envmap_in;
 pub mod input;
 pub mod load;
 pub mod output;

@@ -23,6 +23,7 @@ use pyo3::prelude::*;
 mod arrays;
 mod diagram;
 mod mesh;
+mod envmap;
 mod misc;
 mod sampler;
 
@@ -99,6 +100,7 @@ fn _gonio(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("InternalError", py.get_type::<InternalError>())?;
     m.add_class::<diagram::PyDiagram>()?;
     m.add_class::<sampler::PySampler>()?;
+    m.add_class::<envmap::PyEnvMap>()?;
     m.add_function(wrap_pyfunction!(diagram::read, m)?)?;
     m.add_function(wrap_pyfunction!(diagram::read_bytes, m)?)?;
     m.add_function(wrap_pyfunction!(diagram::example, m)?)?;

@@ -16,6 +16,9 @@ pub fn run(a: &ConvertArgs) -> anyhow::Result<()> {
         .map(str::to_ascii_lowercase);
     let out_name = a.output.display().to_string();
     if a.to == Some(ConvertTarget::PbrtV4) {
+        if crate::envmap_in::is_image_name(&a.input) {
+            return crate::envmap_in::convert_pbrt(a, ext.as_deref());
+        }
         return super::pbrt::run(a, ext.as_deref());
     }
     // Check the output format before reading anything.

@@ -279,7 +279,7 @@ pub fn collect(loaded: &Loaded) -> anyhow::Result<Info> {
     Ok(Info {
         input: loaded.name.clone(),
         format: loaded.kind.name(),
-        unit: if loaded.kind == InputKind::Json {
+        unit: if matches!(loaded.kind, InputKind::Json | InputKind::EnvMap) {
             "value"
         } else {
             "cd"
@@ -325,6 +325,11 @@ pub fn run(a: &InfoArgs) -> anyhow::Result<()> {
         serde_json::to_string_pretty(&info)? + "\n"
     } else {
         human(&info)
+            + &loaded
+                .envmap
+                .as_deref()
+                .map(crate::envmap_in::info_lines)
+                .unwrap_or_default()
     };
     crate::output::print(&text)
 }

@@ -20,6 +20,8 @@ const FORMAT_CHUNK: usize = 4096;
 pub fn run(a: &SampleArgs) -> anyhow::Result<()> {
     let loaded = load(&a.input)?;
     let sampler = build_sampler(a.method, &loaded)?;
+    // An environment map adds its radiance in each sampled direction (columns r, g, b).
+    let env = loaded.envmap.as_deref();
     match &a.points {
         Some(path) => {
             // Validate every point before anything is written.
@@ -39,14 +41,14 @@ pub fn run(a: &SampleArgs) -> anyhow::Result<()> {
             }
             drop(rows);
             let mut out = Output::create(a.output.as_deref())?;
-            write_header(&mut out, a.format)?;
+            write_header(&mut out, a.format, env)?;
             let progress = Progress::new(pts.len() as u64, "sample");
             let mut samples = vec![Sample::default(); BATCH.min(pts.len())];
             let mut done = 0u64;
             for chunk in pts.chunks(BATCH) {
                 let s = &mut samples[..chunk.len()];
                 sample_batch_par(sampler.as_ref(), chunk, s);
-                write_rows(&mut out, a.format, chunk, s)?;
+                write_rows(&mut out, a.format, chunk, s, env)?;
                 done += chunk.len() as u64;
                 progress.set(done);
             }
@@ -63,7 +65,7 @@ pub fn run(a: &SampleArgs) -> anyhow::Result<()> {
                 kind => Sequence::new(kind, a.seed),
             };
             let mut out = Output::create(a.output.as_deref())?;
-            write_header(&mut out, a.format)?;
+            write_header(&mut out, a.format, env)?;
             let progress = Progress::new(n, "sample");
             let cap = (n.min(BATCH as u64)) as usize;
             let mut pts = vec![[0.0; 2]; cap];
@@ -74,7 +76,7 @@ pub fn run(a: &SampleArgs) -> anyhow::Result<()> {
                 let (p, s) = (&mut pts[..len], &mut samples[..len]);
                 seq.fill_par(done, p);
                 sample_batch_par(sampler.as_ref(), p, s);
-                write_rows(&mut out, a.format, p, s)?;
+                write_rows(&mut out, a.format, p, s, env)?;
                 done += len as u64;
                 progress.set(done);
             }
@@ -83,9 +85,17 @@ pub fn run(a: &SampleArgs) -> anyhow::Result<()> {
     }
 }
 
-fn write_header(out: &mut Output, format: SampleFormat) -> anyhow::Result<()> {
+fn write_header(
+    out: &mut Output,
+    format: SampleFormat,
+    env: Option<&gonio::envmap::EnvironmentMap>,
+) -> anyhow::Result<()> {
     if format == SampleFormat::Csv {
-        out.write_all(b"u,v,x,y,z,pdf\n")?;
+        out.write_all(if env.is_some() {
+            b"u,v,x,y,z,pdf,r,g,b\n".as_slice()
+        } else {
+            b"u,v,x,y,z,pdf\n".as_slice()
+        })?;
     }
     Ok(())
 }
@@ -96,6 +106,7 @@ fn write_rows(
     format: SampleFormat,
     pts: &[Point2],
     samples: &[Sample],
+    env: Option<&gonio::envmap::EnvironmentMap>,
 ) -> anyhow::Result<()> {
     let parts: Vec<Vec<u8>> = pts
         .par_chunks(FORMAT_CHUNK)
@@ -104,16 +115,27 @@ fn write_rows(
             let mut buf = Vec::with_capacity(p.len() * 96);
             for (p, s) in p.iter().zip(s) {
                 let d = s.direction;
-                let row = [p[0], p[1], d[0], d[1], d[2], s.pdf];
+                let rgb = env.map(|e| e.eval(d).map(f64::from));
+                let base = [p[0], p[1], d[0], d[1], d[2], s.pdf];
+                let full;
+                let row: &[f64] = match rgb {
+                    Some(c) => {
+                        full = [
+                            base[0], base[1], base[2], base[3], base[4], base[5], c[0], c[1], c[2],
+                        ];
+                        &full
+                    }
+                    None => &base,
+                };
                 match format {
-                    SampleFormat::Csv => push_csv_row(&mut buf, &row),
+                    SampleFormat::Csv => push_csv_row(&mut buf, row),
                     SampleFormat::F32 => {
-                        for v in row {
+                        for &v in row {
                             buf.extend_from_slice(&(v as f32).to_le_bytes());
                         }
                     }
                     SampleFormat::F64 => {
-                        for v in row {
+                        for &v in row {
                             buf.extend_from_slice(&v.to_le_bytes());
                         }
                     }

@@ -95,3 +95,68 @@ pub fn corpus_files(dir: &Path) -> Vec<PathBuf> {
     files.sort();
     files
 }
+
+/// The places the shared environment maps are looked for, in order: `$GONIO_ENVMAPS`, else
+/// `shared/data/envmaps` beside the workspace (as for the photometric corpus).
+pub fn envmap_candidates() -> Vec<PathBuf> {
+    let ws = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..");
+    std::env::var_os("GONIO_ENVMAPS")
+        .map(PathBuf::from)
+        .into_iter()
+        .chain(
+            [
+                "shared/data/envmaps",
+                "../shared/data/envmaps",
+                "../../shared/data/envmaps",
+            ]
+            .iter()
+            .map(|rel| ws.join(rel)),
+        )
+        .collect()
+}
+
+/// The first of [`envmap_candidates`] that holds a `.hdr` file.
+pub fn find_envmaps() -> Option<PathBuf> {
+    envmap_candidates().into_iter().find(|c| {
+        std::fs::read_dir(c)
+            .map(|rd| {
+                rd.flatten()
+                    .any(|e| e.path().extension().is_some_and(|x| x == "hdr"))
+            })
+            .unwrap_or(false)
+    })
+}
+
+/// The environment maps as the build script found them (`GONIO_ENVMAPS_DIR`), for tests marked
+/// `#[cfg_attr(not(gonio_envmaps), ignore = "…")]`: every `.hdr` there, sorted.
+pub fn built_envmaps() -> Vec<PathBuf> {
+    let dir = match option_env!("GONIO_ENVMAPS_DIR") {
+        Some(p) if Path::new(p).is_dir() => PathBuf::from(p),
+        other => panic!(
+            "the shared environment maps are not available (the build found {other:?}); set \
+             GONIO_ENVMAPS and rebuild"
+        ),
+    };
+    let mut v: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .map(|rd| rd.flatten().map(|e| e.path()).collect())
+        .unwrap_or_default();
+    v.retain(|p| p.extension().is_some_and(|x| x == "hdr"));
+    v.sort();
+    v
+}
+
+/// The environment maps at run time (for examples), or `None` after saying where it looked.
+pub fn envmaps_dir() -> Option<PathBuf> {
+    let found = find_envmaps();
+    if found.is_none() {
+        eprintln!(
+            "skipping: shared environment maps not found (set GONIO_ENVMAPS; tried {})",
+            envmap_candidates()
+                .iter()
+                .map(|c| c.display().to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
+    found
+}

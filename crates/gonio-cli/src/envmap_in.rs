@@ -1,0 +1,149 @@
+//! Environment-map input (`.hdr`, `.exr`, `.pfm` lat-long images) for every command, and its
+//! pbrt-v4 export.
+//!
+//! The image is read by [`gonio::image`], its luminance becomes the diagram of an
+//! [`gonio::envmap::EnvironmentMap`] (frame: θ from +z with the image's top row at the zenith, the
+//! image's centre column along +x; see the library's `envmap` documentation), and every command
+//! works on that diagram as on any other: `info`, `sample` (which adds the radiance columns
+//! `r,g,b`), `pdf`, `invert`, `check`, `plot`, `bench`. The diagram's values are luminance in the
+//! image's unit, so powers are in that unit × sr.
+
+use crate::args::ConvertArgs;
+use crate::input::read_regular;
+use crate::load::{InputKind, Loaded};
+use crate::output::Output;
+use anyhow::Context;
+use gonio::baselines::equal_area::equal_area_square_to_sphere;
+use gonio::envmap::EnvironmentMap;
+use gonio::image::{Image, ImageFormat};
+use rayon::prelude::*;
+use std::io::Write;
+use std::path::Path;
+
+/// Largest image file read: 1 GiB (a 8192 × 4096 float RGB EXR is 400 MiB uncompressed).
+pub const MAX_IMAGE_BYTES: u64 = 1 << 30;
+
+/// Whether an input name is an image (by its extension: `.hdr`, `.pic`, `.exr`, `.pfm`).
+pub fn is_image_name(name: &str) -> bool {
+    ImageFormat::from_path(Path::new(name)).is_some()
+}
+
+/// Reads an image file and builds its environment map; the reader's and the map's warnings go
+/// to standard error.
+pub fn load_envmap(name: &str) -> anyhow::Result<Loaded> {
+    let bytes = read_regular(Path::new(name), name, MAX_IMAGE_BYTES)?;
+    let format = ImageFormat::sniff(&bytes).or_else(|| ImageFormat::from_path(Path::new(name)));
+    let image = Image::from_bytes(&bytes, format).map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
+    drop(bytes);
+    let env = EnvironmentMap::new(image).map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
+    for w in env.warnings() {
+        eprintln!("gonio: warning: {name}: {w}");
+    }
+    Ok(Loaded {
+        name: name.to_string(),
+        kind: InputKind::EnvMap,
+        diagram: env.diagram().clone(),
+        photometry: None,
+        envmap: Some(Box::new(env)),
+    })
+}
+
+/// The lines `gonio info` adds for an environment map.
+pub fn info_lines(env: &EnvironmentMap) -> String {
+    let img = env.image();
+    let (w, h) = (img.width(), img.height());
+    let mut s = String::new();
+    s += &format!("image            {w} × {h} pixels (RGB), weight: Rec. 709 luminance, radiance lookup: nearest pixel\n");
+    s += &format!(
+        "luminance power  {} (image unit × sr)\n",
+        gonio::decimal::shortest(env.power())
+    );
+    s += &format!(
+        "memory           {} bytes beyond the image ({:.2} per pixel)\n",
+        env.memory_bytes_beyond_image(),
+        env.memory_bytes_beyond_image() as f64 / (w * h) as f64
+    );
+    s += "envmap frame     top row = zenith +z, centre column = +x, φ decreasing to the right (Mitsuba 3 local = (y, z, x); pbrt-v4 light space = gonio)\n";
+    for wn in env.warnings() {
+        s += &format!("warning          {wn}\n");
+    }
+    s
+}
+
+/// The equal-area octahedral RGB image of `env` at `n` pixels per side: pixel (x, y) (y from the
+/// top) is the mean of the map's radiance at the midpoints of 4 × 4 strata of the square cell
+/// [x/n, (x+1)/n] × [y/n, (y+1)/n], mapped by `EqualAreaSquareToSphere` (pbrt-v4's light space
+/// is gonio's frame).
+pub fn render_equal_area(env: &EnvironmentMap, n: usize) -> Vec<f32> {
+    const S: usize = 4;
+    let rows: Vec<Vec<f32>> = (0..n)
+        .into_par_iter()
+        .map(|y| {
+            let mut row = Vec::with_capacity(3 * n);
+            for x in 0..n {
+                let mut sum = [0f64; 3];
+                for j in 0..S {
+                    for i in 0..S {
+                        let u = ((x * S + i) as f64 + 0.5) / (n * S) as f64;
+                        let v = ((y * S + j) as f64 + 0.5) / (n * S) as f64;
+                        let r = env.eval(equal_area_square_to_sphere([u, v]));
+                        for c in 0..3 {
+                            sum[c] += f64::from(r[c]);
+                        }
+                    }
+                }
+                row.extend(sum.map(|v| (v / (S * S) as f64) as f32));
+            }
+            row
+        })
+        .collect();
+    rows.concat()
+}
+
+/// `gonio convert IN.hdr OUT.exr|OUT.pfm --to pbrt-v4 [--resolution N]`: the square equal-area
+/// image pbrt-v4's `ImageInfiniteLight` reads, and the scene line that uses it.
+pub fn convert_pbrt(a: &ConvertArgs, ext: Option<&str>) -> anyhow::Result<()> {
+    let out_name = a.output.display().to_string();
+    let loaded = load_envmap(&a.input)?;
+    let env = loaded.envmap.as_deref().expect("an image loads an envmap");
+    let (w, h) = (env.image().width(), env.image().height());
+    let n = a
+        .resolution
+        .unwrap_or_else(|| ((w * h) as f64).sqrt().round() as usize);
+    if !(1..=8192).contains(&n) {
+        anyhow::bail!("--resolution {n} is outside 1..=8192");
+    }
+    let pixels = render_equal_area(env, n);
+    let img = Image::new(n, n, pixels).map_err(|e| anyhow::anyhow!("{e}"))?;
+    let bytes = match ext {
+        Some("exr") => {
+            use exr::prelude::*;
+            let p = img.rgb();
+            let channels = SpecificChannels::rgb(|q: Vec2<usize>| {
+                let k = 3 * (q.y() * n + q.x());
+                (p[k], p[k + 1], p[k + 2])
+            });
+            let mut buf = std::io::Cursor::new(Vec::new());
+            exr::image::Image::from_channels((n, n), channels)
+                .write()
+                .to_buffered(&mut buf)
+                .map_err(|e| anyhow::anyhow!("cannot encode the EXR image: {e}"))?;
+            buf.into_inner()
+        }
+        Some("pfm") => gonio::image::write_pfm(&img, false, false),
+        _ => anyhow::bail!("{out_name}: --to pbrt-v4 writes .exr or .pfm"),
+    };
+    let mut out = Output::create(Some(&a.output))?;
+    out.write_all(&bytes)
+        .with_context(|| format!("cannot write {out_name}"))?;
+    out.finish()?;
+    let text = format!(
+        "# {input} -> {out_name}: {n}x{n} equal-area octahedral RGB image for pbrt-v4's ImageInfiniteLight\n\
+         # pixels: mean radiance over each pixel's cell (4x4 points); pbrt-v4's light space is gonio's frame\n\
+         # (+z = the image's top row, +x = its centre column)\n\
+         LightSource \"infinite\" \"string filename\" \"{file}\"\n",
+        input = a.input,
+        file = out_name.replace('\\', "\\\\").replace('"', "\\\""),
+    );
+    crate::output::print(&text)
+}

@@ -1,0 +1,273 @@
+//! Environment-map experiments (docs/ENVMAPS.md): build time and memory of a 2048 × 1024 map on
+//! one thread, and direct illumination of a diffuse and a glossy surface under the shared maps,
+//! light sampling alone and MIS with BSDF sampling, HDS vs the lat-long piecewise-constant and
+//! the pbrt-v4-style equal-area piecewise-constant peers, iid and Owen-scrambled Sobol' points.
+//!
+//! `cargo run --release -p gonio --example envmaps` (set GONIO_ENVMAPS to the maps' folder).
+
+#[path = "../tests/common/corpus.rs"]
+mod corpus;
+
+use gonio::envmap::{luminance, EnvironmentMap};
+use gonio::image::Image;
+use gonio::sampler::normalize;
+use gonio::sequence::{Random, Sobol};
+use gonio::{Point2, Sampler, Vec3};
+use std::f64::consts::PI;
+use std::time::Instant;
+
+fn dot(a: Vec3, b: Vec3) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn cross(a: Vec3, b: Vec3) -> Vec3 {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+fn frame(n: Vec3) -> (Vec3, Vec3) {
+    let a = if n[0].abs() > 0.9 {
+        [0.0, 1.0, 0.0]
+    } else {
+        [1.0, 0.0, 0.0]
+    };
+    let t = normalize(cross(n, a)).unwrap();
+    (t, cross(n, t))
+}
+
+/// A surface: normal n and either diffuse (e = 0) or a normalised Phong lobe of exponent e about
+/// the mirror direction r of a fixed view direction.
+#[derive(Clone, Copy)]
+struct Surface {
+    n: Vec3,
+    r: Vec3,
+    e: f64,
+}
+
+impl Surface {
+    fn f_cos(&self, d: Vec3) -> f64 {
+        let c = dot(self.n, d);
+        if c <= 0.0 {
+            return 0.0;
+        }
+        if self.e == 0.0 {
+            c / PI
+        } else {
+            let a = dot(self.r, d).max(0.0);
+            (self.e + 2.0) / (2.0 * PI) * a.powf(self.e) * c
+        }
+    }
+    /// BSDF sampling: cosine about n, or the Phong lobe about r; (direction, pdf).
+    fn sample(&self, u: Point2) -> (Vec3, f64) {
+        let (axis, ex) = if self.e == 0.0 {
+            (self.n, 1.0)
+        } else {
+            (self.r, self.e)
+        };
+        let ct = (1.0 - u[0]).powf(1.0 / (ex + 1.0));
+        let st = (1.0 - ct * ct).max(0.0).sqrt();
+        let p = 2.0 * PI * u[1];
+        let (t, b) = frame(axis);
+        let d = [0, 1, 2].map(|k| st * p.cos() * t[k] + st * p.sin() * b[k] + ct * axis[k]);
+        (d, self.pdf(d))
+    }
+    fn pdf(&self, d: Vec3) -> f64 {
+        if self.e == 0.0 {
+            dot(self.n, d).max(0.0) / PI
+        } else {
+            (self.e + 1.0) / (2.0 * PI) * dot(self.r, d).max(0.0).powf(self.e)
+        }
+    }
+}
+
+fn reference(env: &EnvironmentMap, s: &Surface) -> f64 {
+    // Midpoint rule on 4 × 4 points per pixel (the radiance is constant per pixel).
+    let (w, h) = (env.image().width(), env.image().height());
+    let k = 4;
+    let (nt, np) = (h * k, w * k);
+    let mut sum = 0.0;
+    for i in 0..nt {
+        let t = (i as f64 + 0.5) / nt as f64;
+        let st = (PI * t).sin();
+        for j in 0..np {
+            let d = gonio::envmap::image_direction((j as f64 + 0.5) / np as f64, t);
+            let f = s.f_cos(d);
+            if f > 0.0 {
+                sum += f * f64::from(luminance(env.eval(d))) * st;
+            }
+        }
+    }
+    sum * (PI / nt as f64) * (2.0 * PI / np as f64)
+}
+
+fn estimate(
+    env: &EnvironmentMap,
+    light: &dyn Sampler,
+    s: &Surface,
+    mis: bool,
+    pts: &[Point2],
+    pts2: &[Point2],
+) -> f64 {
+    let mut sum = 0.0;
+    for (k, &u) in pts.iter().enumerate() {
+        let smp = light.sample(u);
+        if smp.pdf > 0.0 {
+            let f = s.f_cos(smp.direction);
+            if f > 0.0 {
+                let l = f64::from(luminance(env.eval(smp.direction)));
+                let w = if mis {
+                    smp.pdf / (smp.pdf + s.pdf(smp.direction))
+                } else {
+                    1.0
+                };
+                sum += w * f * l / smp.pdf;
+            }
+        }
+        if mis {
+            let (d, pb) = s.sample(pts2[k]);
+            if pb > 0.0 {
+                let f = s.f_cos(d);
+                if f > 0.0 {
+                    let l = f64::from(luminance(env.eval(d)));
+                    sum += pb / (pb + light.pdf(d)) * f * l / pb;
+                }
+            }
+        }
+    }
+    sum / pts.len() as f64
+}
+
+fn main() {
+    // Build time and memory of a 2048 × 1024 map, one thread.
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap();
+    let big = {
+        let (w, h) = (2048usize, 1024usize);
+        let mut rgb = Vec::with_capacity(w * h * 3);
+        let mut x = 0x9e3779b97f4a7c15u64;
+        for _ in 0..w * h * 3 {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            rgb.push((x >> 40) as f32 / (1u64 << 24) as f32 * 4.0);
+        }
+        Image::new(w, h, rgb).unwrap()
+    };
+    let mut times = Vec::new();
+    let mut mem = 0;
+    for _ in 0..5 {
+        let img = big.clone();
+        let t = Instant::now();
+        let env = pool.install(|| EnvironmentMap::new(img).unwrap());
+        times.push(t.elapsed().as_secs_f64() * 1e3);
+        mem = env.memory_bytes_beyond_image();
+    }
+    times.sort_by(f64::total_cmp);
+    println!(
+        "build 2048x1024 on one thread: median {:.1} ms (min {:.1}, max {:.1}); memory beyond the image {} bytes = {:.2} bytes/pixel",
+        times[2], times[0], times[4], mem, mem as f64 / (2048.0 * 1024.0)
+    );
+    let Some(dir) = corpus::envmaps_dir() else {
+        return;
+    };
+    let mut files: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .flatten()
+        .map(|e| e.path())
+        .filter(|p| p.extension().is_some_and(|x| x == "hdr"))
+        .collect();
+    files.sort();
+    let view = normalize([0.3, -0.4, 1.0]).unwrap();
+    let normals = [[0.0, 0.0, 1.0], normalize([1.0, 0.3, 0.4]).unwrap()];
+    let counts = [64usize, 256, 1024, 4096];
+    let reps = 32u64;
+    println!("map,surface,normal,estimator,points,sampler,ns_per_sample,rmse@64,rmse@256,rmse@1024,rmse@4096,slope,rel_rmse@4096,rel_rmse@4096_equal_time");
+    for f in &files {
+        let name = f.file_stem().unwrap().to_string_lossy().to_string();
+        let env = EnvironmentMap::new(Image::read(f).unwrap()).unwrap();
+        let t = Instant::now();
+        let ll = env.latlong_peer().unwrap();
+        let t_ll = t.elapsed().as_secs_f64() * 1e3;
+        let t = Instant::now();
+        let pb = env.pbrt_v4_peer(None).unwrap();
+        let t_pb = t.elapsed().as_secs_f64() * 1e3;
+        eprintln!(
+            "{name}: peers built in {t_ll:.0} ms (lat-long), {t_pb:.0} ms (pbrt-v4 style, {}^2)",
+            pb.resolution()
+        );
+        let samplers: [(&str, &dyn Sampler); 3] =
+            [("hds", &env), ("latlong-pc", &ll), ("pbrt-v4-pc", &pb)];
+        for (ni, &n) in normals.iter().enumerate() {
+            for (sname, e) in [("diffuse", 0.0), ("glossy", 200.0)] {
+                let r = {
+                    let d = dot(view, n);
+                    normalize([0, 1, 2].map(|k| 2.0 * d * n[k] - view[k])).unwrap()
+                };
+                let surf = Surface { n, r, e };
+                let refv = reference(&env, &surf);
+                for mis in [false, true] {
+                    for qmc in [false, true] {
+                        // Per-sample cost of each sampler in this configuration, for equal time.
+                        let mut rows = Vec::new();
+                        for (lname, light) in samplers {
+                            let mut rmse = Vec::new();
+                            let mut ns = 0.0;
+                            for &c in &counts {
+                                let mut se = 0.0;
+                                for rep in 0..reps {
+                                    let mut p1 = vec![[0.0; 2]; c];
+                                    let mut p2 = vec![[0.0; 2]; c];
+                                    if qmc {
+                                        Sobol::owen(1000 + rep).fill(0, &mut p1);
+                                        Sobol::owen(5000 + rep).fill(0, &mut p2);
+                                    } else {
+                                        Random::new(1000 + rep).fill(0, &mut p1);
+                                        Random::new(5000 + rep).fill(0, &mut p2);
+                                    }
+                                    let t = Instant::now();
+                                    let v = estimate(&env, light, &surf, mis, &p1, &p2);
+                                    if c == 4096 {
+                                        ns += t.elapsed().as_secs_f64() * 1e9 / c as f64;
+                                    }
+                                    se += (v - refv) * (v - refv);
+                                }
+                                rmse.push((se / reps as f64).sqrt());
+                            }
+                            ns /= reps as f64;
+                            // Least-squares slope of log RMSE against log N.
+                            let xs: Vec<f64> = counts.iter().map(|&c| (c as f64).ln()).collect();
+                            let ys: Vec<f64> = rmse.iter().map(|r| r.max(1e-300).ln()).collect();
+                            let (mx, my) =
+                                (xs.iter().sum::<f64>() / 4.0, ys.iter().sum::<f64>() / 4.0);
+                            let slope = xs
+                                .iter()
+                                .zip(&ys)
+                                .map(|(x, y)| (x - mx) * (y - my))
+                                .sum::<f64>()
+                                / xs.iter().map(|x| (x - mx) * (x - mx)).sum::<f64>();
+                            rows.push((lname, ns, rmse, slope));
+                        }
+                        let ns_hds = rows[0].1;
+                        for (lname, ns, rmse, slope) in rows {
+                            // Equal time: at the HDS map's time budget for 4096 samples, a sampler
+                            // that costs ns per sample draws 4096·ns_hds/ns samples; its RMSE there
+                            // follows its measured slope.
+                            let eq = rmse[3] * (ns_hds / ns).powf(slope);
+                            println!(
+                                "{name},{sname},{ni},{},{},{lname},{ns:.0},{:.3e},{:.3e},{:.3e},{:.3e},{slope:.2},{:.3e},{:.3e}",
+                                if mis { "mis" } else { "light" },
+                                if qmc { "sobol" } else { "iid" },
+                                rmse[0], rmse[1], rmse[2], rmse[3], rmse[3] / refv, eq / refv
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+}

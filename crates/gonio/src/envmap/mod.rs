@@ -1,0 +1,485 @@
+//! Environment maps: a latitude–longitude high-dynamic-range image of radiance, sampled exactly by
+//! the HDS sphere map ([`crate::SphereMap`]).
+//!
+//! # The frame
+//!
+//! Directions are gonio's (θ from **+z**, φ from **+x toward +y**, `(sin θ cos φ, sin θ sin φ,
+//! cos θ)`). An image of W × H pixels (row 0 at the top, see [`crate::image`]) covers the sphere
+//! with
+//!
+//! * **rows**: the top edge of the image is the zenith +z (θ = 0), the bottom edge the nadir −z
+//!   (θ = π), θ = π·y/H for the continuous row coordinate y ∈ [0, H] from the top edge; pixel row r
+//!   covers θ ∈ [πr/H, π(r+1)/H], its centre at π(r + ½)/H;
+//! * **columns**: with the continuous column coordinate x ∈ [0, W) from the left edge and
+//!   s = x/W, **φ = π − 2πs** (mod 2π): the **centre of the image (s = ½) looks along +x** (φ = 0),
+//!   s = ¼ along +y (φ = π/2), s = ¾ along −y, and the left and right edges (s = 0, 1) along −x,
+//!   where the seam φ = π lies. φ decreases to the right, so that the image seen from inside the
+//!   sphere with +z up is not mirrored (the convention of Blender's equirectangular images).
+//!
+//! **Mitsuba 3** (`envmap` emitter, `src/emitters/envmap.cpp`): its local frame is Y-up,
+//! `uv = (atan2(x, −z)/2π, acos(y)/π)`. A gonio direction g = (g_x, g_y, g_z) is the Mitsuba local
+//! direction **m = (g_y, g_z, g_x)** (a rotation, a cyclic permutation of the axes), and both read
+//! the same column: Mitsuba's u equals s above. So `to_world` = the matrix with rows
+//! (0, 0, 1), (1, 0, 0), (0, 1, 0) makes a Mitsuba scene's world directions gonio's. Mitsuba
+//! places its rows differently: row r at θ = πr/(H − 1) (the first and last rows *at* the poles)
+//! rather than at pixel centres; its row-r node direction lies inside gonio's pixel row r, so a
+//! direction at a Mitsuba node reads the same pixel in both (tested in the Python suite).
+//!
+//! **pbrt-v4** (`ImageInfiniteLight`, `src/pbrt/lights.cpp`) takes no lat-long image: it reads a
+//! square image in the equal-area octahedral layout and looks up the light-space direction w at
+//! pixel ⌊`EqualAreaSphereToSquare`(w)·N⌋, y counted from the top row, with pbrt's light space z
+//! up. gonio's [`crate::baselines::equal_area::equal_area_square_to_sphere`] is the same map, so
+//! gonio's frame *is* pbrt-v4's light space: `gonio convert IN.hdr OUT.exr --to pbrt-v4` writes, at
+//! pixel (x, y), this map's radiance averaged over the directions of that square cell.
+//!
+//! # The diagram
+//!
+//! The sampling density is a per-pixel **weight** ([`Weight`]: Rec. 709 luminance
+//! Y = 0.2126 R + 0.7152 G + 0.0722 B by default, one channel, or the caller's values) as a
+//! density **per steradian**, on a [`Diagram`] of W meridians × (H + 2) parallels: the meridians
+//! at the pixel-column centres, the parallels at θ = 0, at the H row centres and at θ = π. The pole
+//! parallels hold the **mean of the first (last) row**, so the density is continuous at the poles
+//! (one value for every φ); the meridians wrap around (the last one is followed by the first), so
+//! it is continuous across the seam. A constant image gives a constant diagram, and the HDS map's
+//! density (bilinear in (√(1 − cos θ), φ) between the nodes) is then exactly uniform, 1/(4π).
+//! Negative values (possible in EXR and PFM files) are weighted as 0, with a warning.
+//!
+//! # Radiance
+//!
+//! [`EnvironmentMap::eval`] returns the image's RGB radiance in a direction, by [`Lookup`]:
+//! `Nearest` is the pixel that holds the direction (the image as a piecewise-constant function,
+//! what pbrt-v4 and most renderers return); `Bilinear` is the same interpolant as the diagram's
+//! nodes (bilinear in (θ, φ) between the pixel centres, wrapping across the seam, towards the
+//! poles' mean colour in the half rows next to them), continuous everywhere.
+
+mod peers;
+
+pub use peers::LatLongPiecewiseConstant;
+
+use crate::diagram::{Diagram, DiagramError};
+use crate::image::Image;
+use crate::mapping::SphereMap;
+use crate::sampler::{normalize, spherical, InvertError, Point2, Sampler, Vec3};
+use std::f64::consts::{PI, TAU};
+
+/// What the sampling density is proportional to, per pixel.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub enum Weight {
+    /// Rec. 709 / sRGB luminance Y = 0.2126 R + 0.7152 G + 0.0722 B (the default).
+    #[default]
+    Luminance,
+    /// One channel: 0 = R, 1 = G, 2 = B.
+    Channel(usize),
+    /// The caller's weights, W × H values row-major (row 0 at the top), finite and ≥ 0.
+    Custom(Vec<f32>),
+}
+
+/// How [`EnvironmentMap::eval`] reads the image (see the [module documentation](self)).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Lookup {
+    /// The pixel that holds the direction.
+    #[default]
+    Nearest,
+    /// Bilinear between pixel centres, continuous across the seam and at the poles.
+    Bilinear,
+}
+
+/// Options of [`EnvironmentMap::with_options`].
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct EnvOptions {
+    /// What the density is proportional to.
+    pub weight: Weight,
+    /// How radiance is looked up.
+    pub lookup: Lookup,
+    /// MIS compensation (Karlík et al. 2019, as pbrt-v4's and Mitsuba 3's option): the weight
+    /// minus its solid-angle mean over the sphere, clamped at 0, so that light sampling leaves the
+    /// dim, nearly uniform part to BSDF sampling. Use it only with MIS: alone it gives 0 density
+    /// where the radiance is below the mean (biased). If no pixel exceeds the mean (a constant
+    /// image) the plain weight is used, with a warning.
+    pub mis_compensation: bool,
+}
+
+/// Why an environment map was refused.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum EnvMapError {
+    /// Every weight is 0 (an all-black image, or a channel that is 0 everywhere).
+    #[error("the environment map is black: every pixel's weight ({weight}) is 0, so there is no light to sample")]
+    Black {
+        /// The weight, in words.
+        weight: String,
+    },
+    /// A bad option.
+    #[error("{0}")]
+    BadOption(String),
+    /// The diagram or the map refused the image (e.g. too large).
+    #[error(transparent)]
+    Diagram(#[from] DiagramError),
+}
+
+/// One sample of an environment map: a direction, its exact density and the radiance there.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct EnvSample {
+    /// Unit direction, gonio's frame.
+    pub direction: Vec3,
+    /// Density of the map at `direction`, per steradian ([`EnvironmentMap::pdf`] there).
+    pub pdf: f64,
+    /// The image's RGB radiance in `direction` ([`EnvironmentMap::eval`]).
+    pub radiance: [f32; 3],
+}
+
+/// An environment light: an image and the HDS sphere map of its weight. See the
+/// [module documentation](self) for the frame.
+///
+/// ```
+/// use gonio::envmap::EnvironmentMap;
+/// use gonio::image::Image;
+/// // A constant sky: the density is exactly uniform.
+/// let sky = Image::constant(16, 8, [1.0, 1.0, 1.0]).unwrap();
+/// let env = EnvironmentMap::new(sky).unwrap();
+/// let s = env.sample([0.3, 0.6]);
+/// assert!((s.pdf - 1.0 / (4.0 * std::f64::consts::PI)).abs() < 1e-12);
+/// assert_eq!(s.radiance, [1.0, 1.0, 1.0]);
+/// let u = env.invert(s.direction).unwrap();
+/// assert!((u[0] - 0.3).abs() < 1e-9 && (u[1] - 0.6).abs() < 1e-9);
+/// ```
+#[derive(Debug, Clone)]
+pub struct EnvironmentMap {
+    image: Image,
+    /// Mean RGB of the first and last rows (the poles' colour for bilinear lookups).
+    pole_rgb: [[f32; 3]; 2],
+    diagram: Diagram,
+    map: SphereMap,
+    options: EnvOptions,
+    warnings: Vec<String>,
+}
+
+/// Rec. 709 luminance of a linear RGB triple.
+#[inline]
+pub fn luminance(rgb: [f32; 3]) -> f32 {
+    0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2]
+}
+
+/// φ of the centre of pixel column `c` of `w` (radians, in [0, 2π)).
+#[inline]
+pub fn column_phi(c: usize, w: usize) -> f64 {
+    let p = PI - TAU * (c as f64 + 0.5) / w as f64;
+    let p = p.rem_euclid(TAU);
+    if p >= TAU {
+        0.0
+    } else {
+        p
+    }
+}
+
+/// The continuous column coordinate s ∈ [0, 1) of azimuth φ: s = ½ − φ/2π (mod 1).
+#[inline]
+pub fn phi_to_s(phi: f64) -> f64 {
+    let s = (0.5 - phi / TAU).rem_euclid(1.0);
+    if s >= 1.0 {
+        0.0
+    } else {
+        s
+    }
+}
+
+/// The direction of the continuous image coordinates (s, t) ∈ [0, 1]²: s across from the left
+/// edge, t down from the top edge (θ = πt, φ = π − 2πs).
+pub fn image_direction(s: f64, t: f64) -> Vec3 {
+    crate::sampler::direction(PI * t, PI - TAU * s)
+}
+
+impl EnvironmentMap {
+    /// The environment light of `image` with the default options (luminance, nearest lookup, no
+    /// MIS compensation).
+    ///
+    /// # Errors
+    /// As [`EnvironmentMap::with_options`].
+    pub fn new(image: Image) -> Result<Self, EnvMapError> {
+        Self::with_options(image, EnvOptions::default())
+    }
+
+    /// The environment light of `image`.
+    ///
+    /// # Errors
+    /// [`EnvMapError::Black`] if every weight is 0; [`EnvMapError::BadOption`] for a channel
+    /// outside 0..3 or custom weights of the wrong length or with negative or non-finite values;
+    /// [`EnvMapError::Diagram`] if the map cannot be built.
+    pub fn with_options(image: Image, options: EnvOptions) -> Result<Self, EnvMapError> {
+        let (w, h) = (image.width(), image.height());
+        let mut warnings = image.warnings().to_vec();
+        let rgb = image.rgb();
+        let weight_name;
+        let mut weights: Vec<f64> = match &options.weight {
+            Weight::Luminance => {
+                weight_name = "luminance".to_string();
+                rgb.chunks_exact(3)
+                    .map(|p| f64::from(luminance([p[0], p[1], p[2]])))
+                    .collect()
+            }
+            Weight::Channel(c) => {
+                if *c > 2 {
+                    return Err(EnvMapError::BadOption(format!(
+                        "channel {c} does not exist (0 = R, 1 = G, 2 = B)"
+                    )));
+                }
+                weight_name = ["red", "green", "blue"][*c].to_string();
+                rgb.chunks_exact(3).map(|p| f64::from(p[*c])).collect()
+            }
+            Weight::Custom(v) => {
+                weight_name = "custom weight".to_string();
+                if v.len() != w * h {
+                    return Err(EnvMapError::BadOption(format!(
+                        "{} custom weights for an image of {w} × {h} pixels",
+                        v.len()
+                    )));
+                }
+                if let Some(k) = v.iter().position(|x| !(x.is_finite() && *x >= 0.0)) {
+                    return Err(EnvMapError::BadOption(format!(
+                        "custom weight of pixel (x {}, y {}) is {} (must be finite and ≥ 0)",
+                        k % w,
+                        k / w,
+                        v[k]
+                    )));
+                }
+                v.iter().map(|&x| f64::from(x)).collect()
+            }
+        };
+        let negative = weights.iter().filter(|&&x| x < 0.0).count();
+        if negative > 0 {
+            warnings.push(format!(
+                "{negative} pixels have a negative {weight_name}; they are weighted as 0 (their radiance is kept)"
+            ));
+            for x in &mut weights {
+                *x = x.max(0.0);
+            }
+        }
+        if weights.iter().all(|&x| x == 0.0) {
+            return Err(EnvMapError::Black {
+                weight: weight_name,
+            });
+        }
+        if options.mis_compensation {
+            let mean = solid_angle_mean(&weights, w, h);
+            let comp: Vec<f64> = weights.iter().map(|&x| (x - mean).max(0.0)).collect();
+            if comp.iter().any(|&x| x > 0.0) {
+                weights = comp;
+            } else {
+                warnings.push(
+                    "MIS compensation left no pixel above the mean (a constant map): the plain weight is used".into(),
+                );
+            }
+        }
+        let diagram = build_diagram(&weights, w, h)?;
+        drop(weights);
+        let map = SphereMap::new(&diagram)?;
+        let pole_rgb = [row_mean_rgb(&image, 0), row_mean_rgb(&image, h - 1)];
+        Ok(Self {
+            image,
+            pole_rgb,
+            diagram,
+            map,
+            options,
+            warnings,
+        })
+    }
+
+    /// The image.
+    pub fn image(&self) -> &Image {
+        &self.image
+    }
+
+    /// The diagram the map samples (W meridians × (H + 2) parallels; see the module
+    /// documentation).
+    pub fn diagram(&self) -> &Diagram {
+        &self.diagram
+    }
+
+    /// The HDS sphere map.
+    pub fn map(&self) -> &SphereMap {
+        &self.map
+    }
+
+    /// The options it was built with.
+    pub fn options(&self) -> &EnvOptions {
+        &self.options
+    }
+
+    /// What was repaired or ignored while reading and building, one sentence each.
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
+    }
+
+    /// Bytes held beyond the image: the diagram and the map's tables.
+    pub fn memory_bytes_beyond_image(&self) -> usize {
+        let d = &self.diagram;
+        8 * (d.values().len() + d.theta().len() + d.phi().len()) + self.map.memory_bytes()
+    }
+
+    /// Maps a point of the unit square to a direction, its exact density and the radiance there.
+    pub fn sample(&self, u: Point2) -> EnvSample {
+        let s = self.map.sample(u);
+        EnvSample {
+            direction: s.direction,
+            pdf: s.pdf,
+            radiance: self.eval(s.direction),
+        }
+    }
+
+    /// Density of [`EnvironmentMap::sample`] at a direction, per steradian.
+    pub fn pdf(&self, direction: Vec3) -> f64 {
+        self.map.pdf(direction)
+    }
+
+    /// The point of the unit square that [`EnvironmentMap::sample`] maps to `direction`.
+    ///
+    /// # Errors
+    /// As [`Sampler::invert`].
+    pub fn invert(&self, direction: Vec3) -> Result<Point2, InvertError> {
+        self.map.invert(direction)
+    }
+
+    /// The image's RGB radiance in `direction` (normalised first; black for a zero or non-finite
+    /// vector), by the map's [`Lookup`].
+    pub fn eval(&self, direction: Vec3) -> [f32; 3] {
+        self.eval_with(direction, self.options.lookup)
+    }
+
+    /// The image's RGB radiance in `direction` by the given lookup.
+    pub fn eval_with(&self, direction: Vec3, lookup: Lookup) -> [f32; 3] {
+        let Some(d) = normalize(direction) else {
+            return [0.0; 3];
+        };
+        let (theta, phi) = spherical(d);
+        let (w, h) = (self.image.width(), self.image.height());
+        let s = phi_to_s(phi);
+        let t = theta / PI;
+        match lookup {
+            Lookup::Nearest => {
+                let x = ((s * w as f64) as usize).min(w - 1);
+                let y = ((t * h as f64) as usize).min(h - 1);
+                self.image.pixel(x, y)
+            }
+            Lookup::Bilinear => {
+                // Columns: centres at s = (c + ½)/W, wrapping.
+                let xs = s * w as f64 - 0.5;
+                let x0f = xs.floor();
+                let b = xs - x0f;
+                let x0 = (x0f as isize).rem_euclid(w as isize) as usize;
+                let x1 = (x0 + 1) % w;
+                let row = |y: usize| -> [f64; 3] {
+                    let p = self.image.pixel(x0, y);
+                    let q = self.image.pixel(x1, y);
+                    [0, 1, 2].map(|c| f64::from(p[c]) * (1.0 - b) + f64::from(q[c]) * b)
+                };
+                let ys = t * h as f64 - 0.5;
+                let mix = |a: [f64; 3], c: [f64; 3], f: f64| -> [f32; 3] {
+                    [0, 1, 2].map(|k| (a[k] * (1.0 - f) + c[k] * f) as f32)
+                };
+                let pole = |k: usize| self.pole_rgb[k].map(f64::from);
+                if ys < 0.0 {
+                    // Between the zenith (ys = −½) and the first row's centre.
+                    mix(pole(0), row(0), ((ys + 0.5) * 2.0).clamp(0.0, 1.0))
+                } else if ys >= (h - 1) as f64 {
+                    mix(
+                        row(h - 1),
+                        pole(1),
+                        ((ys - (h - 1) as f64) * 2.0).clamp(0.0, 1.0),
+                    )
+                } else {
+                    let y0 = ys as usize;
+                    mix(row(y0), row(y0 + 1), ys - y0 as f64)
+                }
+            }
+        }
+    }
+
+    /// The total power of the weight over the sphere, ∫ weight dω (the bilinear diagram's
+    /// integral), e.g. the luminance integrated over solid angle.
+    pub fn power(&self) -> f64 {
+        self.map.target_power()
+    }
+}
+
+/// The solid-angle mean of per-pixel weights over the sphere: Σ w·ΔΩ / 4π, ΔΩ of row r
+/// = (cos θ_r − cos θ_{r+1})·2π/W.
+pub(crate) fn solid_angle_mean(weights: &[f64], w: usize, h: usize) -> f64 {
+    let mut sum = 0.0;
+    for r in 0..h {
+        let (a, b) = (PI * r as f64 / h as f64, PI * (r + 1) as f64 / h as f64);
+        let omega = (a.cos() - b.cos()) * TAU / w as f64;
+        let row: f64 = weights[r * w..(r + 1) * w].iter().sum();
+        sum += row * omega;
+    }
+    sum / (4.0 * PI)
+}
+
+fn row_mean_rgb(image: &Image, y: usize) -> [f32; 3] {
+    let mut s = [0f64; 3];
+    for x in 0..image.width() {
+        let p = image.pixel(x, y);
+        for c in 0..3 {
+            s[c] += f64::from(p[c]);
+        }
+    }
+    s.map(|v| (v / image.width() as f64) as f32)
+}
+
+/// The diagram of per-pixel weights (row-major, row 0 at the top): meridians at the column
+/// centres (sorted by φ), parallels at 0, the row centres and π, the poles the rows' means.
+pub(crate) fn build_diagram(weights: &[f64], w: usize, h: usize) -> Result<Diagram, DiagramError> {
+    let n = h + 2;
+    let mut theta = Vec::with_capacity(n);
+    theta.push(0.0);
+    theta.extend((0..h).map(|r| PI * (r as f64 + 0.5) / h as f64));
+    theta.push(PI);
+    // φ_c = π − 2π(c + ½)/W decreases with c: meridian order is a reversed rotation of columns.
+    let mut cols: Vec<(f64, usize)> = (0..w).map(|c| (column_phi(c, w), c)).collect();
+    cols.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let phi: Vec<f64> = cols.iter().map(|p| p.0).collect();
+    let mean = |r: usize| weights[r * w..(r + 1) * w].iter().sum::<f64>() / w as f64;
+    let (north, south) = (mean(0), mean(h - 1));
+    let mut values = Vec::with_capacity(w * n);
+    for &(_, c) in &cols {
+        values.push(north);
+        values.extend((0..h).map(|r| weights[r * w + c]));
+        values.push(south);
+    }
+    Diagram::new(theta, phi, values)
+}
+
+/// The environment map behind the one sampler contract (the HDS sphere map of its weight).
+impl Sampler for EnvironmentMap {
+    fn name(&self) -> &'static str {
+        "envmap"
+    }
+    fn domain(&self) -> crate::Domain {
+        crate::Domain::Sphere
+    }
+    fn sample(&self, u: Point2) -> crate::Sample {
+        self.map.sample(u)
+    }
+    fn pdf(&self, direction: Vec3) -> f64 {
+        self.map.pdf(direction)
+    }
+    fn invert(&self, direction: Vec3) -> Result<Point2, InvertError> {
+        self.map.invert(direction)
+    }
+    fn target_pdf(&self, direction: Vec3) -> f64 {
+        self.map.target_pdf(direction)
+    }
+    fn memory_bytes(&self) -> usize {
+        self.memory_bytes_beyond_image()
+    }
+    fn target_power(&self) -> f64 {
+        self.map.target_power()
+    }
+    fn ratio_bound(&self) -> Option<(f64, f64)> {
+        Some(self.map.ratio_bound())
+    }
+    fn as_any(&self) -> Option<&dyn std::any::Any> {
+        Some(self)
+    }
+}
+
+#[cfg(test)]
+mod tests;

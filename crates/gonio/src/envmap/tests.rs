@@ -1,0 +1,393 @@
+//! Environment maps on generated images: the frame, the uniform sky, single bright pixels at the
+//! pole, on the seam and at the horizon, continuity, the peers, MIS compensation.
+
+use super::*;
+use crate::check::Status;
+use crate::check::{run_battery, BatteryOptions};
+use rand::{Rng, SeedableRng};
+use rand_xoshiro::Xoshiro256PlusPlus;
+
+fn random_image(w: usize, h: usize, seed: u64) -> Image {
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
+    let rgb = (0..w * h * 3)
+        .map(|_| rng.gen::<f32>() * 2.0 + 0.05)
+        .collect();
+    Image::new(w, h, rgb).unwrap()
+}
+
+fn one_bright(w: usize, h: usize, x: usize, y: usize, background: f32) -> Image {
+    let mut img = Image::constant(w, h, [background; 3]).unwrap();
+    img.set_pixel(x, y, [1000.0, 500.0, 250.0]);
+    img
+}
+
+fn random_dirs(n: usize, seed: u64) -> Vec<Vec3> {
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
+    (0..n)
+        .map(|_| {
+            let z: f64 = rng.gen_range(-1.0..1.0);
+            let p: f64 = rng.gen_range(0.0..TAU);
+            let r = (1.0 - z * z).sqrt();
+            [r * p.cos(), r * p.sin(), z]
+        })
+        .collect()
+}
+
+#[test]
+fn the_frame_centre_column_is_plus_x_top_row_is_zenith() {
+    assert_eq!(image_direction(0.5, 0.5), [1.0, 0.0, 6.123233995736766e-17]);
+    let d = image_direction(0.25, 0.5);
+    assert!((d[1] - 1.0).abs() < 1e-15 && d[0].abs() < 1e-15);
+    let d = image_direction(0.75, 0.5);
+    assert!((d[1] + 1.0).abs() < 1e-15);
+    assert_eq!(image_direction(0.3, 0.0)[2], 1.0);
+    assert_eq!(image_direction(0.3, 1.0)[2], -1.0);
+    // Each pixel centre's direction reads that pixel back (nearest), for an odd and an even width.
+    for (w, h) in [(16, 8), (15, 7)] {
+        let mut img = Image::constant(w, h, [0.0; 3]).unwrap();
+        for y in 0..h {
+            for x in 0..w {
+                img.set_pixel(x, y, [(x + w * y) as f32 + 1.0, 0.0, 0.0]);
+            }
+        }
+        let env = EnvironmentMap::new(img).unwrap();
+        for y in 0..h {
+            for x in 0..w {
+                let d = image_direction((x as f64 + 0.5) / w as f64, (y as f64 + 0.5) / h as f64);
+                assert_eq!(env.eval(d)[0], (x + w * y) as f32 + 1.0, "({x}, {y})");
+                assert_eq!(
+                    env.eval_with(d, Lookup::Bilinear)[0],
+                    (x + w * y) as f32 + 1.0
+                );
+            }
+        }
+        // The diagram's meridians are the column centres, sorted by φ, each with its column.
+        for (i, &phi) in env.diagram().phi().iter().enumerate() {
+            let c = ((phi_to_s(phi) * w as f64) as usize).min(w - 1);
+            assert!((column_phi(c, w) - phi).abs() < 1e-12);
+            assert_eq!(
+                env.diagram().value(i, 1),
+                f64::from(luminance(env.image().pixel(c, 0)))
+            );
+        }
+    }
+}
+
+#[test]
+fn a_constant_sky_is_exactly_uniform() {
+    let env = EnvironmentMap::new(Image::constant(20, 10, [0.5, 0.5, 0.5]).unwrap()).unwrap();
+    let uniform = 1.0 / (4.0 * PI);
+    let mut seq = Xoshiro256PlusPlus::seed_from_u64(7);
+    for _ in 0..2000 {
+        let s = env.sample([seq.gen(), seq.gen()]);
+        assert!((s.pdf - uniform).abs() < 1e-12 * uniform, "{}", s.pdf);
+        assert_eq!(s.radiance, [0.5; 3]);
+    }
+    for d in random_dirs(2000, 3) {
+        assert!((env.pdf(d) - uniform).abs() < 1e-12 * uniform);
+    }
+    let (lo, hi) = env.map().ratio_bound();
+    assert!(
+        (lo - 1.0).abs() < 1e-9 && (hi - 1.0).abs() < 1e-9,
+        "{lo} {hi}"
+    );
+    // The power is the luminance times 4π.
+    assert!((env.power() - 0.5 * 4.0 * PI).abs() < 1e-9);
+}
+
+#[test]
+fn sample_pdf_invert_agree_on_a_random_map() {
+    let env = EnvironmentMap::new(random_image(24, 12, 11)).unwrap();
+    let mut seq = Xoshiro256PlusPlus::seed_from_u64(5);
+    for _ in 0..5000 {
+        let u = [seq.gen(), seq.gen()];
+        let s = env.sample(u);
+        assert!((env.pdf(s.direction) - s.pdf).abs() <= 1e-10 * s.pdf);
+        let back = env.invert(s.direction).unwrap();
+        assert!(
+            (back[0] - u[0]).abs() < 1e-8 && (back[1] - u[1]).abs() < 1e-8,
+            "{u:?} {back:?}"
+        );
+        assert_eq!(s.radiance, env.eval(s.direction));
+    }
+}
+
+#[test]
+fn the_density_is_continuous_at_the_seam_and_the_poles() {
+    for lookup in [Lookup::Nearest, Lookup::Bilinear] {
+        let env = EnvironmentMap::with_options(
+            random_image(16, 8, 2),
+            EnvOptions {
+                lookup,
+                ..EnvOptions::default()
+            },
+        )
+        .unwrap();
+        // Across the seam (the image's left and right edges, φ = π).
+        for t in [0.1, 0.37, 0.5, 0.81] {
+            let a = env.pdf(image_direction(1e-9, t));
+            let b = env.pdf(image_direction(1.0 - 1e-9, t));
+            assert!((a - b).abs() < 1e-6 * a, "seam at t = {t}: {a} vs {b}");
+            let (ra, rb) = (
+                env.eval_with(image_direction(1e-9, t), Lookup::Bilinear),
+                env.eval_with(image_direction(1.0 - 1e-9, t), Lookup::Bilinear),
+            );
+            assert!((ra[0] - rb[0]).abs() < 1e-5, "{ra:?} {rb:?}");
+        }
+        // Near each pole the density and the bilinear radiance hardly depend on φ.
+        for t in [1e-9, 1.0 - 1e-9] {
+            let p: Vec<f64> = (0..16)
+                .map(|k| env.pdf(image_direction(k as f64 / 16.0, t)))
+                .collect();
+            let (lo, hi) = p
+                .iter()
+                .fold((f64::MAX, 0f64), |a, &x| (a.0.min(x), a.1.max(x)));
+            assert!(hi - lo < 1e-6 * hi, "pole t = {t}: {lo}..{hi}");
+            let r: Vec<f32> = (0..16)
+                .map(|k| env.eval_with(image_direction(k as f64 / 16.0, t), Lookup::Bilinear)[1])
+                .collect();
+            let (lo, hi) = r
+                .iter()
+                .fold((f32::MAX, 0f32), |a, &x| (a.0.min(x), a.1.max(x)));
+            assert!(hi - lo < 1e-4 * hi, "pole t = {t}: {lo}..{hi}");
+        }
+    }
+}
+
+#[test]
+fn bilinear_radiance_is_the_diagrams_interpolant() {
+    let env = EnvironmentMap::new(random_image(12, 6, 9)).unwrap();
+    for d in random_dirs(3000, 4) {
+        let (t, p) = spherical(d);
+        let y = f64::from(luminance(env.eval_with(d, Lookup::Bilinear)));
+        let want = env.diagram().interpolate(t, p);
+        assert!(
+            (y - want).abs() < 1e-5 * want.max(1.0),
+            "{d:?}: {y} vs {want}"
+        );
+    }
+}
+
+#[test]
+fn single_bright_pixels_pass_the_check_battery() {
+    // At the pole (top row), on the seam (first column), at the horizon (the row below
+    // the equator), and anywhere: the map passes the whole battery (chi-square, round trip, pdf
+    // consistency, normalisation, ratio, flux), one fixed seed each.
+    let (w, h) = (32, 16);
+    let cases = [("pole", 5, 0), ("seam left", 0, 6), ("horizon", 11, h / 2)];
+    for (k, (name, x, y)) in cases.into_iter().enumerate() {
+        let env = EnvironmentMap::new(one_bright(w, h, x, y, 0.01)).unwrap();
+        // Most of the light is in the bright pixel, and most samples land on it.
+        let d = image_direction((x as f64 + 0.5) / w as f64, (y as f64 + 0.5) / h as f64);
+        assert!(env.pdf(d) > 100.0 * env.pdf([0.0, 0.0, if y < h / 2 { -1.0 } else { 1.0 }]));
+        let report = run_battery(&env, &BatteryOptions::quick().with_seed(100 + k as u64));
+        assert!(report.passed, "{name}: {report:#?}");
+    }
+}
+
+#[test]
+fn an_all_black_map_is_a_clear_error() {
+    let black = Image::constant(8, 4, [0.0; 3]).unwrap();
+    let e = EnvironmentMap::new(black).unwrap_err();
+    assert!(matches!(e, EnvMapError::Black { .. }), "{e}");
+    assert!(e.to_string().contains("black"));
+    // A channel that is zero everywhere, and custom weights that are.
+    let red = Image::constant(8, 4, [1.0, 0.0, 0.0]).unwrap();
+    let opts = EnvOptions {
+        weight: Weight::Channel(1),
+        ..EnvOptions::default()
+    };
+    assert!(matches!(
+        EnvironmentMap::with_options(red.clone(), opts),
+        Err(EnvMapError::Black { .. })
+    ));
+    let opts = EnvOptions {
+        weight: Weight::Channel(3),
+        ..EnvOptions::default()
+    };
+    assert!(matches!(
+        EnvironmentMap::with_options(red.clone(), opts),
+        Err(EnvMapError::BadOption(_))
+    ));
+    let opts = EnvOptions {
+        weight: Weight::Custom(vec![1.0; 31]),
+        ..EnvOptions::default()
+    };
+    assert!(matches!(
+        EnvironmentMap::with_options(red, opts),
+        Err(EnvMapError::BadOption(_))
+    ));
+}
+
+#[test]
+fn negative_pixels_are_weighted_zero_with_a_warning() {
+    let mut img = Image::constant(8, 4, [1.0; 3]).unwrap();
+    img.set_pixel(2, 2, [-1.0, -1.0, -1.0]);
+    let env = EnvironmentMap::new(img).unwrap();
+    assert_eq!(env.warnings().len(), 1);
+    assert_eq!(env.eval(image_direction(2.5 / 8.0, 2.5 / 4.0)), [-1.0; 3]);
+}
+
+#[test]
+fn the_peers_keep_the_contract() {
+    let env = EnvironmentMap::new(random_image(32, 16, 21)).unwrap();
+    let ll = env.latlong_peer().unwrap();
+    let pbrt = env.pbrt_v4_peer(Some(24)).unwrap();
+    for (k, s) in [&ll as &dyn Sampler, &pbrt].into_iter().enumerate() {
+        let mut seq = Xoshiro256PlusPlus::seed_from_u64(40 + k as u64);
+        for _ in 0..3000 {
+            let u = [seq.gen(), seq.gen()];
+            let smp = s.sample(u);
+            assert!(
+                (s.pdf(smp.direction) - smp.pdf).abs() <= 1e-9 * smp.pdf,
+                "{}",
+                s.name()
+            );
+            let back = s.invert(smp.direction).unwrap();
+            assert!(
+                (back[0] - u[0]).abs() < 1e-7 && (back[1] - u[1]).abs() < 1e-7,
+                "{} {u:?} {back:?}",
+                s.name()
+            );
+        }
+        if k > 0 {
+            // The pbrt-v4 peer is the crate's PiecewiseConstant, checked in tests/samplers.rs.
+            continue;
+        }
+        let report = run_battery(s, &BatteryOptions::quick().with_seed(7 + k as u64));
+        assert!(
+            report.chi_square.status != Status::Fail && report.normalisation.status != Status::Fail,
+            "{}: {report:#?}",
+            s.name()
+        );
+    }
+    // The lat-long density on a pixel is weight · sin θ_centre / (2π² sin θ) / mean: exact value.
+    let d = image_direction(3.5 / 32.0, 5.25 / 16.0);
+    let (c, r) = (3, 5);
+    let mut f = 0.0;
+    let mut total = 0.0;
+    for y in 0..16 {
+        let st = (PI * (y as f64 + 0.5) / 16.0).sin();
+        for x in 0..32 {
+            let v = f64::from(luminance(env.image().pixel(x, y))) * st;
+            total += v;
+            if (x, y) == (c, r) {
+                f = v;
+            }
+        }
+    }
+    let want = f / (total / 512.0) / (2.0 * PI * PI * d[0].hypot(d[1]));
+    assert!((ll.pdf(d) - want).abs() < 1e-9 * want);
+}
+
+/// The MIS estimator (balance heuristic, light sampling with the compensated map + cosine BSDF
+/// sampling) of the irradiance-like integral ∫ L(ω) max(0, n·ω)/π dω is unbiased: it matches a
+/// deterministic quadrature within 4 standard errors, and so do light sampling alone and MIS
+/// without compensation (light sampling alone *with* compensation would miss the directions where
+/// its density is 0, of which there are some).
+#[test]
+fn mis_compensation_stays_unbiased_with_bsdf_sampling() {
+    let (w, h) = (24, 12);
+    let mut img = random_image(w, h, 77);
+    img.set_pixel(5, 3, [40.0, 30.0, 20.0]);
+    let plain = EnvironmentMap::new(img.clone()).unwrap();
+    let comp = EnvironmentMap::with_options(
+        img,
+        EnvOptions {
+            mis_compensation: true,
+            ..EnvOptions::default()
+        },
+    )
+    .unwrap();
+    // Some directions have zero light density under compensation.
+    assert!(random_dirs(2000, 1).iter().any(|&d| comp.pdf(d) == 0.0));
+    let n = normalize([0.3, -0.2, 0.9]).unwrap();
+    let f = |d: Vec3| -> f64 {
+        let c = n[0] * d[0] + n[1] * d[1] + n[2] * d[2];
+        if c > 0.0 {
+            f64::from(luminance(plain.eval(d))) * c / PI
+        } else {
+            0.0
+        }
+    };
+    // Reference: midpoint rule on a fine (θ, φ) grid aligned with the pixels (nearest lookup is
+    // constant on pixels, the cosine is smooth).
+    let (nt, np) = (h * 64, w * 64);
+    let mut reference = 0.0;
+    for i in 0..nt {
+        let t = PI * (i as f64 + 0.5) / nt as f64;
+        for j in 0..np {
+            let s = (j as f64 + 0.5) / np as f64;
+            reference += f(image_direction(s, t / PI)) * t.sin();
+        }
+    }
+    reference *= (PI / nt as f64) * (TAU / np as f64);
+    // Cosine-weighted BSDF sampling about n.
+    let frame = {
+        let a = if n[0].abs() > 0.9 {
+            [0.0, 1.0, 0.0]
+        } else {
+            [1.0, 0.0, 0.0]
+        };
+        let cross = |a: Vec3, b: Vec3| {
+            [
+                a[1] * b[2] - a[2] * b[1],
+                a[2] * b[0] - a[0] * b[2],
+                a[0] * b[1] - a[1] * b[0],
+            ]
+        };
+        let t = normalize(cross(n, a)).unwrap();
+        (t, cross(n, t))
+    };
+    let bsdf_sample = |u: Point2| -> (Vec3, f64) {
+        let r = u[0].sqrt();
+        let p = TAU * u[1];
+        let (x, y, z) = (r * p.cos(), r * p.sin(), (1.0 - u[0]).max(0.0).sqrt());
+        let (t, b) = frame;
+        let d = [0, 1, 2].map(|k| x * t[k] + y * b[k] + z * n[k]);
+        (d, z / PI)
+    };
+    let bsdf_pdf = |d: Vec3| (n[0] * d[0] + n[1] * d[1] + n[2] * d[2]).max(0.0) / PI;
+    let count = 100_000;
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(2024);
+    let mean_se = |xs: &[f64]| {
+        let m = xs.iter().sum::<f64>() / xs.len() as f64;
+        let v = xs.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / (xs.len() - 1) as f64;
+        (m, (v / xs.len() as f64).sqrt())
+    };
+    let estimate = |light: &EnvironmentMap, mis: bool, rng: &mut Xoshiro256PlusPlus| {
+        let mut xs = Vec::with_capacity(count);
+        for _ in 0..count {
+            let s = light.sample([rng.gen(), rng.gen()]);
+            let mut x = 0.0;
+            if s.pdf > 0.0 {
+                let wl = if mis {
+                    s.pdf / (s.pdf + bsdf_pdf(s.direction))
+                } else {
+                    1.0
+                };
+                x += wl * f(s.direction) / s.pdf;
+            }
+            if mis {
+                let (d, pb) = bsdf_sample([rng.gen(), rng.gen()]);
+                if pb > 0.0 {
+                    let wb = pb / (pb + light.pdf(d));
+                    x += wb * f(d) / pb;
+                }
+            }
+            xs.push(x);
+        }
+        mean_se(&xs)
+    };
+    for (name, light, mis) in [
+        ("plain, light only", &plain, false),
+        ("plain, MIS", &plain, true),
+        ("compensated, MIS", &comp, true),
+    ] {
+        let (m, se) = estimate(light, mis, &mut rng);
+        assert!(
+            (m - reference).abs() < 4.0 * se,
+            "{name}: {m} ± {se} vs {reference}"
+        );
+    }
+}

@@ -1,0 +1,138 @@
+//! OpenEXR reader, through the `exr` crate (pure Rust; every compression it knows, scanline and
+//! tiled files, `f16`, `f32` and `u32` samples).
+//!
+//! The first layer without deep data is read at its largest resolution level. Its channels are
+//! chosen by name (the part after the last `.`, so `diffuse.R` counts as `R`): `R`, `G`, `B`
+//! when all three exist, else `Y` (greyscale, R = G = B), else the file is refused with the list
+//! of its channels. Other channels (`A`, depth, …) are ignored with a warning. Rows run from the
+//! top of the data window down, as OpenEXR's y axis does. The header is read first, and its data
+//! window is checked against [`super::MAX_PIXELS`] before the pixels are decoded; a panic inside
+//! the decoder (none is known) is caught and returned as [`ImageError::Exr`].
+
+use super::{check_size, Image, ImageError};
+use exr::image::read::image::ReadLayers;
+use exr::image::read::layers::ReadChannels;
+use exr::meta::MetaData;
+use std::io::Cursor;
+
+const FORMAT: &str = "OpenEXR";
+
+fn exr_err(e: exr::error::Error) -> ImageError {
+    ImageError::Exr {
+        message: e.to_string(),
+    }
+}
+
+/// The part of a channel name after its last `.` (its layer prefix removed).
+fn base_name(name: &str) -> &str {
+    name.rsplit('.').next().unwrap_or(name)
+}
+
+/// Reads an OpenEXR image from the bytes of a `.exr` file.
+///
+/// # Errors
+/// [`ImageError::Exr`] for what the decoder refuses, [`ImageError::BadSize`] for an empty or
+/// too large data window, [`ImageError::Unsupported`] for a file with neither RGB nor Y channels
+/// or with deep data only, [`ImageError::NonFinite`] for NaN or infinite values.
+pub fn read_exr(bytes: &[u8]) -> Result<Image, ImageError> {
+    let result = std::panic::catch_unwind(|| read_exr_inner(bytes));
+    match result {
+        Ok(r) => r,
+        Err(_) => Err(ImageError::Exr {
+            message: "the decoder failed on this file (it panicked)".into(),
+        }),
+    }
+}
+
+fn read_exr_inner(bytes: &[u8]) -> Result<Image, ImageError> {
+    let meta = MetaData::read_from_buffered(Cursor::new(bytes), false).map_err(exr_err)?;
+    let Some(header) = meta.headers.iter().find(|h| !h.deep) else {
+        return Err(ImageError::Unsupported {
+            format: FORMAT,
+            message: "the file holds only deep data".into(),
+        });
+    };
+    let (width, height) = (header.layer_size.0, header.layer_size.1);
+    check_size(FORMAT, width, height)?;
+    let names: Vec<String> = header
+        .channels
+        .list
+        .iter()
+        .map(|c| c.name.to_string())
+        .collect();
+    let find = |want: &str| names.iter().position(|n| base_name(n) == want);
+    let picks: Vec<usize> = match (find("R"), find("G"), find("B"), find("Y")) {
+        (Some(r), Some(g), Some(b), _) => vec![r, g, b],
+        (_, _, _, Some(y)) => vec![y, y, y],
+        _ => {
+            return Err(ImageError::Unsupported {
+                format: FORMAT,
+                message: format!(
+                    "the first layer has neither R, G, B nor Y channels (it has {})",
+                    names.join(", ")
+                ),
+            })
+        }
+    };
+    let image = exr::prelude::read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .all_channels()
+        .first_valid_layer()
+        .all_attributes()
+        .from_buffered(Cursor::new(bytes))
+        .map_err(exr_err)?;
+    let layer = &image.layer_data;
+    let (w, h) = (layer.size.0, layer.size.1);
+    if (w, h) != (width, height) {
+        return Err(ImageError::Exr {
+            message: format!("the layer read is {w} × {h}, its header said {width} × {height}"),
+        });
+    }
+    let list = &layer.channel_data.list;
+    // The decoder sorts channels by name; find ours again by their full names.
+    let index_of = |k: usize| list.iter().position(|c| c.name.to_string() == names[k]);
+    let mut chans = Vec::with_capacity(3);
+    for &k in &picks {
+        let Some(i) = index_of(k) else {
+            return Err(ImageError::Exr {
+                message: format!("channel {} was not decoded", names[k]),
+            });
+        };
+        if list[i].sample_data.len() != w * h {
+            return Err(ImageError::Exr {
+                message: format!(
+                    "channel {} has {} samples for {w} × {h} pixels (subsampled channels are not supported)",
+                    names[k],
+                    list[i].sample_data.len()
+                ),
+            });
+        }
+        chans.push(&list[i].sample_data);
+    }
+    let mut rgb = vec![0f32; w * h * 3];
+    for (c, data) in chans.iter().enumerate() {
+        for (p, v) in rgb.iter_mut().skip(c).step_by(3).enumerate() {
+            *v = data.value_by_flat_index(p).to_f32();
+        }
+    }
+    let mut warnings = Vec::new();
+    let used: Vec<&String> = picks.iter().map(|&k| &names[k]).collect();
+    let ignored: Vec<&str> = names
+        .iter()
+        .filter(|n| !used.contains(n))
+        .map(String::as_str)
+        .collect();
+    if !ignored.is_empty() {
+        warnings.push(format!("channels ignored: {}", ignored.join(", ")));
+    }
+    if meta.headers.len() > 1 {
+        warnings.push(format!(
+            "only the first of {} layers was read",
+            meta.headers.len()
+        ));
+    }
+    let img = Image::from_parts(w, h, rgb, warnings);
+    img.check_finite(FORMAT)?;
+    Ok(img)
+}

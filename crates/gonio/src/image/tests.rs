@@ -1,0 +1,388 @@
+//! Readers and writers on generated images: every orientation and encoding, and the errors.
+
+use super::*;
+
+/// An image whose values RGBE represents exactly (small integers times powers of two).
+fn exact_image(w: usize, h: usize) -> Image {
+    let mut rgb = Vec::with_capacity(w * h * 3);
+    for y in 0..h {
+        for x in 0..w {
+            rgb.push((128 + (x * 7 + y) % 128) as f32 / 64.0);
+            rgb.push((64 + (x + 3 * y) % 64) as f32 / 64.0);
+            rgb.push(if (x + y) % 5 == 0 { 0.0 } else { 2.0 });
+        }
+    }
+    Image::new(w, h, rgb).unwrap()
+}
+
+fn header(res: &str) -> Vec<u8> {
+    format!("#?RADIANCE\n# comment\nFORMAT=32-bit_rle_rgbe\nEXPOSURE=1\n\n{res}\n").into_bytes()
+}
+
+#[test]
+fn rgbe_conversion_is_exact_for_representable_values() {
+    for v in [1.0f32, 0.5, 3.0, 1e-3, 1234.5, 255.0 / 64.0] {
+        let e = write::f32_to_rgbe([v, v / 2.0, 0.0]);
+        let back = hdr::rgbe_to_f32(e);
+        assert!(
+            back[0] <= v && back[0] >= v * (1.0 - 1.0 / 128.0),
+            "{v} → {back:?}"
+        );
+    }
+    assert_eq!(hdr::rgbe_to_f32([128, 64, 0, 129]), [1.0, 0.5, 0.0]);
+    assert_eq!(hdr::rgbe_to_f32([200, 1, 1, 0]), [0.0; 3]);
+}
+
+#[test]
+fn hdr_round_trips_run_length_and_flat() {
+    for (w, h) in [(37, 5), (8, 3), (7, 4), (300, 2), (1, 1)] {
+        let img = exact_image(w, h);
+        for bytes in [write_hdr(&img), write_hdr_flat(&img)] {
+            let back = read_hdr(&bytes).unwrap();
+            assert_eq!((back.width(), back.height()), (w, h));
+            assert_eq!(back.rgb(), img.rgb(), "{w}×{h}");
+            assert!(back.warnings().is_empty());
+        }
+    }
+    // Run-length coding is actually used (and shorter) for a constant image.
+    let c = Image::constant(64, 4, [1.0, 1.0, 1.0]).unwrap();
+    assert!(write_hdr(&c).len() < write_hdr_flat(&c).len() / 4);
+    assert_eq!(read_hdr(&write_hdr(&c)).unwrap(), c);
+}
+
+#[test]
+fn hdr_reads_every_orientation() {
+    // A 3 × 2 image with pixel (x, y) = x + 3y + 1 (in the red channel, exponent 136 → value = byte).
+    let (w, h) = (3usize, 2usize);
+    let value = |x: usize, y: usize| (x + 3 * y + 1) as u8;
+    for res in [
+        "-Y 2 +X 3",
+        "+Y 2 +X 3",
+        "-Y 2 -X 3",
+        "+Y 2 -X 3",
+        "+X 3 -Y 2",
+        "+X 3 +Y 2",
+        "-X 3 -Y 2",
+        "-X 3 +Y 2",
+    ] {
+        let t: Vec<&str> = res.split(' ').collect();
+        let x_first = t[0].ends_with('X');
+        let (slow_plus, fast_plus) = (t[0].starts_with('+'), t[2].starts_with('+'));
+        let mut bytes = header(res);
+        let (ns, nf) = if x_first { (w, h) } else { (h, w) };
+        for s in 0..ns {
+            for k in 0..nf {
+                // Where file pixel (s, k) lies: X '+' left→right, Y '-' top→bottom.
+                let along = |is_x: bool, plus: bool, i: usize, n: usize| {
+                    if is_x == plus {
+                        i
+                    } else {
+                        n - 1 - i
+                    }
+                };
+                let (x, y) = if x_first {
+                    (along(true, slow_plus, s, w), along(false, fast_plus, k, h))
+                } else {
+                    (along(true, fast_plus, k, w), along(false, slow_plus, s, h))
+                };
+                bytes.extend_from_slice(&[value(x, y), 0, 0, 136]);
+            }
+        }
+        let img = read_hdr(&bytes).unwrap();
+        assert_eq!((img.width(), img.height()), (w, h), "{res}");
+        for y in 0..h {
+            for x in 0..w {
+                assert_eq!(
+                    img.pixel(x, y)[0],
+                    f32::from(value(x, y)),
+                    "{res} at ({x}, {y})"
+                );
+            }
+        }
+    }
+    // The standard orientation, spelled out: the first pixel of the file is the top left.
+    let mut b = header("-Y 2 +X 3");
+    for k in 0..6u8 {
+        b.extend_from_slice(&[k + 1, 0, 0, 136]);
+    }
+    let img = read_hdr(&b).unwrap();
+    assert_eq!(img.pixel(0, 0)[0], 1.0);
+    assert_eq!(img.pixel(2, 1)[0], 6.0);
+    // "+Y": the first scanline is the bottom row.
+    let mut b = header("+Y 2 +X 3");
+    for k in 0..6u8 {
+        b.extend_from_slice(&[k + 1, 0, 0, 136]);
+    }
+    assert_eq!(read_hdr(&b).unwrap().pixel(0, 1)[0], 1.0);
+}
+
+#[test]
+fn hdr_old_style_run_length() {
+    // One pixel then a repeat of 5 then a repeat of 1·256 (consecutive codes shift by 8 bits).
+    let mut b = header("-Y 1 +X 262");
+    b.extend_from_slice(&[10, 20, 30, 136]);
+    b.extend_from_slice(&[1, 1, 1, 5]);
+    b.extend_from_slice(&[1, 1, 1, 1]);
+    let img = read_hdr(&b).unwrap();
+    assert_eq!(img.width(), 262);
+    assert!((0..262).all(|x| img.pixel(x, 0) == [10.0, 20.0, 30.0]));
+    // A repeat with nothing before it is an error with its offset.
+    let mut b = header("-Y 1 +X 4");
+    let at = b.len();
+    b.extend_from_slice(&[1, 1, 1, 2]);
+    match read_hdr(&b) {
+        Err(ImageError::Scanline { row: 0, offset, .. }) => assert_eq!(offset, at),
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn hdr_errors_are_typed_and_located() {
+    let err = |b: &[u8]| read_hdr(b).unwrap_err();
+    assert!(matches!(err(b"P6\n"), ImageError::Header { line: 1, .. }));
+    assert!(matches!(
+        err(b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n"),
+        ImageError::Header { line: 3, .. }
+    ));
+    assert!(matches!(
+        err(b"#?RADIANCE\nFORMAT=32-bit_rle_xyze\n\n-Y 1 +X 1\n\0\0\0\0"),
+        ImageError::Unsupported { .. }
+    ));
+    assert!(matches!(
+        err(&header("-Y 2 -Y 3")),
+        ImageError::Header { line: 6, .. }
+    ));
+    assert!(matches!(
+        err(&header("-Y 0 +X 3")),
+        ImageError::Header { .. }
+    ));
+    assert!(matches!(err(&header("Y 2 X 3")), ImageError::Header { .. }));
+    // Huge sizes are refused before allocation: by the limit, or by the bytes present.
+    assert!(matches!(
+        err(&header("-Y 60000 +X 60000")),
+        ImageError::BadSize { .. }
+    ));
+    match err(&header("-Y 4000 +X 8000")) {
+        ImageError::Truncated {
+            needed, present, ..
+        } => assert!(needed > present),
+        other => panic!("{other:?}"),
+    }
+    // Run-length errors: a run past the end, a zero literal, a wrong length, a cut file.
+    let rle = |w: u16, codes: &[u8]| {
+        let mut b = header(&format!("-Y 1 +X {w}"));
+        b.extend_from_slice(&[2, 2, (w >> 8) as u8, w as u8]);
+        b.extend_from_slice(codes);
+        b
+    };
+    assert!(matches!(
+        err(&rle(8, &[128 + 9, 1])),
+        ImageError::Scanline { row: 0, .. }
+    ));
+    assert!(matches!(
+        err(&rle(8, &[0])),
+        ImageError::Scanline { row: 0, .. }
+    ));
+    assert!(matches!(
+        err(&rle(8, &[9, 1, 2, 3, 4, 5, 6, 7, 8, 9])),
+        ImageError::Scanline { .. }
+    ));
+    assert!(matches!(
+        err(&rle(8, &[128 + 8, 1, 128 + 8])),
+        ImageError::Truncated { row: 0, .. }
+    ));
+    let mut b = header("-Y 1 +X 9");
+    b.extend_from_slice(&[2, 2, 0, 8, 0, 0, 0, 0]);
+    assert!(matches!(err(&b), ImageError::Scanline { .. }));
+    // Flat data cut short: the scanline is named.
+    let mut b = header("-Y 3 +X 2");
+    b.extend_from_slice(&[3u8; 4 * 5]);
+    b[header("-Y 3 +X 2").len()] = 9;
+    match err(&b) {
+        ImageError::Truncated { row, .. } => assert_eq!(row, 2),
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn hdr_trailing_bytes_are_a_warning() {
+    let mut b = write_hdr_flat(&exact_image(3, 2));
+    b.extend_from_slice(b"junk");
+    let img = read_hdr(&b).unwrap();
+    assert_eq!(img.warnings().len(), 1);
+}
+
+#[test]
+fn pfm_round_trips_both_byte_orders_and_channel_counts() {
+    let mut img = exact_image(5, 3);
+    img.set_pixel(1, 2, [-0.25, 1e-20, 7.5]);
+    for big in [false, true] {
+        let back = read_pfm(&write_pfm(&img, false, big)).unwrap();
+        assert_eq!(back, img);
+        let grey = read_pfm(&write_pfm(&img, true, big)).unwrap();
+        for y in 0..3 {
+            for x in 0..5 {
+                let v = img.pixel(x, y)[0];
+                assert_eq!(grey.pixel(x, y), [v, v, v]);
+            }
+        }
+    }
+    // Rows are stored bottom to top: the first value of the data is the bottom-left pixel.
+    let bytes = write_pfm(&img, true, false);
+    let data_start = bytes.len() - 5 * 3 * 4;
+    let first = f32::from_le_bytes(bytes[data_start..data_start + 4].try_into().unwrap());
+    assert_eq!(first, img.pixel(0, 2)[0]);
+}
+
+#[test]
+fn pfm_scale_header_variants_and_errors() {
+    let data = |n: usize| -> Vec<u8> { (0..n).flat_map(|k| (k as f32).to_le_bytes()).collect() };
+    // Header on one line, scale magnitude 2 multiplies.
+    let mut b = b"Pf 2 1 -2.0\n".to_vec();
+    b.extend(data(2));
+    let img = read_pfm(&b).unwrap();
+    assert_eq!(img.pixel(1, 0), [2.0, 2.0, 2.0]);
+    let err = |b: &[u8]| read_pfm(b).unwrap_err();
+    assert!(matches!(
+        err(b"P6\n1 1\n"),
+        ImageError::Header { line: 1, .. }
+    ));
+    assert!(matches!(err(b"PF\n1\n"), ImageError::Header { .. }));
+    assert!(matches!(
+        err(b"PF\nx 1\n-1\n"),
+        ImageError::Header { line: 2, .. }
+    ));
+    assert!(matches!(
+        err(b"PF\n1 1\n0\n"),
+        ImageError::Header { line: 3, .. }
+    ));
+    assert!(matches!(err(b"PF\n1 1\nnan\n"), ImageError::Header { .. }));
+    assert!(matches!(err(b"PF\n0 1\n-1\n"), ImageError::BadSize { .. }));
+    assert!(matches!(
+        err(b"PF\n99999999 99999999\n-1\n"),
+        ImageError::BadSize { .. }
+    ));
+    match err(b"PF\n4000 4000\n-1\n\0\0\0\0") {
+        ImageError::Truncated {
+            needed,
+            present,
+            row: 0,
+            ..
+        } => {
+            assert_eq!(needed, 16 + 4000 * 4000 * 12);
+            assert_eq!(present, 20);
+        }
+        other => panic!("{other:?}"),
+    }
+    let mut b = b"Pf\n1 2\n-1\n".to_vec();
+    b.extend(1f32.to_le_bytes());
+    b.extend(f32::NAN.to_le_bytes());
+    // The second value of the file is the top row (rows go bottom to top).
+    assert!(matches!(err(&b), ImageError::NonFinite { x: 0, y: 0, .. }));
+    let mut b = b"Pf\n1 1\n-1\n".to_vec();
+    b.extend(1f32.to_le_bytes());
+    b.extend(b"xx");
+    assert_eq!(read_pfm(&b).unwrap().warnings().len(), 1);
+}
+
+fn exr_bytes(image: impl FnOnce(&mut std::io::Cursor<Vec<u8>>)) -> Vec<u8> {
+    let mut c = std::io::Cursor::new(Vec::new());
+    image(&mut c);
+    c.into_inner()
+}
+
+#[test]
+fn exr_rgb_rgba_y_half_float_scanline_tiled() {
+    use exr::prelude::*;
+    let (w, h) = (13usize, 7usize);
+    let val = |x: usize, y: usize, c: usize| ((x * 3 + y * 5 + c) % 17) as f32 * 0.25;
+    // RGB f32, scanlines (the crate's default encoding for small images).
+    let rgb = exr_bytes(|c| {
+        exr::image::Image::from_channels(
+            (w, h),
+            SpecificChannels::rgb(|p: Vec2<usize>| {
+                (val(p.0, p.1, 0), val(p.0, p.1, 1), val(p.0, p.1, 2))
+            }),
+        )
+        .write()
+        .to_buffered(c)
+        .unwrap()
+    });
+    // RGBA f16, tiled.
+    let rgba = exr_bytes(|c| {
+        let layer = Layer::new(
+            (w, h),
+            LayerAttributes::named("main"),
+            Encoding {
+                blocks: Blocks::Tiles(Vec2(4, 4)),
+                ..Encoding::FAST_LOSSLESS
+            },
+            SpecificChannels::rgba(|p: Vec2<usize>| {
+                (
+                    f16::from_f32(val(p.0, p.1, 0)),
+                    f16::from_f32(val(p.0, p.1, 1)),
+                    f16::from_f32(val(p.0, p.1, 2)),
+                    f16::from_f32(1.0),
+                )
+            }),
+        );
+        exr::image::Image::from_layer(layer)
+            .write()
+            .to_buffered(c)
+            .unwrap()
+    });
+    // Y only, f32.
+    let y = exr_bytes(|c| {
+        let samples: Vec<f32> = (0..w * h).map(|k| val(k % w, k / w, 0)).collect();
+        let chans = AnyChannels::sort(SmallVec::from_vec(vec![AnyChannel::new(
+            "Y",
+            FlatSamples::F32(samples),
+        )]));
+        exr::image::Image::from_channels((w, h), chans)
+            .write()
+            .to_buffered(c)
+            .unwrap()
+    });
+    for (name, bytes, grey) in [
+        ("rgb", &rgb, false),
+        ("rgba", &rgba, false),
+        ("y", &y, true),
+    ] {
+        let img = super::Image::from_bytes(bytes, None).unwrap();
+        assert_eq!((img.width(), img.height()), (w, h), "{name}");
+        for yy in 0..h {
+            for x in 0..w {
+                let want = if grey {
+                    [val(x, yy, 0); 3]
+                } else {
+                    [val(x, yy, 0), val(x, yy, 1), val(x, yy, 2)]
+                };
+                assert_eq!(img.pixel(x, yy), want, "{name} at ({x}, {yy})");
+            }
+        }
+        assert_eq!(img.warnings().len(), usize::from(name == "rgba"), "{name}");
+    }
+    // Cut files and garbage are errors, not panics.
+    for cut in [8, 40, rgb.len() / 2, rgb.len() - 1] {
+        assert!(read_exr(&rgb[..cut]).is_err(), "cut at {cut}");
+    }
+    assert!(read_exr(&[0x76, 0x2f, 0x31, 0x01, 2, 0, 0, 0, 0xff]).is_err());
+}
+
+#[test]
+fn format_detection() {
+    assert_eq!(ImageFormat::sniff(b"#?RADIANCE"), Some(ImageFormat::Hdr));
+    assert_eq!(ImageFormat::sniff(b"Pf\n"), Some(ImageFormat::Pfm));
+    assert_eq!(
+        ImageFormat::from_path(Path::new("a/b.EXR")),
+        Some(ImageFormat::Exr)
+    );
+    assert!(matches!(
+        Image::from_bytes(b"GIF89a", None),
+        Err(ImageError::UnknownFormat { .. })
+    ));
+    assert!(matches!(
+        Image::read(Path::new("/nonexistent/x.hdr")),
+        Err(ImageError::Io { .. })
+    ));
+}
