@@ -106,6 +106,12 @@ impl Method {
                 theta_max_deg: theta_max.to_degrees(),
             });
         }
+        // One rule for every method (issue 25): a diagram whose power is not a positive finite
+        // number (values near f64::MAX whose integral overflows) has no density to sample.
+        let integral = diagram.integral();
+        if !(integral.is_finite() && integral > 0.0) {
+            return Err(BuildError::NoPower { integral });
+        }
         Ok(match self {
             Method::Hds => match (domain, options.tolerance) {
                 (Domain::Hemisphere, None) => Box::new(HemisphereMap::new(diagram)?),
