@@ -30,6 +30,9 @@ libs=(-lpthread -ldl -lm)
 
 cc -std=c11 -O1 -g -Wall -Wextra -Werror -pedantic -I "$inc" "$ex/example.c" "$lib" "${libs[@]}" \
   -o "$out/example_c"
+# The header alone is C89 (C users may include it from C89 code).
+printf '#include "gonio.h"\nint main(void) { return GONIO_OK; }\n' > "$out/c89.c"
+cc -std=c89 -pedantic -Wall -Wextra -Werror -I "$inc" -c "$out/c89.c" -o "$out/c89.o"
 c++ -std=c++17 -O1 -g -Wall -Wextra -Werror -pedantic -I "$inc" "$ex/example.cpp" "$lib" \
   "${libs[@]}" -pthread -o "$out/example_cpp"
 

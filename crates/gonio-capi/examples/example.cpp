@@ -61,6 +61,24 @@ int main(int argc, char **argv) {
         if (!(std::fabs(dirs[3] - one.direction[0]) <= 1e-14) ||
             !(std::fabs(pdfs[1] - one.pdf) <= 1e-13 * one.pdf))
             failures++;
+
+        // An odd number of values (half a point at the end) is an error, not dropped; so is a
+        // NaN point (issue 25).
+        try {
+            std::vector<double> odd = {0.25, 0.75, 0.5}, p;
+            sampler.sample_batch(odd, p);
+            failures++;
+        } catch (const gonio::Error &e) {
+            if (e.status() != GONIO_ERR_INVALID_ARGUMENT) failures++;
+            std::printf("expected error: %s\n", e.what());
+        }
+        try {
+            sampler.sample(std::nan(""), 0.5);
+            failures++;
+        } catch (const gonio::Error &e) {
+            if (e.status() != GONIO_ERR_INVALID_ARGUMENT) failures++;
+            std::printf("expected error: %s\n", e.what());
+        }
     } catch (const gonio::Error &e) {
         std::fprintf(stderr, "unexpected error %d: %s\n", (int)e.status(), e.what());
         return 1;

@@ -8,322 +8,445 @@
 #include <stddef.h>
 #include <stdint.h>
 
-// Largest file [`gonio_diagram_read_path`] reads: 256 MiB (the largest corpus file is 0.5 MB).
-#define GONIO_MAX_FILE_BYTES (256 << 20)
+/*
+ Largest file [`gonio_diagram_read_path`] and [`gonio_diagram_read_memory`] read: 64 MiB, the
+ cap of every gonio front end (CLI, Python, C), checked against the size before reading.
+ */
+#define GONIO_MAX_FILE_BYTES (64 << 20)
 
-// A read photometric file or diagram (opaque). Created by [`gonio_diagram_read_path`] or
-// [`gonio_diagram_read_memory`], released by [`gonio_diagram_free`]. Immutable: may be used from
-// any number of threads at once.
+/*
+ A read photometric file or diagram (opaque). Created by [`gonio_diagram_read_path`] or
+ [`gonio_diagram_read_memory`], released by [`gonio_diagram_free`]. Immutable: may be used from
+ any number of threads at once.
+ */
 typedef struct GonioDiagram GonioDiagram;
 
-// A sampler of any method and domain (opaque). Created by [`gonio_sampler_build`], released by
-// [`gonio_sampler_free`]. Immutable: may be shared between threads and used from all of them at
-// once (every function taking `const GonioSampler *` is thread-safe).
+/*
+ A sampler of any method and domain (opaque). Created by [`gonio_sampler_build`], released by
+ [`gonio_sampler_free`]. Immutable: may be shared between threads and used from all of them at
+ once (every function taking `const GonioSampler *` is thread-safe).
+ */
 typedef struct GonioSampler GonioSampler;
 
-// The result of every fallible function: [`GONIO_OK`] or one of the `GONIO_ERR_*` codes.
+/*
+ The result of every fallible function: [`GONIO_OK`] or one of the `GONIO_ERR_*` codes.
+ */
 typedef int32_t GonioStatus;
 
-// The format of a photometric file or diagram: one of the `GONIO_FORMAT_*` constants.
+/*
+ The format of a photometric file or diagram: one of the `GONIO_FORMAT_*` constants.
+ */
 typedef int32_t GonioFormat;
 
-// The part of the sphere a sampler covers: one of the `GONIO_DOMAIN_*` constants.
+/*
+ The part of the sphere a sampler covers: one of the `GONIO_DOMAIN_*` constants.
+ */
 typedef int32_t GonioDomain;
 
-// A sampling method: one of the `GONIO_METHOD_*` constants.
+/*
+ A sampling method: one of the `GONIO_METHOD_*` constants.
+ */
 typedef int32_t GonioMethod;
 
-// A layout of the HDS map on the sphere: one of the `GONIO_SPHERE_LAYOUT_*` constants.
+/*
+ A layout of the HDS map on the sphere: one of the `GONIO_SPHERE_LAYOUT_*` constants.
+ */
 typedef int32_t GonioSphereLayout;
 
-// Options of [`gonio_sampler_build_with`]; each method reads those that apply to it. Fill it
-// with [`gonio_build_options_default`], then change fields. (The struct may gain fields in later
-// versions; always start from the defaults.)
+/*
+ Options of [`gonio_sampler_build_with`]; each method reads those that apply to it. Fill it
+ with [`gonio_build_options_default`], then change fields. (The struct may gain fields in later
+ versions; always start from the defaults.)
+ */
 typedef struct GonioBuildOptions {
-  // HDS: the requested relative accuracy of the pdf/target bound, in (0, 1); 0 for none (the
-  // default). Validated; see `BuildOptions::tolerance` in the library for what it achieves.
+  /*
+   HDS: the requested relative accuracy of the pdf/target bound, in (0, 1); 0 for none (the
+   default). Validated; see `BuildOptions::tolerance` in the library for what it achieves.
+   */
   double tolerance;
-  // Piecewise-constant: pixels per side of the image (default 0 = the library's default).
+  /*
+   Piecewise-constant: pixels per side of the image (default 0 = the library's default).
+   */
   size_t resolution;
-  // Rejection: seed of the proposal stream (default 0).
+  /*
+   Rejection: seed of the proposal stream (default 0).
+   */
   uint64_t seed;
-  // HDS on the sphere: a `GONIO_SPHERE_LAYOUT_*` constant (default split).
+  /*
+   HDS on the sphere: a `GONIO_SPHERE_LAYOUT_*` constant (default split).
+   */
   GonioSphereLayout sphere_layout;
 } GonioBuildOptions;
 
-// One sample: a unit direction in gonio's frame and the exact density of the sampler there.
+/*
+ One sample: a unit direction in gonio's frame and the exact density of the sampler there.
+ */
 typedef struct GonioSample {
-  // The unit direction `[x, y, z]`.
+  /*
+   The unit direction `[x, y, z]`.
+   */
   double direction[3];
-  // Density of the sampler at `direction`, per steradian (equal to `gonio_pdf` there).
+  /*
+   Density of the sampler at `direction`, per steradian (equal to `gonio_pdf` there).
+   */
   double pdf;
 } GonioSample;
 
-// Success.
+/*
+ Success.
+ */
 #define GONIO_OK 0
 
-// A pointer argument was NULL (or not aligned for its type).
+/*
+ A pointer argument was NULL (or not aligned for its type).
+ */
 #define GONIO_ERR_NULL_POINTER 1
 
-// An argument is out of range: an unknown enumeration value, a length whose byte size overflows,
-// a zero or non-finite direction.
+/*
+ An argument is out of range: an unknown enumeration value, a length whose byte size overflows,
+ a zero or non-finite direction.
+ */
 #define GONIO_ERR_INVALID_ARGUMENT 2
 
-// A file could not be opened or read.
+/*
+ A file could not be opened or read.
+ */
 #define GONIO_ERR_IO 3
 
-// The file's content is not a valid photometric file or diagram; the message has
-// `file:line:column`.
+/*
+ The file's content is not a valid photometric file or diagram; the message has
+ `file:line:column`.
+ */
 #define GONIO_ERR_PARSE 4
 
-// The sampler could not be built for this diagram (e.g. a hemisphere domain for a diagram that
-// extends below the horizon, or no power to sample).
+/*
+ The sampler could not be built for this diagram (e.g. a hemisphere domain for a diagram that
+ extends below the horizon, or no power to sample).
+ */
 #define GONIO_ERR_BUILD 5
 
-// The method has no inverse (rejection sampling), or the sampler has no ratio bound.
+/*
+ The method has no inverse (rejection sampling), or the sampler has no ratio bound.
+ */
 #define GONIO_ERR_UNSUPPORTED 6
 
-// The direction lies outside the sampler's domain (e.g. below the horizon of a hemisphere
-// sampler), so it has no point of the square.
+/*
+ The direction lies outside the sampler's domain (e.g. below the horizon of a hemisphere
+ sampler), so it has no point of the square.
+ */
 #define GONIO_ERR_OUTSIDE_DOMAIN 7
 
-// An internal error of gonio (a caught panic). Please report it with the message.
+/*
+ An internal error of gonio (a caught panic). Please report it with the message.
+ */
 #define GONIO_ERR_PANIC 8
 
-// The direction lies in the sampler's domain, but the density is 0 there, so no point of the
-// square maps to it (e.g. below the horizon of a luminaire that emits no light downwards).
+/*
+ The direction lies in the sampler's domain, but the density is 0 there, so no point of the
+ square maps to it (e.g. below the horizon of a luminaire that emits no light downwards).
+ */
 #define GONIO_ERR_ZERO_DENSITY 9
 
-// By the path's extension: `.ies`, `.ldt` or `.json` in any letter case (paths only).
+/*
+ By the path's extension: `.ies`, `.ldt` or `.json` in any letter case (paths only).
+ */
 #define GONIO_FORMAT_AUTO 0
 
-// IES LM-63 (1986 to 2019).
+/*
+ IES LM-63 (1986 to 2019).
+ */
 #define GONIO_FORMAT_IES 1
 
-// EULUMDAT.
+/*
+ EULUMDAT.
+ */
 #define GONIO_FORMAT_EULUMDAT 2
 
-// gonio's native JSON diagram (`theta_deg`, `phi_deg`, `values`).
+/*
+ gonio's native JSON diagram (`theta_deg`, `phi_deg`, `values`).
+ */
 #define GONIO_FORMAT_JSON 3
 
-// The Havran–Dmitriev–Seidel mapping (bijective, continuous, exact pdf, closed-form inverse).
+/*
+ The Havran–Dmitriev–Seidel mapping (bijective, continuous, exact pdf, closed-form inverse).
+ */
 #define GONIO_METHOD_HDS 0
 
-// A piecewise-constant image over an equal-area map (as pbrt-v4's goniometric light).
+/*
+ A piecewise-constant image over an equal-area map (as pbrt-v4's goniometric light).
+ */
 #define GONIO_METHOD_PIECEWISE_CONSTANT 1
 
-// Marginal–conditional inversion of the bilinear target itself.
+/*
+ Marginal–conditional inversion of the bilinear target itself.
+ */
 #define GONIO_METHOD_BILINEAR 2
 
-// Rejection sampling against the maximum (no inverse).
+/*
+ Rejection sampling against the maximum (no inverse).
+ */
 #define GONIO_METHOD_REJECTION 3
 
-// Uniform directions that ignore the diagram.
+/*
+ Uniform directions that ignore the diagram.
+ */
 #define GONIO_METHOD_UNIFORM 4
 
-// The diagram's own policy: the sphere for photometric files; for a JSON diagram the hemisphere
-// when its last parallel lies at θ ≤ 90°, else the sphere (as the `gonio` CLI).
+/*
+ The diagram's own policy: the sphere for photometric files; for a JSON diagram the hemisphere
+ when its last parallel lies at θ ≤ 90°, else the sphere (as the `gonio` CLI).
+ */
 #define GONIO_DOMAIN_AUTO 0
 
-// The upper hemisphere z ≥ 0 (2π sr).
+/*
+ The upper hemisphere z ≥ 0 (2π sr).
+ */
 #define GONIO_DOMAIN_HEMISPHERE 1
 
-// The whole sphere (4π sr).
+/*
+ The whole sphere (4π sr).
+ */
 #define GONIO_DOMAIN_SPHERE 2
 
-// Two hemisphere maps side by side on the square, split by power (the default).
+/*
+ Two hemisphere maps side by side on the square, split by power (the default).
+ */
 #define GONIO_SPHERE_LAYOUT_SPLIT 0
 
-// One map with the whole-sphere Lambert lift.
+/*
+ One map with the whole-sphere Lambert lift.
+ */
 #define GONIO_SPHERE_LAYOUT_LAMBERT 1
 
 #ifdef __cplusplus
 extern "C" {
-#endif // __cplusplus
+#endif /* __cplusplus */
 
-// The message of the last failed call on the calling thread, as UTF-8 text without a trailing
-// newline (an empty string when no call has failed on this thread yet).
-//
-// The pointer stays valid until the next failing gonio call on the same thread; copy the text to
-// keep it. Never NULL. Calls that succeed leave the message unchanged.
+/*
+ The message of the last failed call on the calling thread, as UTF-8 text without a trailing
+ newline (an empty string when no call has failed on this thread yet).
+
+ The pointer stays valid until the next failing gonio call on the same thread; copy the text to
+ keep it. Never NULL. Calls that succeed leave the message unchanged.
+ */
 const char *gonio_last_error_message(void);
 
-// The version of gonio, e.g. `"0.1.0"` (a static string, never NULL).
+/*
+ The version of gonio, e.g. `"0.1.0"` (a static string, never NULL).
+ */
 const char *gonio_version(void);
 
-// Reads a photometric file or diagram from a path.
-//
-// `format` is one of the `GONIO_FORMAT_*` constants; [`GONIO_FORMAT_AUTO`] picks it by the
-// extension. TILT files that an IES file names are looked up next to it. Files larger than
-// [`GONIO_MAX_FILE_BYTES`] and anything that is not a regular file are refused. On success
-// `*out` receives a new handle that the caller releases with [`gonio_diagram_free`].
-//
-// # Safety
-// `path` must be NULL or a NUL-terminated string; `out` must be NULL or valid for writing a
-// pointer.
+/*
+ Reads a photometric file or diagram from a path.
+
+ `format` is one of the `GONIO_FORMAT_*` constants; [`GONIO_FORMAT_AUTO`] picks it by the
+ extension. TILT files that an IES file names are looked up next to it. Files larger than
+ [`GONIO_MAX_FILE_BYTES`] and anything that is not a regular file are refused. On success
+ `*out` receives a new handle that the caller releases with [`gonio_diagram_free`].
+
+ # Safety
+ `path` must be NULL or a NUL-terminated string; `out` must be NULL or valid for writing a
+ pointer.
+ */
 GonioStatus gonio_diagram_read_path(const char *path,
                                     GonioFormat format,
                                     struct GonioDiagram **out);
 
-// Reads a photometric file or diagram from `len` bytes at `data`.
-//
-// `format` must name the format ([`GONIO_FORMAT_AUTO`] is refused: there is no extension).
-// `name` (may be NULL, then `"<memory>"`) is used in messages, e.g. `name:12:5: …`. TILT files
-// cannot be looked up (an IES file with `TILT=<file>` is refused). On success `*out` receives a
-// new handle that the caller releases with [`gonio_diagram_free`].
-//
-// # Safety
-// `data` must be NULL or valid for reading `len` bytes; `name` NULL or a NUL-terminated string;
-// `out` NULL or valid for writing a pointer.
+/*
+ Reads a photometric file or diagram from `len` bytes at `data`.
+
+ `format` must name the format ([`GONIO_FORMAT_AUTO`] is refused: there is no extension).
+ `name` (may be NULL, then `"<memory>"`) is used in messages, e.g. `name:12:5: …`. TILT files
+ cannot be looked up (an IES file with `TILT=<file>` is refused). On success `*out` receives a
+ new handle that the caller releases with [`gonio_diagram_free`].
+
+ # Safety
+ `data` must be NULL or valid for reading `len` bytes; `name` NULL or a NUL-terminated string;
+ `out` NULL or valid for writing a pointer.
+ */
 GonioStatus gonio_diagram_read_memory(const uint8_t *data,
                                       size_t len,
                                       GonioFormat format,
                                       const char *name,
                                       struct GonioDiagram **out);
 
-// Releases a diagram handle. NULL is accepted and ignored. Samplers built from the diagram stay
-// valid.
-//
-// # Safety
-// `diagram` must be NULL or a handle from a `gonio_diagram_read_*` function that was not freed
-// yet, and no other thread may be using it.
+/*
+ Releases a diagram handle. NULL is accepted and ignored. Samplers built from the diagram stay
+ valid.
+
+ # Safety
+ `diagram` must be NULL or a handle from a `gonio_diagram_read_*` function that was not freed
+ yet, and no other thread may be using it.
+ */
 void gonio_diagram_free(struct GonioDiagram *diagram);
 
-// The total power of the distribution: the integral over the sphere of the intensity
-// interpolated bilinearly in (θ, φ), in lumens for photometric files (the `flux` of
-// `gonio info`).
-//
-// # Safety
-// `diagram` must be NULL or a live handle; `flux` NULL or valid for writing a double.
+/*
+ The total power of the distribution: the integral over the sphere of the intensity
+ interpolated bilinearly in (θ, φ), in lumens for photometric files (the `flux` of
+ `gonio info`).
+
+ # Safety
+ `diagram` must be NULL or a live handle; `flux` NULL or valid for writing a double.
+ */
 GonioStatus gonio_diagram_flux(const struct GonioDiagram *diagram, double *flux);
 
-// The largest intensity of the distribution (candela for photometric files).
-//
-// # Safety
-// `diagram` must be NULL or a live handle; `max` NULL or valid for writing a double.
+/*
+ The largest intensity of the distribution (candela for photometric files).
+
+ # Safety
+ `diagram` must be NULL or a live handle; `max` NULL or valid for writing a double.
+ */
 GonioStatus gonio_diagram_max_intensity(const struct GonioDiagram *diagram, double *max);
 
-// The intensity of the distribution in a direction (candela for photometric files), interpolated
-// bilinearly in (θ, φ) — the function every sampler's target density is proportional to.
-//
-// # Safety
-// `diagram` must be NULL or a live handle; `intensity` NULL or valid for writing a double.
+/*
+ The intensity of the distribution in a direction (candela for photometric files), interpolated
+ bilinearly in (θ, φ) — the function every sampler's target density is proportional to.
+
+ # Safety
+ `diagram` must be NULL or a live handle; `intensity` NULL or valid for writing a double.
+ */
 GonioStatus gonio_diagram_intensity(const struct GonioDiagram *diagram,
                                     double x,
                                     double y,
                                     double z,
                                     double *intensity);
 
-// The number of warnings the reader issued (0 for JSON diagrams).
-//
-// # Safety
-// `diagram` must be NULL or a live handle; `count` NULL or valid for writing a `size_t`.
+/*
+ The number of warnings the reader issued (0 for JSON diagrams).
+
+ # Safety
+ `diagram` must be NULL or a live handle; `count` NULL or valid for writing a `size_t`.
+ */
 GonioStatus gonio_diagram_warning_count(const struct GonioDiagram *diagram, size_t *count);
 
-// Warning number `index` (from 0) as the CLI prints it: `FILE:LINE:COLUMN: warning: message`.
-// The string belongs to the diagram handle and lives as long as it.
-//
-// # Safety
-// `diagram` must be NULL or a live handle; `text` NULL or valid for writing a pointer.
+/*
+ Warning number `index` (from 0) as the CLI prints it: `FILE:LINE:COLUMN: warning: message`.
+ The string belongs to the diagram handle and lives as long as it.
+
+ # Safety
+ `diagram` must be NULL or a live handle; `text` NULL or valid for writing a pointer.
+ */
 GonioStatus gonio_diagram_warning(const struct GonioDiagram *diagram,
                                   size_t index,
                                   const char **text);
 
-// The domain [`GONIO_DOMAIN_AUTO`] stands for with this diagram ([`GONIO_DOMAIN_HEMISPHERE`] or
-// [`GONIO_DOMAIN_SPHERE`]).
-//
-// # Safety
-// `diagram` must be NULL or a live handle; `domain` NULL or valid for writing an `int32_t`.
+/*
+ The domain [`GONIO_DOMAIN_AUTO`] stands for with this diagram ([`GONIO_DOMAIN_HEMISPHERE`] or
+ [`GONIO_DOMAIN_SPHERE`]).
+
+ # Safety
+ `diagram` must be NULL or a live handle; `domain` NULL or valid for writing an `int32_t`.
+ */
 GonioStatus gonio_diagram_domain(const struct GonioDiagram *diagram, GonioDomain *domain);
 
-// Builds a sampler of `method` (a `GONIO_METHOD_*` constant) on `domain` (a `GONIO_DOMAIN_*`
-// constant; [`GONIO_DOMAIN_AUTO`] for the diagram's own policy) with default options, through
-// the library's factory `Method::build`. On success `*out` receives a new handle that the caller
-// releases with [`gonio_sampler_free`]; it does not borrow `diagram`.
-//
-// # Safety
-// `diagram` must be NULL or a live handle; `out` NULL or valid for writing a pointer.
+/*
+ Builds a sampler of `method` (a `GONIO_METHOD_*` constant) on `domain` (a `GONIO_DOMAIN_*`
+ constant; [`GONIO_DOMAIN_AUTO`] for the diagram's own policy) with default options, through
+ the library's factory `Method::build`. On success `*out` receives a new handle that the caller
+ releases with [`gonio_sampler_free`]; it does not borrow `diagram`.
+
+ # Safety
+ `diagram` must be NULL or a live handle; `out` NULL or valid for writing a pointer.
+ */
 GonioStatus gonio_sampler_build(const struct GonioDiagram *diagram,
                                 GonioMethod method,
                                 GonioDomain domain,
                                 struct GonioSampler **out);
 
-// Writes the default options into `*options`.
-//
-// # Safety
-// `options` must be NULL or valid for writing a [`GonioBuildOptions`].
+/*
+ Writes the default options into `*options`.
+
+ # Safety
+ `options` must be NULL or valid for writing a [`GonioBuildOptions`].
+ */
 GonioStatus gonio_build_options_default(struct GonioBuildOptions *options);
 
-// As [`gonio_sampler_build`] with `options` (through the factory's `Method::build_with`).
-//
-// # Safety
-// `diagram` must be NULL or a live handle; `options` NULL or a valid [`GonioBuildOptions`];
-// `out` NULL or valid for writing a pointer.
+/*
+ As [`gonio_sampler_build`] with `options` (through the factory's `Method::build_with`).
+
+ # Safety
+ `diagram` must be NULL or a live handle; `options` NULL or a valid [`GonioBuildOptions`];
+ `out` NULL or valid for writing a pointer.
+ */
 GonioStatus gonio_sampler_build_with(const struct GonioDiagram *diagram,
                                      GonioMethod method,
                                      GonioDomain domain,
                                      const struct GonioBuildOptions *options,
                                      struct GonioSampler **out);
 
-// Releases a sampler handle. NULL is accepted and ignored.
-//
-// # Safety
-// `sampler` must be NULL or a handle from [`gonio_sampler_build`] that was not freed yet, and no
-// other thread may be using it.
+/*
+ Releases a sampler handle. NULL is accepted and ignored.
+
+ # Safety
+ `sampler` must be NULL or a handle from [`gonio_sampler_build`] that was not freed yet, and no
+ other thread may be using it.
+ */
 void gonio_sampler_free(struct GonioSampler *sampler);
 
-// The method's name as the CLI's `--method` spells it (`"hds"`, `"piecewise-constant"`, …): a
-// static string; NULL when `sampler` is NULL.
-//
-// # Safety
-// `sampler` must be NULL or a live handle.
+/*
+ The method's name as the CLI's `--method` spells it (`"hds"`, `"piecewise-constant"`, …): a
+ static string; NULL when `sampler` is NULL.
+
+ # Safety
+ `sampler` must be NULL or a live handle.
+ */
 const char *gonio_sampler_method(const struct GonioSampler *sampler);
 
-// The sampler's domain ([`GONIO_DOMAIN_HEMISPHERE`] or [`GONIO_DOMAIN_SPHERE`]).
-//
-// # Safety
-// `sampler` must be NULL or a live handle; `domain` NULL or valid for writing an `int32_t`.
+/*
+ The sampler's domain ([`GONIO_DOMAIN_HEMISPHERE`] or [`GONIO_DOMAIN_SPHERE`]).
+
+ # Safety
+ `sampler` must be NULL or a live handle; `domain` NULL or valid for writing an `int32_t`.
+ */
 GonioStatus gonio_sampler_domain(const struct GonioSampler *sampler, GonioDomain *domain);
 
-// Maps the point (u, v) of the unit square to a direction and its exact density. Points outside
-// [0, 1]² (and NaN) are clamped into it, as every gonio sampler does.
-//
-// # Safety
-// `sampler` must be NULL or a live handle; `out` NULL or valid for writing a [`GonioSample`].
+/*
+ Maps the point (u, v) of the unit square to a direction and its exact density. A point outside
+ [0, 1]² or with a NaN coordinate is [`GONIO_ERR_INVALID_ARGUMENT`] (as in Python).
+
+ # Safety
+ `sampler` must be NULL or a live handle; `out` NULL or valid for writing a [`GonioSample`].
+ */
 GonioStatus gonio_sample(const struct GonioSampler *sampler,
                          double u,
                          double v,
                          struct GonioSample *out);
 
-// The density of the sampler at direction (x, y, z) (normalised first), per steradian; 0
-// outside the domain. A zero or non-finite vector is [`GONIO_ERR_INVALID_ARGUMENT`].
-//
-// # Safety
-// `sampler` must be NULL or a live handle; `pdf` NULL or valid for writing a double.
+/*
+ The density of the sampler at direction (x, y, z) (normalised first), per steradian; 0
+ outside the domain. A zero or non-finite vector is [`GONIO_ERR_INVALID_ARGUMENT`].
+
+ # Safety
+ `sampler` must be NULL or a live handle; `pdf` NULL or valid for writing a double.
+ */
 GonioStatus gonio_pdf(const struct GonioSampler *sampler,
                       double x,
                       double y,
                       double z,
                       double *pdf);
 
-// The target density at direction (x, y, z): the diagram interpolated bilinearly in (θ, φ),
-// normalised over the domain, per steradian.
-//
-// # Safety
-// `sampler` must be NULL or a live handle; `target_pdf` NULL or valid for writing a double.
+/*
+ The target density at direction (x, y, z): the diagram interpolated bilinearly in (θ, φ),
+ normalised over the domain, per steradian.
+
+ # Safety
+ `sampler` must be NULL or a live handle; `target_pdf` NULL or valid for writing a double.
+ */
 GonioStatus gonio_target_pdf(const struct GonioSampler *sampler,
                              double x,
                              double y,
                              double z,
                              double *target_pdf);
 
-// The point (u, v) of the unit square that the sampler maps to direction (x, y, z).
-// [`GONIO_ERR_UNSUPPORTED`] for a method without inverse, [`GONIO_ERR_OUTSIDE_DOMAIN`] for a
-// direction outside the domain, [`GONIO_ERR_ZERO_DENSITY`] for a direction in the domain where
-// the density is 0 (no point maps to it).
-//
-// # Safety
-// `sampler` must be NULL or a live handle; `u` and `v` NULL or valid for writing a double.
+/*
+ The point (u, v) of the unit square that the sampler maps to direction (x, y, z).
+ [`GONIO_ERR_UNSUPPORTED`] for a method without inverse, [`GONIO_ERR_OUTSIDE_DOMAIN`] for a
+ direction outside the domain, [`GONIO_ERR_ZERO_DENSITY`] for a direction in the domain where
+ the density is 0 (no point maps to it).
+
+ # Safety
+ `sampler` must be NULL or a live handle; `u` and `v` NULL or valid for writing a double.
+ */
 GonioStatus gonio_invert(const struct GonioSampler *sampler,
                          double x,
                          double y,
@@ -331,38 +454,46 @@ GonioStatus gonio_invert(const struct GonioSampler *sampler,
                          double *u,
                          double *v);
 
-// The guaranteed bound `min ≤ pdf / target_pdf ≤ max` of the sampler over its domain where the
-// target is positive. [`GONIO_ERR_UNSUPPORTED`] when the method states none.
-//
-// # Safety
-// `sampler` must be NULL or a live handle; `min` and `max` NULL or valid for writing a double.
+/*
+ The guaranteed bound `min ≤ pdf / target_pdf ≤ max` of the sampler over its domain where the
+ target is positive. [`GONIO_ERR_UNSUPPORTED`] when the method states none.
+
+ # Safety
+ `sampler` must be NULL or a live handle; `min` and `max` NULL or valid for writing a double.
+ */
 GonioStatus gonio_sampler_ratio_bound(const struct GonioSampler *sampler, double *min, double *max);
 
-// The power of the sampler's target: the integral over its domain of the intensity that
-// `target_pdf` normalises, in lumens for photometric files (candela × sr). For the HDS map it is
-// the power of the diagram as completed for its tables; it equals [`gonio_diagram_flux`] when
-// the completion adds nothing.
-//
-// # Safety
-// `sampler` must be NULL or a live handle; `power` NULL or valid for writing a double.
+/*
+ The power of the sampler's target: the integral over its domain of the intensity that
+ `target_pdf` normalises, in lumens for photometric files (candela × sr). For the HDS map it is
+ the power of the diagram as completed for its tables; it equals [`gonio_diagram_flux`] when
+ the completion adds nothing.
+
+ # Safety
+ `sampler` must be NULL or a live handle; `power` NULL or valid for writing a double.
+ */
 GonioStatus gonio_sampler_target_power(const struct GonioSampler *sampler, double *power);
 
-// Samples `n` points of the square given as interleaved pairs `u[2i], u[2i+1]` (double):
-// directions into `directions[3i..3i+3]`, densities (per sr) into `pdfs[i]`.
-//
-// # Safety
-// `sampler` must be NULL or a live handle; every array NULL or valid for its `n` elements.
+/*
+ Samples `n` points of the square given as interleaved pairs `u[2i], u[2i+1]` (double):
+ directions into `directions[3i..3i+3]`, densities (per sr) into `pdfs[i]`.
+
+ # Safety
+ `sampler` must be NULL or a live handle; every array NULL or valid for its `n` elements.
+ */
 GonioStatus gonio_sample_batch(const struct GonioSampler *sampler,
                                const double *u,
                                size_t n,
                                double *directions,
                                double *pdfs);
 
-// Samples `n` points of the square given as arrays `u[i]`, `v[i]` (double): directions
-// into `x[i]`, `y[i]`, `z[i]`, densities (per sr) into `pdfs[i]`.
-//
-// # Safety
-// `sampler` must be NULL or a live handle; every array NULL or valid for its `n` elements.
+/*
+ Samples `n` points of the square given as arrays `u[i]`, `v[i]` (double): directions
+ into `x[i]`, `y[i]`, `z[i]`, densities (per sr) into `pdfs[i]`.
+
+ # Safety
+ `sampler` must be NULL or a live handle; every array NULL or valid for its `n` elements.
+ */
 GonioStatus gonio_sample_batch_soa(const struct GonioSampler *sampler,
                                    const double *u,
                                    const double *v,
@@ -372,22 +503,26 @@ GonioStatus gonio_sample_batch_soa(const struct GonioSampler *sampler,
                                    double *z,
                                    double *pdfs);
 
-// The sampler's density (per sr) at `n` directions given as interleaved triples
-// `directions[3i..3i+3]` (double; normalised first), into `out[i]`. A zero or
-// non-finite direction stops the batch with [`GONIO_ERR_INVALID_ARGUMENT`], naming its index.
-//
-// # Safety
-// `sampler` must be NULL or a live handle; every array NULL or valid for its `n` elements.
+/*
+ The sampler's density (per sr) at `n` directions given as interleaved triples
+ `directions[3i..3i+3]` (double; normalised first), into `out[i]`. A zero or
+ non-finite direction stops the batch with [`GONIO_ERR_INVALID_ARGUMENT`], naming its index.
+
+ # Safety
+ `sampler` must be NULL or a live handle; every array NULL or valid for its `n` elements.
+ */
 GonioStatus gonio_pdf_batch(const struct GonioSampler *sampler,
                             const double *directions,
                             size_t n,
                             double *out);
 
-// The sampler's density (per sr) at `n` directions given as arrays `x[i]`, `y[i]`, `z[i]`
-// (double; normalised first), into `out[i]`; as the interleaved variant.
-//
-// # Safety
-// `sampler` must be NULL or a live handle; every array NULL or valid for its `n` elements.
+/*
+ The sampler's density (per sr) at `n` directions given as arrays `x[i]`, `y[i]`, `z[i]`
+ (double; normalised first), into `out[i]`; as the interleaved variant.
+
+ # Safety
+ `sampler` must be NULL or a live handle; every array NULL or valid for its `n` elements.
+ */
 GonioStatus gonio_pdf_batch_soa(const struct GonioSampler *sampler,
                                 const double *x,
                                 const double *y,
@@ -395,22 +530,26 @@ GonioStatus gonio_pdf_batch_soa(const struct GonioSampler *sampler,
                                 size_t n,
                                 double *out);
 
-// The target density (per sr) at `n` directions given as interleaved triples
-// `directions[3i..3i+3]` (double; normalised first), into `out[i]`. A zero or
-// non-finite direction stops the batch with [`GONIO_ERR_INVALID_ARGUMENT`], naming its index.
-//
-// # Safety
-// `sampler` must be NULL or a live handle; every array NULL or valid for its `n` elements.
+/*
+ The target density (per sr) at `n` directions given as interleaved triples
+ `directions[3i..3i+3]` (double; normalised first), into `out[i]`. A zero or
+ non-finite direction stops the batch with [`GONIO_ERR_INVALID_ARGUMENT`], naming its index.
+
+ # Safety
+ `sampler` must be NULL or a live handle; every array NULL or valid for its `n` elements.
+ */
 GonioStatus gonio_target_pdf_batch(const struct GonioSampler *sampler,
                                    const double *directions,
                                    size_t n,
                                    double *out);
 
-// The target density (per sr) at `n` directions given as arrays `x[i]`, `y[i]`, `z[i]`
-// (double; normalised first), into `out[i]`; as the interleaved variant.
-//
-// # Safety
-// `sampler` must be NULL or a live handle; every array NULL or valid for its `n` elements.
+/*
+ The target density (per sr) at `n` directions given as arrays `x[i]`, `y[i]`, `z[i]`
+ (double; normalised first), into `out[i]`; as the interleaved variant.
+
+ # Safety
+ `sampler` must be NULL or a live handle; every array NULL or valid for its `n` elements.
+ */
 GonioStatus gonio_target_pdf_batch_soa(const struct GonioSampler *sampler,
                                        const double *x,
                                        const double *y,
@@ -418,23 +557,27 @@ GonioStatus gonio_target_pdf_batch_soa(const struct GonioSampler *sampler,
                                        size_t n,
                                        double *out);
 
-// Inverts `n` directions given as interleaved triples `directions[3i..3i+3]` (double)
-// into interleaved points `uv[2i], uv[2i+1]`. A direction outside the domain or of density 0 gives (NaN, NaN)
-// and the batch goes on; a method without inverse is [`GONIO_ERR_UNSUPPORTED`]; a zero or
-// non-finite direction stops the batch with [`GONIO_ERR_INVALID_ARGUMENT`], naming its index.
-//
-// # Safety
-// `sampler` must be NULL or a live handle; every array NULL or valid for its `n` elements.
+/*
+ Inverts `n` directions given as interleaved triples `directions[3i..3i+3]` (double)
+ into interleaved points `uv[2i], uv[2i+1]`. A direction outside the domain or of density 0 gives (NaN, NaN)
+ and the batch goes on; a method without inverse is [`GONIO_ERR_UNSUPPORTED`]; a zero or
+ non-finite direction stops the batch with [`GONIO_ERR_INVALID_ARGUMENT`], naming its index.
+
+ # Safety
+ `sampler` must be NULL or a live handle; every array NULL or valid for its `n` elements.
+ */
 GonioStatus gonio_invert_batch(const struct GonioSampler *sampler,
                                const double *directions,
                                size_t n,
                                double *uv);
 
-// Inverts `n` directions given as arrays `x[i]`, `y[i]`, `z[i]` (double) into `u[i]`,
-// `v[i]`; as the interleaved variant.
-//
-// # Safety
-// `sampler` must be NULL or a live handle; every array NULL or valid for its `n` elements.
+/*
+ Inverts `n` directions given as arrays `x[i]`, `y[i]`, `z[i]` (double) into `u[i]`,
+ `v[i]`; as the interleaved variant.
+
+ # Safety
+ `sampler` must be NULL or a live handle; every array NULL or valid for its `n` elements.
+ */
 GonioStatus gonio_invert_batch_soa(const struct GonioSampler *sampler,
                                    const double *x,
                                    const double *y,
@@ -443,22 +586,26 @@ GonioStatus gonio_invert_batch_soa(const struct GonioSampler *sampler,
                                    double *u,
                                    double *v);
 
-// Samples `n` points of the square given as interleaved pairs `u[2i], u[2i+1]` (float; computed in double, results rounded):
-// directions into `directions[3i..3i+3]`, densities (per sr) into `pdfs[i]`.
-//
-// # Safety
-// `sampler` must be NULL or a live handle; every array NULL or valid for its `n` elements.
+/*
+ Samples `n` points of the square given as interleaved pairs `u[2i], u[2i+1]` (float; computed in double, results rounded):
+ directions into `directions[3i..3i+3]`, densities (per sr) into `pdfs[i]`.
+
+ # Safety
+ `sampler` must be NULL or a live handle; every array NULL or valid for its `n` elements.
+ */
 GonioStatus gonio_sample_batch_f32(const struct GonioSampler *sampler,
                                    const float *u,
                                    size_t n,
                                    float *directions,
                                    float *pdfs);
 
-// Samples `n` points of the square given as arrays `u[i]`, `v[i]` (float; computed in double, results rounded): directions
-// into `x[i]`, `y[i]`, `z[i]`, densities (per sr) into `pdfs[i]`.
-//
-// # Safety
-// `sampler` must be NULL or a live handle; every array NULL or valid for its `n` elements.
+/*
+ Samples `n` points of the square given as arrays `u[i]`, `v[i]` (float; computed in double, results rounded): directions
+ into `x[i]`, `y[i]`, `z[i]`, densities (per sr) into `pdfs[i]`.
+
+ # Safety
+ `sampler` must be NULL or a live handle; every array NULL or valid for its `n` elements.
+ */
 GonioStatus gonio_sample_batch_soa_f32(const struct GonioSampler *sampler,
                                        const float *u,
                                        const float *v,
@@ -468,22 +615,26 @@ GonioStatus gonio_sample_batch_soa_f32(const struct GonioSampler *sampler,
                                        float *z,
                                        float *pdfs);
 
-// The sampler's density (per sr) at `n` directions given as interleaved triples
-// `directions[3i..3i+3]` (float; computed in double, results rounded; normalised first), into `out[i]`. A zero or
-// non-finite direction stops the batch with [`GONIO_ERR_INVALID_ARGUMENT`], naming its index.
-//
-// # Safety
-// `sampler` must be NULL or a live handle; every array NULL or valid for its `n` elements.
+/*
+ The sampler's density (per sr) at `n` directions given as interleaved triples
+ `directions[3i..3i+3]` (float; computed in double, results rounded; normalised first), into `out[i]`. A zero or
+ non-finite direction stops the batch with [`GONIO_ERR_INVALID_ARGUMENT`], naming its index.
+
+ # Safety
+ `sampler` must be NULL or a live handle; every array NULL or valid for its `n` elements.
+ */
 GonioStatus gonio_pdf_batch_f32(const struct GonioSampler *sampler,
                                 const float *directions,
                                 size_t n,
                                 float *out);
 
-// The sampler's density (per sr) at `n` directions given as arrays `x[i]`, `y[i]`, `z[i]`
-// (float; computed in double, results rounded; normalised first), into `out[i]`; as the interleaved variant.
-//
-// # Safety
-// `sampler` must be NULL or a live handle; every array NULL or valid for its `n` elements.
+/*
+ The sampler's density (per sr) at `n` directions given as arrays `x[i]`, `y[i]`, `z[i]`
+ (float; computed in double, results rounded; normalised first), into `out[i]`; as the interleaved variant.
+
+ # Safety
+ `sampler` must be NULL or a live handle; every array NULL or valid for its `n` elements.
+ */
 GonioStatus gonio_pdf_batch_soa_f32(const struct GonioSampler *sampler,
                                     const float *x,
                                     const float *y,
@@ -491,22 +642,26 @@ GonioStatus gonio_pdf_batch_soa_f32(const struct GonioSampler *sampler,
                                     size_t n,
                                     float *out);
 
-// The target density (per sr) at `n` directions given as interleaved triples
-// `directions[3i..3i+3]` (float; computed in double, results rounded; normalised first), into `out[i]`. A zero or
-// non-finite direction stops the batch with [`GONIO_ERR_INVALID_ARGUMENT`], naming its index.
-//
-// # Safety
-// `sampler` must be NULL or a live handle; every array NULL or valid for its `n` elements.
+/*
+ The target density (per sr) at `n` directions given as interleaved triples
+ `directions[3i..3i+3]` (float; computed in double, results rounded; normalised first), into `out[i]`. A zero or
+ non-finite direction stops the batch with [`GONIO_ERR_INVALID_ARGUMENT`], naming its index.
+
+ # Safety
+ `sampler` must be NULL or a live handle; every array NULL or valid for its `n` elements.
+ */
 GonioStatus gonio_target_pdf_batch_f32(const struct GonioSampler *sampler,
                                        const float *directions,
                                        size_t n,
                                        float *out);
 
-// The target density (per sr) at `n` directions given as arrays `x[i]`, `y[i]`, `z[i]`
-// (float; computed in double, results rounded; normalised first), into `out[i]`; as the interleaved variant.
-//
-// # Safety
-// `sampler` must be NULL or a live handle; every array NULL or valid for its `n` elements.
+/*
+ The target density (per sr) at `n` directions given as arrays `x[i]`, `y[i]`, `z[i]`
+ (float; computed in double, results rounded; normalised first), into `out[i]`; as the interleaved variant.
+
+ # Safety
+ `sampler` must be NULL or a live handle; every array NULL or valid for its `n` elements.
+ */
 GonioStatus gonio_target_pdf_batch_soa_f32(const struct GonioSampler *sampler,
                                            const float *x,
                                            const float *y,
@@ -514,23 +669,27 @@ GonioStatus gonio_target_pdf_batch_soa_f32(const struct GonioSampler *sampler,
                                            size_t n,
                                            float *out);
 
-// Inverts `n` directions given as interleaved triples `directions[3i..3i+3]` (float; computed in double, results rounded)
-// into interleaved points `uv[2i], uv[2i+1]`. A direction outside the domain or of density 0 gives (NaN, NaN)
-// and the batch goes on; a method without inverse is [`GONIO_ERR_UNSUPPORTED`]; a zero or
-// non-finite direction stops the batch with [`GONIO_ERR_INVALID_ARGUMENT`], naming its index.
-//
-// # Safety
-// `sampler` must be NULL or a live handle; every array NULL or valid for its `n` elements.
+/*
+ Inverts `n` directions given as interleaved triples `directions[3i..3i+3]` (float; computed in double, results rounded)
+ into interleaved points `uv[2i], uv[2i+1]`. A direction outside the domain or of density 0 gives (NaN, NaN)
+ and the batch goes on; a method without inverse is [`GONIO_ERR_UNSUPPORTED`]; a zero or
+ non-finite direction stops the batch with [`GONIO_ERR_INVALID_ARGUMENT`], naming its index.
+
+ # Safety
+ `sampler` must be NULL or a live handle; every array NULL or valid for its `n` elements.
+ */
 GonioStatus gonio_invert_batch_f32(const struct GonioSampler *sampler,
                                    const float *directions,
                                    size_t n,
                                    float *uv);
 
-// Inverts `n` directions given as arrays `x[i]`, `y[i]`, `z[i]` (float; computed in double, results rounded) into `u[i]`,
-// `v[i]`; as the interleaved variant.
-//
-// # Safety
-// `sampler` must be NULL or a live handle; every array NULL or valid for its `n` elements.
+/*
+ Inverts `n` directions given as arrays `x[i]`, `y[i]`, `z[i]` (float; computed in double, results rounded) into `u[i]`,
+ `v[i]`; as the interleaved variant.
+
+ # Safety
+ `sampler` must be NULL or a live handle; every array NULL or valid for its `n` elements.
+ */
 GonioStatus gonio_invert_batch_soa_f32(const struct GonioSampler *sampler,
                                        const float *x,
                                        const float *y,
@@ -540,7 +699,7 @@ GonioStatus gonio_invert_batch_soa_f32(const struct GonioSampler *sampler,
                                        float *v);
 
 #ifdef __cplusplus
-}  // extern "C"
-#endif  // __cplusplus
+} /* extern "C" */
+#endif /* __cplusplus */
 
 #endif  /* GONIO_H */

@@ -62,7 +62,13 @@ class Sampler {
         return uv;
     }
     // Interleaved batch: uv holds n pairs; returns n directions (3n values) and fills pdfs.
+    // An odd number of values (a trailing half point) is an error, not silently dropped.
     std::vector<double> sample_batch(const std::vector<double> &uv, std::vector<double> &pdfs) const {
+        if (uv.size() % 2 != 0)
+            throw Error(GONIO_ERR_INVALID_ARGUMENT,
+                        ("sample_batch: uv holds " + std::to_string(uv.size()) +
+                         " values, not pairs (an odd trailing value)")
+                            .c_str());
         const size_t n = uv.size() / 2;
         std::vector<double> dirs(3 * n);
         pdfs.resize(n);

@@ -164,8 +164,9 @@ pub struct GonioSampler {
 // ---------------------------------------------------------------------------------------------
 // Errors.
 
-/// Largest file [`gonio_diagram_read_path`] reads: 256 MiB (the largest corpus file is 0.5 MB).
-pub const GONIO_MAX_FILE_BYTES: u64 = 256 << 20;
+/// Largest file [`gonio_diagram_read_path`] and [`gonio_diagram_read_memory`] read: 64 MiB, the
+/// cap of every gonio front end (CLI, Python, C), checked against the size before reading.
+pub const GONIO_MAX_FILE_BYTES: u64 = 64 << 20;
 
 /// An error on its way to the caller: a status code and the message.
 #[derive(Debug)]
@@ -295,6 +296,21 @@ unsafe fn c_str<'a>(p: *const c_char, what: &str) -> Result<&'a str, Failure> {
         .map_err(|e| Failure::invalid(format!("{what} is not UTF-8 text ({e})")))
 }
 
+/// A path argument from its bytes: any bytes on Unix; UTF-8 elsewhere.
+fn path_of(raw: &CStr) -> Result<PathBuf, Failure> {
+    #[cfg(unix)]
+    {
+        use std::os::unix::ffi::OsStrExt;
+        Ok(PathBuf::from(std::ffi::OsStr::from_bytes(raw.to_bytes())))
+    }
+    #[cfg(not(unix))]
+    {
+        raw.to_str()
+            .map(PathBuf::from)
+            .map_err(|e| Failure::invalid(format!("path is not UTF-8 text ({e})")))
+    }
+}
+
 // ---------------------------------------------------------------------------------------------
 // Reading.
 
@@ -347,26 +363,50 @@ fn located(file: &str, line: usize, column: usize, message: &str) -> String {
     }
 }
 
-/// Reads a regular file of at most [`GONIO_MAX_FILE_BYTES`].
-fn read_bounded(name: &str) -> Result<Vec<u8>, Failure> {
+/// The message of an input over [`GONIO_MAX_FILE_BYTES`] (the CLI's).
+fn too_large(name: &str, len: u64) -> Failure {
+    Failure::new(
+        GONIO_ERR_IO,
+        format!(
+            "{name}: the file has {len} bytes, more than the limit of {GONIO_MAX_FILE_BYTES} \
+             bytes ({} MiB); not read",
+            GONIO_MAX_FILE_BYTES >> 20
+        ),
+    )
+}
+
+/// Reads a regular file of at most [`GONIO_MAX_FILE_BYTES`]. The kind and size are checked
+/// before the file is opened (opening a FIFO without a writer would block forever), and again on
+/// the open file (it may have been replaced in between).
+fn read_bounded(path: &Path, name: &str) -> Result<Vec<u8>, Failure> {
     let io = |e: std::io::Error| Failure::new(GONIO_ERR_IO, format!("cannot read {name}: {e}"));
-    let file = std::fs::File::open(name).map_err(io)?;
-    let meta = file.metadata().map_err(io)?;
-    if !meta.is_file() {
-        return Err(Failure::new(
+    let not_regular = || {
+        Failure::new(
             GONIO_ERR_IO,
             format!("cannot read {name}: not a regular file"),
-        ));
+        )
+    };
+    let before = std::fs::metadata(path).map_err(io)?;
+    if !before.is_file() {
+        return Err(not_regular());
+    }
+    if before.len() > GONIO_MAX_FILE_BYTES {
+        return Err(too_large(name, before.len()));
+    }
+    let file = std::fs::File::open(path).map_err(io)?;
+    let meta = file.metadata().map_err(io)?;
+    if !meta.is_file() {
+        return Err(not_regular());
+    }
+    if meta.len() > GONIO_MAX_FILE_BYTES {
+        return Err(too_large(name, meta.len()));
     }
     let mut bytes = Vec::new();
     file.take(GONIO_MAX_FILE_BYTES + 1)
         .read_to_end(&mut bytes)
         .map_err(io)?;
     if bytes.len() as u64 > GONIO_MAX_FILE_BYTES {
-        return Err(Failure::new(
-            GONIO_ERR_IO,
-            format!("cannot read {name}: larger than {GONIO_MAX_FILE_BYTES} bytes"),
-        ));
+        return Err(too_large(name, bytes.len() as u64));
     }
     Ok(bytes)
 }
@@ -461,13 +501,20 @@ pub unsafe extern "C" fn gonio_diagram_read_path(
 ) -> GonioStatus {
     guard(|| {
         check_out(out, "out")?;
-        let name = c_str(path, "path")?;
+        if path.is_null() {
+            return Err(Failure::null("path"));
+        }
+        // Any bytes are a path on Unix (as in Python); messages show it lossily decoded.
+        let raw = CStr::from_ptr(path);
+        let owned = path_of(raw)?;
+        let lossy = raw.to_string_lossy();
+        let name: &str = &lossy;
         let kind = match kind_of(format)? {
             Some(k) => k,
             None => kind_of_path(name)?,
         };
-        let bytes = read_bounded(name)?;
-        let dir = match Path::new(name).parent() {
+        let bytes = read_bounded(&owned, name)?;
+        let dir = match owned.parent() {
             Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
             _ => PathBuf::from("."),
         };
@@ -496,11 +543,16 @@ pub unsafe extern "C" fn gonio_diagram_read_memory(
 ) -> GonioStatus {
     guard(|| {
         check_out(out, "out")?;
-        if data.is_null() {
+        if data.is_null() && len > 0 {
             return Err(Failure::null("data"));
         }
-        if len > isize::MAX as usize {
-            return Err(Failure::invalid(format!("len {len} is too large")));
+        if len as u64 > GONIO_MAX_FILE_BYTES {
+            let name = if name.is_null() {
+                "<memory>"
+            } else {
+                c_str(name, "name")?
+            };
+            return Err(too_large(name, len as u64));
         }
         let name = if name.is_null() {
             "<memory>"
@@ -512,6 +564,13 @@ pub unsafe extern "C" fn gonio_diagram_read_memory(
                 "gonio_diagram_read_memory needs an explicit format, not GONIO_FORMAT_AUTO",
             )
         })?;
+        // No bytes (data may then be NULL): the input is empty, whatever the format.
+        if len == 0 {
+            return Err(Failure::new(
+                GONIO_ERR_PARSE,
+                format!("{name}: the input is empty (0 bytes)"),
+            ));
+        }
         let bytes = std::slice::from_raw_parts(data, len);
         let d = parse(name, bytes, kind, None)?;
         w(out, Box::into_raw(Box::new(d)), "out")
@@ -851,14 +910,34 @@ pub unsafe extern "C" fn gonio_sampler_domain(
 fn unit(d: Vec3) -> Result<Vec3, Failure> {
     gonio::sampler::normalize(d).ok_or_else(|| {
         Failure::invalid(format!(
-            "the direction ({}, {}, {}) is not a finite non-zero vector",
-            d[0], d[1], d[2]
+            "the direction {} is not a finite non-zero vector",
+            fmt_row(&d)
         ))
     })
 }
 
-/// Maps the point (u, v) of the unit square to a direction and its exact density. Points outside
-/// [0, 1]² (and NaN) are clamped into it, as every gonio sampler does.
+/// Numbers for a message, `(x, y, z)`, in the shortest form that reads back (exponent form for
+/// tiny and huge magnitudes).
+fn fmt_row(r: &[f64]) -> String {
+    let parts: Vec<String> = r.iter().map(|&x| gonio::decimal::shortest(x)).collect();
+    format!("({})", parts.join(", "))
+}
+
+/// A point argument, which must lie in the unit square [0, 1]² (NaN does not): the rule of the
+/// Python package too (issue 25; before, NaN was "clamped" to a direction of pdf 0).
+fn in_square(u: [f64; 2]) -> Result<[f64; 2], Failure> {
+    if (0.0..=1.0).contains(&u[0]) && (0.0..=1.0).contains(&u[1]) {
+        Ok(u)
+    } else {
+        Err(Failure::invalid(format!(
+            "the point {} is outside the unit square [0, 1]² (or NaN)",
+            fmt_row(&u)
+        )))
+    }
+}
+
+/// Maps the point (u, v) of the unit square to a direction and its exact density. A point outside
+/// [0, 1]² or with a NaN coordinate is [`GONIO_ERR_INVALID_ARGUMENT`] (as in Python).
 ///
 /// # Safety
 /// `sampler` must be NULL or a live handle; `out` NULL or valid for writing a [`GonioSample`].
@@ -872,7 +951,7 @@ pub unsafe extern "C" fn gonio_sample(
     guard(|| {
         let s = r(sampler, "sampler")?;
         check_out(out, "out")?;
-        let smp = s.inner.sample([u, v]);
+        let smp = s.inner.sample(in_square([u, v])?);
         w(
             out,
             GonioSample {
@@ -1134,7 +1213,9 @@ impl<T: Real, const K: usize> Out<T, K> {
 /// Points per chunk of a batch: the sampler's own batch path sees this many at a time.
 const CHUNK: usize = 256;
 
-/// Samples n points: directions into `dirs` and densities into `pdfs`.
+/// Samples n points: directions into `dirs` and densities into `pdfs`. A point outside the unit
+/// square (or NaN) stops the batch with [`GONIO_ERR_INVALID_ARGUMENT`] naming its index (the
+/// chunks before it are written).
 ///
 /// # Safety
 /// The views are valid for n elements.
@@ -1144,14 +1225,16 @@ unsafe fn sample_n<T: Real>(
     u: &In<T, 2>,
     dirs: &Out<T, 3>,
     pdfs: &Out<T, 1>,
-) {
+) -> Result<(), Failure> {
     let mut pts = [[0.0; 2]; CHUNK];
     let mut out = [Sample::default(); CHUNK];
     let mut start = 0;
     while start < n {
         let m = CHUNK.min(n - start);
         for (k, p) in pts[..m].iter_mut().enumerate() {
-            *p = u.get(start + k);
+            let i = start + k;
+            *p = in_square(u.get(i))
+                .map_err(|e| Failure::invalid(format!("point #{i}: {}", e.message)))?;
         }
         s.sample_batch(&pts[..m], &mut out[..m]);
         for (k, o) in out[..m].iter().enumerate() {
@@ -1160,6 +1243,7 @@ unsafe fn sample_n<T: Real>(
         }
         start += m;
     }
+    Ok(())
 }
 
 /// Evaluates a batch function at n directions, a chunk of [`CHUNK`] at a time: the chunk's
@@ -1226,8 +1310,7 @@ unsafe fn sample_aos<T: Real>(
         let u = In::<T, 2>::aos(u, n, "u")?;
         let d = Out::<T, 3>::aos(directions, n, "directions")?;
         let p = Out::<T, 1>::aos(pdfs, n, "pdfs")?;
-        sample_n(s.inner.as_ref(), n, &u, &d, &p);
-        Ok(())
+        sample_n(s.inner.as_ref(), n, &u, &d, &p)
     })
 }
 
@@ -1247,8 +1330,7 @@ unsafe fn sample_soa<T: Real>(
         let uv = In::<T, 2>::soa([(u, "u"), (v, "v")], n)?;
         let d = Out::<T, 3>::soa([(x, "x"), (y, "y"), (z, "z")], n)?;
         let p = Out::<T, 1>::soa([(pdfs, "pdfs")], n)?;
-        sample_n(s.inner.as_ref(), n, &uv, &d, &p);
-        Ok(())
+        sample_n(s.inner.as_ref(), n, &uv, &d, &p)
     })
 }
 
@@ -1315,6 +1397,10 @@ unsafe fn invert_aos<T: Real>(
         let s = r(sampler, "sampler")?;
         let d = In::<T, 3>::aos(directions, n, "directions")?;
         let o = Out::<T, 2>::aos(uv, n, "uv")?;
+        // A method without inverse says so for every n, 0 included (issue 25).
+        if s.inner.invert([0.0, 0.0, 1.0]) == Err(InvertError::Unsupported) {
+            return Err(invert_error(InvertError::Unsupported));
+        }
         eval_n(n, &d, &o, |dirs, res| {
             invert_or_nan(s.inner.as_ref(), dirs, res)
         })
@@ -1335,6 +1421,10 @@ unsafe fn invert_soa<T: Real>(
         let s = r(sampler, "sampler")?;
         let d = In::<T, 3>::soa([(x, "x"), (y, "y"), (z, "z")], n)?;
         let o = Out::<T, 2>::soa([(u, "u"), (v, "v")], n)?;
+        // A method without inverse says so for every n, 0 included (issue 25).
+        if s.inner.invert([0.0, 0.0, 1.0]) == Err(InvertError::Unsupported) {
+            return Err(invert_error(InvertError::Unsupported));
+        }
         eval_n(n, &d, &o, |dirs, res| {
             invert_or_nan(s.inner.as_ref(), dirs, res)
         })
@@ -1619,3 +1709,5 @@ pub unsafe extern "C" fn gonio_invert_batch_soa_f32(
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_abuse;

@@ -17,7 +17,12 @@ fn committed_header_is_current() {
         .generate()
         .expect("cbindgen generates the header")
         .write(&mut generated);
-    let generated = String::from_utf8(generated).expect("the header is UTF-8");
+    let generated = c89_comments(&String::from_utf8(generated).expect("the header is UTF-8"));
+    // C89 code may include the header (issue 25): no `//` comment anywhere.
+    assert!(
+        !generated.contains("//"),
+        "a // comment is left in the header"
+    );
     let path = crate_dir.join("include/gonio.h");
     if std::env::var_os("GONIO_BLESS").is_some() {
         std::fs::write(&path, &generated).expect("include/gonio.h is writable");
@@ -40,4 +45,25 @@ fn committed_header_is_current() {
     ] {
         assert!(generated.contains(f), "{f} is missing from the header");
     }
+}
+
+/// cbindgen's own trailing comments (`#endif  // __cplusplus`, `}  // extern "C"`) are `//`
+/// comments whatever the documentation style: rewritten as `/* … */` so that the header is C89.
+fn c89_comments(header: &str) -> String {
+    let mut out = String::with_capacity(header.len());
+    for line in header.split_inclusive('\n') {
+        let (body, nl) = match line.strip_suffix('\n') {
+            Some(b) => (b, "\n"),
+            None => (line, ""),
+        };
+        match body.find("//") {
+            Some(k) => {
+                let text = body[k + 2..].trim();
+                out.push_str(body[..k].trim_end());
+                out.push_str(&format!(" /* {text} */{nl}"));
+            }
+            None => out.push_str(line),
+        }
+    }
+    out
 }

@@ -24,7 +24,7 @@ use std::sync::Mutex;
 /// of it is read. The largest real files in the test corpus are under 0.5 MB; a JSON diagram at
 /// the node limit ([`gonio::diagram::MAX_NODES`] values, at least 2 bytes each) is larger than
 /// this, so it is refused by size before parsing.
-pub const MAX_INPUT_BYTES: u64 = 64 << 20;
+pub const MAX_INPUT_BYTES: u64 = gonio::photometry::MAX_FILE_BYTES;
 
 /// Largest TILT file read: 4 MiB (a TILT table of the largest allowed size,
 /// [`gonio::photometry::MAX_ANGLES`] angle/factor pairs, fits in well under this).

@@ -182,10 +182,8 @@ pub fn load(name: &str) -> anyhow::Result<Loaded> {
         (Some(found), _) => found,
         (None, Some(ext)) => ext,
         (None, None) => {
-            if let Some(which) = gonio::photometry::utf16_encoding(&bytes) {
-                anyhow::bail!(
-                    "{name}: the file is UTF-16 text ({which}); save it as UTF-8 or ASCII"
-                );
+            if let Some(what) = gonio::photometry::not_text(&bytes) {
+                anyhow::bail!("{name}: {what}; save it as UTF-8 or ASCII");
             }
             // The extension's message (unknown or missing), with what the content was not.
             return Err(input_kind(name).expect_err("no hint").context(format!(
@@ -196,8 +194,8 @@ pub fn load(name: &str) -> anyhow::Result<Loaded> {
     let (diagram, photometry) = match kind {
         InputKind::Example | InputKind::EnvMap => unreachable!("handled above"),
         InputKind::Json => {
-            if let Some(which) = gonio::photometry::utf16_encoding(&bytes) {
-                anyhow::bail!("{name}: the file is UTF-16 text ({which}); save it as UTF-8");
+            if let Some(what) = gonio::photometry::not_text(&bytes) {
+                anyhow::bail!("{name}: {what}; save it as UTF-8");
             }
             let body = bytes.strip_prefix(b"\xef\xbb\xbf").unwrap_or(&bytes);
             let text = std::str::from_utf8(body)

@@ -75,7 +75,8 @@ pub(crate) fn domain_name(d: Domain) -> &'static str {
 }
 
 pub(crate) fn parse_domain(s: &str) -> PyResult<Domain> {
-    match s {
+    // Names are matched as everywhere in gonio: ASCII letter case and blanks do not matter.
+    match s.trim().to_ascii_lowercase().as_str() {
         "hemisphere" => Ok(Domain::Hemisphere),
         "sphere" => Ok(Domain::Sphere),
         _ => Err(InputError::new_err(format!(
@@ -116,7 +117,7 @@ fn strip_serde_location(message: &str) -> &str {
 }
 
 fn parse_format(format: &str) -> PyResult<Source> {
-    match format.to_ascii_lowercase().as_str() {
+    match format.trim().to_ascii_lowercase().as_str() {
         "ies" => Ok(Source::Ies),
         "ldt" | "eulumdat" => Ok(Source::Ldt),
         "json" => Ok(Source::Json),
@@ -210,7 +211,18 @@ pub(crate) fn read(py: Python<'_>, path: PathBuf, format: Option<&str>) -> PyRes
             "cannot read {name}: not a regular file"
         )));
     }
-    let bytes = std::fs::read(&path).map_err(|e| read_error(&name, &e))?;
+    // One cap for every front end, checked before anything is read (issue 25).
+    let max = photometry::MAX_FILE_BYTES;
+    if meta.len() > max {
+        return Err(too_large(&name, meta.len()));
+    }
+    let mut bytes = Vec::new();
+    std::fs::File::open(&path)
+        .and_then(|f| std::io::Read::read_to_end(&mut std::io::Read::take(f, max + 1), &mut bytes))
+        .map_err(|e| read_error(&name, &e))?;
+    if bytes.len() as u64 > max {
+        return Err(too_large(&name, bytes.len() as u64));
+    }
     let dir: PathBuf = match Path::new(&path).parent() {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
         _ => PathBuf::from("."),
@@ -218,6 +230,20 @@ pub(crate) fn read(py: Python<'_>, path: PathBuf, format: Option<&str>) -> PyRes
     let resolver = DirTiltResolver::new(dir);
     let d = crate::no_panic(&name, || load(&bytes, source, &name, &resolver))??;
     Py::new(py, d)
+}
+
+/// The ParseError of an input over [`photometry::MAX_FILE_BYTES`] (the CLI's message).
+fn too_large(name: &str, len: u64) -> PyErr {
+    let max = photometry::MAX_FILE_BYTES;
+    parse_error(
+        name,
+        0,
+        0,
+        &format!(
+            "the file has {len} bytes, more than the limit of {max} bytes ({} MiB); not read",
+            max >> 20
+        ),
+    )
 }
 
 fn read_error(name: &str, e: &std::io::Error) -> PyErr {
@@ -253,6 +279,9 @@ pub(crate) fn read_bytes(
             data.get_type().name()?
         )));
     };
+    if bytes.len() as u64 > photometry::MAX_FILE_BYTES {
+        return Err(too_large(name, bytes.len() as u64));
+    }
     let d = crate::no_panic(name, || load(&bytes, source, name, &NoTiltFiles))??;
     Py::new(py, d)
 }
@@ -311,29 +340,24 @@ impl PyDiagram {
     /// Parallels θ in degrees from +z, strictly increasing, shape (N,): the shortest decimals that
     /// convert back to the stored radians (15.0, not 14.999999999999998), as `to_json` writes them.
     #[getter]
-    fn theta_deg<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        arrays::new_1d(
-            py,
-            self.diagram.theta().iter().map(|&t| degrees(t)).collect(),
-        )
+    fn theta_deg<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let t: Vec<f64> = self.diagram.theta().iter().map(|&t| degrees(t)).collect();
+        arrays::new_1d(py, &t)
     }
 
     /// Meridians φ in degrees from +x toward +y, strictly increasing in [0°, 360°), shape (M,);
     /// the shortest decimals, as `theta_deg`.
     #[getter]
-    fn phi_deg<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        arrays::new_1d(py, self.diagram.phi().iter().map(|&p| degrees(p)).collect())
+    fn phi_deg<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let p: Vec<f64> = self.diagram.phi().iter().map(|&p| degrees(p)).collect();
+        arrays::new_1d(py, &p)
     }
 
     /// The values, shape (M, N): `values[i, j]` at (phi_deg[i], theta_deg[j]); candela for
     /// photometric files (after every multiplier of the file).
     #[getter]
-    fn values<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
-        arrays::new_2d(
-            py,
-            self.diagram.values().to_vec(),
-            self.diagram.n_parallels(),
-        )
+    fn values<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        arrays::new_2d(py, self.diagram.values(), self.diagram.n_parallels())
     }
 
     /// ∫ over the sphere of the diagram interpolated bilinearly in (θ, φ), in closed form:
@@ -515,23 +539,23 @@ fn header_dict<'py>(py: Python<'py>, p: &Photometry) -> PyResult<Bound<'py, PyDi
     }
     if let Some(t) = p.tilt.table() {
         tilt.set_item("geometry", t.geometry)?;
-        tilt.set_item("angles_deg", arrays::new_1d(py, t.angles_deg.clone()))?;
-        tilt.set_item("factors", arrays::new_1d(py, t.factors.clone()))?;
+        tilt.set_item("angles_deg", arrays::new_1d(py, &t.angles_deg)?)?;
+        tilt.set_item("factors", arrays::new_1d(py, &t.factors)?)?;
     }
     tilt.set_item("tilt_angle_deg", p.tilt_angle_deg)?;
     d.set_item("tilt", tilt)?;
     d.set_item(
         "vertical_angles_deg",
-        arrays::new_1d(py, p.vertical_angles_deg.clone()),
+        arrays::new_1d(py, &p.vertical_angles_deg)?,
     )?;
     d.set_item(
         "horizontal_angles_deg",
-        arrays::new_1d(py, p.horizontal_angles_deg.clone()),
+        arrays::new_1d(py, &p.horizontal_angles_deg)?,
     )?;
     let nv = p.vertical_angles_deg.len().max(1);
-    d.set_item("raw_values", arrays::new_2d(py, p.raw_values.clone(), nv))?;
+    d.set_item("raw_values", arrays::new_2d(py, &p.raw_values, nv)?)?;
     d.set_item("intensity_scale", p.intensity_scale)?;
-    d.set_item("candela", arrays::new_2d(py, p.candela.clone(), nv))?;
+    d.set_item("candela", arrays::new_2d(py, &p.candela, nv)?)?;
     d.set_item("max_intensity_cd", p.max_intensity_cd())?;
     if let Some(i) = &p.ies {
         let e = PyDict::new(py);

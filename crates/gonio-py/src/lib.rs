@@ -68,14 +68,17 @@ create_exception!(
 
 /// Runs `f`, turning a panic into [`InternalError`] so that no panic unwinds into Python.
 pub(crate) fn no_panic<T>(what: &str, f: impl FnOnce() -> T) -> PyResult<T> {
-    std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).map_err(|p| {
-        let msg = p
-            .downcast_ref::<&str>()
-            .map(|s| s.to_string())
-            .or_else(|| p.downcast_ref::<String>().cloned())
-            .unwrap_or_else(|| "unknown panic".into());
-        InternalError::new_err(format!("{what}: internal error (a bug in gonio): {msg}"))
-    })
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).map_err(|p| panic_error(what, p))
+}
+
+/// The [`InternalError`] of a caught panic's payload.
+pub(crate) fn panic_error(what: &str, p: Box<dyn std::any::Any + Send>) -> PyErr {
+    let msg = p
+        .downcast_ref::<&str>()
+        .map(|s| s.to_string())
+        .or_else(|| p.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "unknown panic".into());
+    InternalError::new_err(format!("{what}: internal error (a bug in gonio): {msg}"))
 }
 
 /// Runs `f` with the GIL released (other Python threads run meanwhile), catching panics.
@@ -91,6 +94,15 @@ pub(crate) fn detached<T: Send>(
 #[pymodule]
 fn _gonio(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
+    // numpy's C API is looked up on first use, and a failure there (e.g. a Ctrl-C while numpy's
+    // core module loads) would be a panic inside a call; look it up now, so that such a failure
+    // is the import's own exception (KeyboardInterrupt) and later calls cannot meet it.
+    py.import("numpy")?;
+    // SAFETY: a query of the API's version, no argument.
+    no_panic("import gonio", || unsafe {
+        numpy::PY_ARRAY_API.PyArray_GetNDArrayCVersion(py)
+    })
+    .map_err(|e| pyo3::exceptions::PyImportError::new_err(e.to_string()))?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("GonioError", py.get_type::<GonioError>())?;
     m.add("ParseError", py.get_type::<ParseError>())?;

@@ -4,7 +4,7 @@ use crate::arrays;
 use crate::diagram::PyDiagram;
 use crate::sampler::PySampler;
 use crate::{detached, InputError};
-use gonio::check::{cell_boundary_points, run_battery, BatteryOptions};
+use gonio::check::{cell_boundary_points, run_battery_with_progress, BatteryOptions};
 use gonio::photometry::{write_ies, write_ldt, WriteMeta};
 use gonio::sequence::{Sequence, SequenceKind};
 use gonio::Method;
@@ -12,6 +12,7 @@ use gonio::{Diagram, Point2};
 use numpy::PyArray2;
 use pyo3::prelude::*;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Largest number of points `sequence` makes in one call (2 GiB of float64).
 const MAX_POINTS: u64 = 1 << 27;
@@ -43,9 +44,16 @@ pub(crate) fn sequence<'py>(
         )));
     }
     let seq = Sequence::new(kind, seed);
-    let mut pts: Vec<Point2> = vec![[0.0; 2]; n as usize];
-    detached(py, "sequence", || seq.fill_par(start, &mut pts))?;
-    Ok(arrays::new_2d(py, pts.into_flattened(), 2))
+    let n = n as usize;
+    let arr = arrays::zeros::<numpy::Ix2>(py, &[n, 2])?;
+    arrays::fill(&arr, "sequence", |flat| {
+        let (pts, _) = flat.as_chunks_mut::<2>();
+        crate::sampler::in_slices(py, "sequence", n, |r| {
+            seq.fill_par(start + r.start as u64, &mut pts[r]);
+            None
+        })
+    })?;
+    Ok(arr)
 }
 
 /// The names of every sampling method, as `Sampler(method=...)` accepts them.
@@ -87,14 +95,56 @@ pub(crate) fn check<'py>(
     opts.ratio.claimed_bound = s.ratio_bound_value();
     opts.flux_total = s.target_power_value();
     let d = &diagram.get().diagram;
-    let json = detached(py, "check", || {
+    let json = interruptible(py, "check", |stop| {
         opts.round_trip.extra_points =
             cell_boundary_points(s.inner(), d, if quick { 16 } else { 64 });
-        let report = run_battery(s.inner(), &opts);
+        // The battery reports its progress after every chunk of samples: there a pending
+        // Ctrl-C ends it (unwinding with a payload that is no panic, so no hook prints).
+        let report = run_battery_with_progress(s.inner(), &opts, &|_, _| {
+            if stop.load(Ordering::Relaxed) {
+                std::panic::resume_unwind(Box::new(Interrupted));
+            }
+        });
         serde_json::to_string(&report)
     })?
     .map_err(|e| InputError::new_err(e.to_string()))?;
     py.import("json")?.call_method1("loads", (json,))
+}
+
+/// The payload that ends an [`interruptible`] computation early.
+struct Interrupted;
+
+/// Runs `f` on a worker thread while this thread, GIL released, handles signals every 10 ms:
+/// when a signal handler raises (Ctrl-C: KeyboardInterrupt), `stop` is set, the worker ends at
+/// its next check and the exception is returned. A panic of `f` becomes InternalError.
+fn interruptible<T: Send>(
+    py: Python<'_>,
+    what: &str,
+    f: impl FnOnce(&AtomicBool) -> T + Send,
+) -> PyResult<T> {
+    let stop = AtomicBool::new(false);
+    std::thread::scope(|scope| {
+        let worker =
+            scope.spawn(|| std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| f(&stop))));
+        let mut signal = None;
+        while !worker.is_finished() {
+            py.detach(|| std::thread::sleep(std::time::Duration::from_millis(10)));
+            if signal.is_none() {
+                if let Err(e) = py.check_signals() {
+                    stop.store(true, Ordering::Relaxed);
+                    signal = Some(e);
+                }
+            }
+        }
+        let result = py.detach(|| worker.join());
+        if let Some(e) = signal {
+            return Err(e);
+        }
+        match result {
+            Ok(Ok(v)) => Ok(v),
+            Ok(Err(p)) | Err(p) => Err(crate::panic_error(what, p)),
+        }
+    })
 }
 
 /// The output format named by `format` or by `path`'s extension.

@@ -14,6 +14,33 @@ use rayon::prelude::*;
 /// depend on the number of threads.
 const CHUNK: usize = 4096;
 
+/// Rows per slice of a batch: between slices the GIL is taken back and pending signals are
+/// handled (Ctrl-C raises KeyboardInterrupt within one slice's time, a few ms).
+pub(crate) const SLICE: usize = 1 << 18;
+
+/// Runs `f` on consecutive ranges of at most [`SLICE`] of `n` rows with the GIL released,
+/// handling signals between them; `f` returns the first bad row of its range (relative to the
+/// range's start), which stops the batch. Returns the first bad row of the whole batch.
+pub(crate) fn in_slices(
+    py: Python<'_>,
+    what: &str,
+    n: usize,
+    mut f: impl FnMut(std::ops::Range<usize>) -> Option<usize> + Send,
+) -> PyResult<Option<usize>> {
+    let mut start = 0;
+    while start < n {
+        let end = n.min(start + SLICE);
+        if let Some(k) = detached(py, what, || f(start..end))? {
+            return Ok(Some(start + k));
+        }
+        start = end;
+        if start < n {
+            py.check_signals()?;
+        }
+    }
+    Ok(None)
+}
+
 /// Applies `f` to every row on all rayon threads with the GIL released, into a new array; `None`
 /// from `f` marks an invalid row, and the first invalid row (lowest index) is reported.
 pub(crate) fn map_rows<'py, const K: usize>(
@@ -24,8 +51,10 @@ pub(crate) fn map_rows<'py, const K: usize>(
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
     let arr = arrays::output(py, None, what, &[rows.len()])?;
     let bad = arrays::fill(&arr, what, |out| {
-        detached(py, what, || {
-            out.par_chunks_mut(CHUNK)
+        in_slices(py, what, rows.len(), |r| {
+            let rows = &rows[r.clone()];
+            out[r]
+                .par_chunks_mut(CHUNK)
                 .zip(rows.par_chunks(CHUNK))
                 .enumerate()
                 .filter_map(|(c, (o, r))| {
@@ -46,10 +75,17 @@ pub(crate) fn map_rows<'py, const K: usize>(
     match bad {
         None => Ok(arr),
         Some(k) => Err(InputError::new_err(format!(
-            "{what}: row {k}: direction {:?} is zero or not finite",
-            rows[k]
+            "{what}: row {k}: direction {} is zero or not finite",
+            fmt_row(&rows[k])
         ))),
     }
+}
+
+/// A row of numbers for a message, `(x, y, z)`, each in the shortest form that reads back (exponent
+/// form for tiny and huge magnitudes: no 300-digit decimals).
+pub(crate) fn fmt_row(r: &[f64]) -> String {
+    let parts: Vec<String> = r.iter().map(|&x| gonio::decimal::shortest(x)).collect();
+    format!("({})", parts.join(", "))
 }
 
 /// A sampler of a diagram: a bijective map from the unit square [0, 1]² to unit directions with
@@ -220,16 +256,28 @@ impl PySampler {
         let (d, p) = (outs.as_ref().map(|o| &o.0), outs.as_ref().map(|o| &o.1));
         let dirs_a = arrays::output(py, d, "out[0] (directions)", &[n, 3])?;
         let pdf_a = arrays::output(py, p, "out[1] (pdf)", &[n])?;
+        arrays::check_disjoint(&[
+            ("u", rows.span),
+            ("out[0] (directions)", arrays::span(&dirs_a)),
+            ("out[1] (pdf)", arrays::span(&pdf_a)),
+        ])?;
         let s = self.sampler.as_ref();
         let bad = arrays::fill(&dirs_a, "out[0] (directions)", |dirs| {
             arrays::fill(&pdf_a, "out[1] (pdf)", |pdf| {
-                detached(py, "sample", || sample_into(s, &pts, dirs, pdf))
+                in_slices(py, "sample", n, |r| {
+                    sample_into(
+                        s,
+                        &pts[r.clone()],
+                        &mut dirs[3 * r.start..3 * r.end],
+                        &mut pdf[r],
+                    )
+                })
             })
         })?;
         if let Some(k) = bad {
             return Err(InputError::new_err(format!(
-                "u: row {k}: point ({}, {}) is outside the unit square [0, 1]²",
-                pts[k][0], pts[k][1]
+                "u: row {k}: point {} is outside the unit square [0, 1]²",
+                fmt_row(&pts[k])
             )));
         }
         Ok((dirs_a, pdf_a))
@@ -249,13 +297,16 @@ impl PySampler {
         let dirs = rows.as_slice();
         let s = self.sampler.as_ref();
         let out_a = arrays::output(py, out, "out", &[dirs.len()])?;
+        arrays::check_disjoint(&[("directions", rows.span), ("out", arrays::span(&out_a))])?;
         let bad = arrays::fill(&out_a, "out", |out| {
-            detached(py, "pdf", || pdf_into(s, &dirs, out))
+            in_slices(py, "pdf", dirs.len(), |r| {
+                pdf_into(s, &dirs[r.clone()], &mut out[r])
+            })
         })?;
         if let Some(k) = bad {
             return Err(InputError::new_err(format!(
-                "pdf: row {k}: direction {:?} is zero or not finite",
-                dirs[k]
+                "pdf: row {k}: direction {} is zero or not finite",
+                fmt_row(&dirs[k])
             )));
         }
         Ok(out_a)
@@ -297,8 +348,11 @@ impl PySampler {
         let rows = arrays::rows::<3>(directions, "directions")?;
         let dirs = rows.as_slice();
         let out_a = arrays::output(py, out, "out", &[dirs.len(), 2])?;
+        arrays::check_disjoint(&[("directions", rows.span), ("out", arrays::span(&out_a))])?;
         let bad = arrays::fill(&out_a, "out", |out| {
-            detached(py, "invert", || invert_into(s, &dirs, out))
+            in_slices(py, "invert", dirs.len(), |r| {
+                invert_into(s, &dirs[r.clone()], &mut out[2 * r.start..2 * r.end])
+            })
         })?;
         if let Some(k) = bad {
             let d = dirs[k];
@@ -313,8 +367,8 @@ impl PySampler {
                 ),
             };
             return Err(InputError::new_err(format!(
-                "invert: row {k}: direction ({}, {}, {}) {why}",
-                d[0], d[1], d[2]
+                "invert: row {k}: direction {} {why}",
+                fmt_row(&d)
             )));
         }
         Ok(out_a)

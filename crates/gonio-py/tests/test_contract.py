@@ -176,11 +176,11 @@ def test_bad_out_arrays_raise():
         s.pdf(d, out=ro)
     # Overlaps: an output that is the input, and two outputs sharing memory.
     flat = np.zeros(40)
-    with pytest.raises(gonio.InputError, match=r"out\[1\].*cannot be written"):
+    with pytest.raises(gonio.InputError, match=r"out\[1\].*shares memory with out\[0\]"):
         s.sample(u, out=(flat[:30].reshape(10, 3), flat[25:35]))
     buf = np.zeros(30)
     buf[:] = d.ravel()
-    with pytest.raises(gonio.InputError, match=r"out.*cannot be written"):
+    with pytest.raises(gonio.InputError, match=r"out: shares memory with directions"):
         s.pdf(buf.reshape(10, 3), out=buf[5:15])
     with pytest.raises(gonio.InputError, match=r"out: shape \(10, 3\) where \(10, 2\)"):
         s.invert(d, out=np.zeros((10, 3)))

@@ -127,7 +127,7 @@ pub enum DiagramError {
         limit_deg: f64,
     },
     /// A map was asked for a tolerance that is not a finite number > 0.
-    #[error("the tolerance must be a finite number > 0, got {tolerance}")]
+    #[error("the tolerance must be a finite number > 0, got {}", crate::decimal::shortest(*tolerance))]
     BadTolerance {
         /// The tolerance asked for.
         tolerance: f64,

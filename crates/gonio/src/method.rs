@@ -106,6 +106,12 @@ impl Method {
                 theta_max_deg: theta_max.to_degrees(),
             });
         }
+        // One rule for every method (issue 25): a diagram whose power is not a positive finite
+        // number (values near f64::MAX whose integral overflows) has no density to sample.
+        let integral = diagram.integral();
+        if !(integral.is_finite() && integral > 0.0) {
+            return Err(BuildError::NoPower { integral });
+        }
         Ok(match self {
             Method::Hds => match (domain, options.tolerance) {
                 (Domain::Hemisphere, None) => Box::new(HemisphereMap::new(diagram)?),
@@ -150,9 +156,12 @@ pub struct ParseMethodError(pub String);
 impl FromStr for Method {
     type Err = ParseMethodError;
     fn from_str(s: &str) -> Result<Self, Self::Err> {
+        // One rule for every name gonio parses (issue 25; sequences, formats and domains too):
+        // ASCII letter case and surrounding blanks do not matter.
+        let t = s.trim();
         Method::ALL
             .into_iter()
-            .find(|m| m.as_str() == s)
+            .find(|m| m.as_str().eq_ignore_ascii_case(t))
             .ok_or_else(|| ParseMethodError(s.to_owned()))
     }
 }
@@ -237,7 +246,7 @@ pub enum BuildError {
     },
     /// The bilinear interpolant of the diagram integrates to zero (or to a non-finite number), e.g.
     /// a single parallel, so there is no density to sample.
-    #[error("the interpolated diagram has no positive finite power to sample (integral = {integral} sr·unit)")]
+    #[error("the interpolated diagram has no positive finite power to sample (integral = {} sr·unit)", crate::decimal::shortest(*integral))]
     NoPower {
         /// [`Diagram::integral`] of the diagram.
         integral: f64,
@@ -269,7 +278,7 @@ pub enum BuildError {
         min: f64,
     },
     /// The requested tolerance is not a number in (0, 1).
-    #[error("tolerance {tolerance} is outside (0, 1)")]
+    #[error("tolerance {} is outside (0, 1)", crate::decimal::shortest(*tolerance))]
     Tolerance {
         /// The requested tolerance.
         tolerance: f64,
@@ -286,7 +295,10 @@ mod tests {
         for m in Method::ALL {
             assert_eq!(m.to_string().parse::<Method>(), Ok(m));
         }
-        assert!("HDS".parse::<Method>().is_err());
+        // Issue 25: one rule for names, as for sequences: letter case and blanks do not matter.
+        assert_eq!("HDS".parse::<Method>(), Ok(Method::Hds));
+        assert_eq!(" Bilinear ".parse::<Method>(), Ok(Method::Bilinear));
+        assert!("hds2".parse::<Method>().is_err());
         assert_eq!(
             "piecewise-constant".parse::<Method>(),
             Ok(Method::PiecewiseConstant)

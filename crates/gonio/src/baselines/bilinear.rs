@@ -62,8 +62,13 @@ pub struct Bilinear {
     total: f64,
     /// Sector widths β_i, radians.
     beta: Vec<f64>,
-    /// Per meridian i and parallel j, `prefix[i * N + j]` = ∫_{θ_0}^{θ_j} row_i(θ) sin θ dθ.
+    /// Per meridian i and parallel j, `prefix[i * N + j]` = ∫_{θ_0}^{θ_j} row_i(θ) sin θ dθ, of
+    /// the values times `scale`.
     prefix: Vec<f64>,
+    /// A power of two that brings the largest value near 1, so that the tables (whose inversion
+    /// squares masses) neither overflow nor underflow for values from 1e-300 to 1e300; the
+    /// densities do not depend on it.
+    scale: f64,
 }
 
 impl Bilinear {
@@ -76,12 +81,15 @@ impl Bilinear {
         let target = Target::new(diagram, domain)?;
         let (m, n) = (diagram.n_meridians(), diagram.n_parallels());
         let th = diagram.theta();
+        let scale = unit_scale(diagram.max_value());
         let mut prefix = vec![0.0; m * n];
         for i in 0..m {
             let row = &mut prefix[i * n..(i + 1) * n];
             for j in 0..n - 1 {
                 let (w0, w1) = cell_weights(th[j], th[j + 1]);
-                row[j + 1] = row[j] + w0 * diagram.value(i, j) + w1 * diagram.value(i, j + 1);
+                row[j + 1] = row[j]
+                    + w0 * (scale * diagram.value(i, j))
+                    + w1 * (scale * diagram.value(i, j + 1));
             }
         }
         let beta = diagram.sector_widths();
@@ -101,6 +109,7 @@ impl Bilinear {
             total,
             beta,
             prefix,
+            scale,
         })
     }
 
@@ -267,7 +276,7 @@ impl Sampler for Bilinear {
             j -= 1;
         }
         let (c0, c1) = (c(j), c(j + 1));
-        let val = |k: usize| wa * d.value(i, k) + wb * d.value(i1, k);
+        let val = |k: usize| self.scale * (wa * d.value(i, k) + wb * d.value(i1, k));
         let delta = th[j + 1] - th[j];
         let s = solve_cell(
             th[j],
@@ -292,6 +301,10 @@ impl Sampler for Bilinear {
         if !self.target.domain.contains(dir) {
             return Err(InvertError::OutsideDomain);
         }
+        // The rule of every sampler: no point maps where the density is 0.
+        if self.target.pdf(dir) == 0.0 {
+            return Err(InvertError::ZeroDensity);
+        }
         let d = &self.target.diagram;
         let (m, n) = (d.n_meridians(), d.n_parallels());
         let th = d.theta();
@@ -306,7 +319,7 @@ impl Sampler for Bilinear {
         let theta = theta.clamp(th[0], th[n - 1]);
         let j = segment(th, theta);
         let c0 = wa * self.prefix[i * n + j] + wb * self.prefix[i1 * n + j];
-        let val = |k: usize| wa * d.value(i, k) + wb * d.value(i1, k);
+        let val = |k: usize| self.scale * (wa * d.value(i, k) + wb * d.value(i1, k));
         let (st, ct) = th[j].sin_cos();
         let delta = th[j + 1] - th[j];
         let (f, _) = cell_cdf(
@@ -334,4 +347,14 @@ impl Sampler for Bilinear {
             + std::mem::size_of::<f64>()
                 * (self.sector_cdf.len() + self.beta.len() + self.prefix.len())
     }
+}
+
+/// The power of two 2^-e that brings `max` (positive, finite) into [1, 2); 1 for anything else.
+fn unit_scale(max: f64) -> f64 {
+    if !(max.is_finite() && max > 0.0) {
+        return 1.0;
+    }
+    let e = max.log2().floor().clamp(-1000.0, 1000.0) as i32;
+    // 2^-e in two exact steps (2^±1000 alone is representable, but keep the product normal).
+    2f64.powi(-e / 2) * 2f64.powi(-e + e / 2)
 }

@@ -275,6 +275,11 @@ impl Sampler for PiecewiseConstant {
         let p = self
             .square_point(direction)
             .ok_or(InvertError::OutsideDomain)?;
+        // The rule of every sampler: no point maps where the density is 0 (the pixel's
+        // preimage is empty; a point returned here would map elsewhere).
+        if Sampler::pdf(self, direction) == 0.0 {
+            return Err(InvertError::ZeroDensity);
+        }
         let n = self.resolution;
         let (r, c) = self.pixel(p);
         let du = (p[0] * n as f64 - c as f64).clamp(0.0, 1.0);

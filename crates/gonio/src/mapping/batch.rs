@@ -841,11 +841,16 @@ pub(crate) fn invert_batch_aos<S: SoaSampler>(
             [&b[0][..n], &b[1][..n], &b[2][..n]],
             [&mut u[..n], &mut v[..n]],
         );
+        // The rule of every sampler (issue 25): no preimage where the density is 0.
+        let mut p = [0.0f64; CHUNK];
+        pdf_batch_aos(s, d, &mut p[..n]);
         for (k, o) in out.iter_mut().enumerate() {
             // One store per branch: a `Result` built first and then copied was stored with
             // unaligned moves that stalled on store forwarding (30 % of the inverse's time).
             if u[k].is_nan() || v[k].is_nan() {
                 *o = Err(no_preimage(s, d[k]));
+            } else if p[k] == 0.0 {
+                *o = Err(InvertError::ZeroDensity);
             } else {
                 *o = Ok([u[k], v[k]]);
             }

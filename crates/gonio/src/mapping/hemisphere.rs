@@ -298,6 +298,12 @@ impl Sampler for HemisphereMap {
         if !(direction[2] >= 0.0) || !direction.iter().all(|c| c.is_finite()) {
             return Err(InvertError::OutsideDomain);
         }
+        // The rule of every sampler (issue 25): no point maps where the density is 0 (e.g.
+        // outside the measured range of θ); the map's inverse there is a boundary point that
+        // samples another direction.
+        if self.pdf(direction) == 0.0 {
+            return Err(InvertError::ZeroDensity);
+        }
         Ok(self.core.invert(direction))
     }
     fn target_pdf(&self, direction: Vec3) -> f64 {

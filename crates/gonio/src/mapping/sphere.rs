@@ -597,6 +597,10 @@ impl Sampler for SphereMap {
         if !d.iter().all(|c| c.is_finite()) {
             return Err(InvertError::OutsideDomain);
         }
+        // The rule of every sampler (issue 25): no point maps where the density is 0.
+        if self.pdf(d) == 0.0 {
+            return Err(InvertError::ZeroDensity);
+        }
         match &self.layout {
             Layout::Split {
                 upper,

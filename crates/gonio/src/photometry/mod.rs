@@ -649,13 +649,13 @@ pub fn read(
     format: FileFormat,
     tilt: &dyn TiltResolver,
 ) -> Result<Photometry, ParseError> {
-    if let Some(which) = utf16_encoding(bytes) {
+    if let Some(what) = not_text(bytes) {
         return Err(ParseError::new(
             1,
             1,
             format!(
-                "the file is UTF-16 text ({which}); photometric files are ASCII (or UTF-8 / \
-                 Latin-1): save it in one of those"
+                "{what}; photometric files are ASCII (or UTF-8 / Latin-1): save it in one of \
+                 those"
             ),
         ));
     }
@@ -699,8 +699,54 @@ pub fn aggregate_warnings(warnings: Vec<Warning>) -> Vec<Warning> {
         .collect()
 }
 
+/// The largest input file every front end (CLI, Python, C) reads: 64 MiB, checked against the
+/// file's size before anything is read (issue 25: one cap for all). The largest real files of
+/// the test corpus are under 0.5 MB.
+pub const MAX_FILE_BYTES: u64 = 64 << 20;
+
+/// Why the bytes are not single-byte text, as the start of a message ("the file is UTF-16 text
+/// (UTF-16LE, byte-order mark FF FE)"): only NUL bytes, UTF-32 or UTF-16 (issue 25: the first
+/// two were reported as UTF-16); None for anything else.
+pub fn not_text(bytes: &[u8]) -> Option<String> {
+    let head = &bytes[..bytes.len().min(64)];
+    if !head.is_empty() && head.iter().all(|&b| b == 0) {
+        return Some(format!(
+            "the file is not text: its first {} bytes are all NUL (0x00)",
+            head.len()
+        ));
+    }
+    if let Some(which) = utf32_encoding(bytes) {
+        return Some(format!("the file is UTF-32 text ({which})"));
+    }
+    utf16_encoding(bytes).map(|which| format!("the file is UTF-16 text ({which})"))
+}
+
+/// Which UTF-32 encoding the bytes are in: a UTF-32 byte-order mark, or (without one) three NUL
+/// bytes in every group of four of the first line's worth of ASCII.
+fn utf32_encoding(bytes: &[u8]) -> Option<&'static str> {
+    match bytes {
+        [0xff, 0xfe, 0, 0, ..] => Some("UTF-32LE, byte-order mark FF FE 00 00"),
+        [0, 0, 0xfe, 0xff, ..] => Some("UTF-32BE, byte-order mark 00 00 FE FF"),
+        _ => {
+            let head = &bytes[..bytes.len().min(64) / 4 * 4];
+            if head.len() < 8 || head.iter().all(|&b| b == 0) {
+                return None;
+            }
+            let quads = || head.chunks_exact(4);
+            if quads().all(|q| q[1] == 0 && q[2] == 0 && q[3] == 0) {
+                return Some("UTF-32LE without byte-order mark");
+            }
+            if quads().all(|q| q[0] == 0 && q[1] == 0 && q[2] == 0) {
+                return Some("UTF-32BE without byte-order mark");
+            }
+            None
+        }
+    }
+}
+
 /// Which UTF-16 encoding the bytes are in, if they are UTF-16 text: a UTF-16 byte-order mark, or (without
-/// one) a NUL in every other byte of the first line's worth of ASCII.
+/// one) a NUL in every other byte of the first line's worth of ASCII. Use [`not_text`] to tell
+/// UTF-16 from UTF-32 and from NUL bytes, which this also matches.
 pub fn utf16_encoding(bytes: &[u8]) -> Option<&'static str> {
     match bytes {
         [0xff, 0xfe, ..] => Some("UTF-16LE, byte-order mark FF FE"),

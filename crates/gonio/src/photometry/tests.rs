@@ -950,3 +950,30 @@ fn format_is_detected_from_the_content() {
     assert_eq!(FileFormat::detect(b"{\"theta_deg\": []}"), None);
     assert_eq!(FileFormat::detect(b""), None);
 }
+
+// Issue 25: all-NUL and UTF-32 files are named as what they are, not "UTF-16".
+#[test]
+fn nul_and_utf32_files_are_not_called_utf16() {
+    let text = "IESNA:LM-63-2002\nTILT=NONE\n";
+    let utf32le: Vec<u8> = text.bytes().flat_map(|b| [b, 0, 0, 0]).collect();
+    let utf32be: Vec<u8> = text.bytes().flat_map(|b| [0, 0, 0, b]).collect();
+    let mut bom32 = vec![0xff, 0xfe, 0, 0];
+    bom32.extend(&utf32le);
+    let utf16le: Vec<u8> = text.bytes().flat_map(|b| [b, 0]).collect();
+    let cases: [(&[u8], &str); 5] = [
+        (&[0u8; 100], "all NUL"),
+        (&utf32le, "UTF-32LE without"),
+        (&utf32be, "UTF-32BE without"),
+        (&bom32, "UTF-32LE, byte-order mark"),
+        (&utf16le, "UTF-16LE without"),
+    ];
+    for (bytes, want) in cases {
+        for format in [FileFormat::Ies, FileFormat::Eulumdat] {
+            let e = read(bytes, format, &NoTiltFiles).unwrap_err();
+            assert!(e.message.contains(want), "{want}: {e}");
+            assert_eq!((e.line, e.column), (1, 1));
+        }
+    }
+    assert_eq!(not_text(b"IESNA:LM-63-2002\n"), None);
+    assert_eq!(not_text(b""), None);
+}

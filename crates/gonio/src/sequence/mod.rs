@@ -18,6 +18,7 @@
 //! ```
 
 mod halton;
+mod jump;
 mod random;
 mod sobol;
 
@@ -121,7 +122,7 @@ impl Sequence {
         }
     }
 
-    /// Point number `index` of the sequence. For [`Random`] this costs O(index / 2¹⁶ + 2¹⁶) (see
+    /// Point number `index` of the sequence. For [`Random`] this costs O(log index + 2¹⁶) (see
     /// there); prefer [`Sequence::fill`] for runs of points.
     pub fn point(&self, index: u64) -> Point2 {
         match self {
