@@ -95,21 +95,21 @@ impl PyEnvMap {
         }
         let env = &self.env;
         let (d, p, c) = detached(py, "EnvMap.sample", || {
-            let mut d = Vec::with_capacity(3 * pts.len());
-            let mut p = Vec::with_capacity(pts.len());
-            let mut c = Vec::with_capacity(3 * pts.len());
+            let mut d = arrays::try_vec(3 * pts.len(), "directions")?;
+            let mut p = arrays::try_vec(pts.len(), "pdf")?;
+            let mut c = arrays::try_vec(3 * pts.len(), "rgb")?;
             for &u in pts.iter() {
                 let s = env.sample(u);
                 d.extend_from_slice(&s.direction);
                 p.push(s.pdf);
                 c.extend(s.radiance.map(f64::from));
             }
-            (d, p, c)
-        })?;
+            PyResult::Ok((d, p, c))
+        })??;
         Ok((
-            arrays::new_2d(py, d, 3),
-            arrays::new_1d(py, p),
-            arrays::new_2d(py, c, 3),
+            arrays::new_2d(py, &d, 3)?,
+            arrays::new_1d(py, &p)?,
+            arrays::new_2d(py, &c, 3)?,
         ))
     }
 
@@ -123,9 +123,11 @@ impl PyEnvMap {
         let ds = rows.as_slice();
         let env = &self.env;
         let p = detached(py, "EnvMap.pdf", || {
-            ds.iter().map(|&d| env.pdf(d)).collect()
-        })?;
-        Ok(arrays::new_1d(py, p))
+            let mut p = arrays::try_vec(ds.len(), "pdf")?;
+            p.extend(ds.iter().map(|&d| env.pdf(d)));
+            PyResult::Ok(p)
+        })??;
+        arrays::new_1d(py, &p)
     }
 
     /// ``eval(directions)``: the RGB radiance (n, 3) by the map's lookup.
@@ -138,11 +140,11 @@ impl PyEnvMap {
         let ds = rows.as_slice();
         let env = &self.env;
         let c = detached(py, "EnvMap.eval", || {
-            ds.iter()
-                .flat_map(|&d| env.eval(d).map(f64::from))
-                .collect()
-        })?;
-        Ok(arrays::new_2d(py, c, 3))
+            let mut c = arrays::try_vec(3 * ds.len(), "rgb")?;
+            c.extend(ds.iter().flat_map(|&d| env.eval(d).map(f64::from)));
+            PyResult::Ok(c)
+        })??;
+        arrays::new_2d(py, &c, 3)
     }
 
     /// ``invert(directions)``: the points (n, 2) of the square that ``sample`` maps to them
@@ -156,10 +158,13 @@ impl PyEnvMap {
         let ds = rows.as_slice();
         let env = &self.env;
         let u = detached(py, "EnvMap.invert", || {
-            ds.iter()
-                .flat_map(|&d| env.invert(d).unwrap_or([f64::NAN; 2]))
-                .collect()
-        })?;
-        Ok(arrays::new_2d(py, u, 2))
+            let mut u = arrays::try_vec(2 * ds.len(), "u")?;
+            u.extend(
+                ds.iter()
+                    .flat_map(|&d| env.invert(d).unwrap_or([f64::NAN; 2])),
+            );
+            PyResult::Ok(u)
+        })??;
+        arrays::new_2d(py, &u, 2)
     }
 }

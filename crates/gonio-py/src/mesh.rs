@@ -87,11 +87,11 @@ pub(crate) fn texture_uv<'py>(
     let out = PyDict::new(py);
     out.set_item(
         "positions",
-        arrays::new_2d(py, m.positions.iter().flatten().copied().collect(), 3),
+        arrays::new_2d(py, m.positions.as_flattened(), 3)?,
     )?;
     out.set_item(
         "uvs",
-        arrays::new_2d(py, m.uvs.iter().flatten().copied().collect(), 2),
+        arrays::new_2d(py, m.uvs.as_flattened(), 2)?,
     )?;
     let idx = |pick: fn(&gonio::mesh::Corner) -> u32| -> Vec<Vec<u32>> {
         m.triangles
