@@ -22,8 +22,8 @@ use pyo3::prelude::*;
 
 mod arrays;
 mod diagram;
-mod mesh;
 mod envmap;
+mod mesh;
 mod misc;
 mod sampler;
 

@@ -89,10 +89,7 @@ pub(crate) fn texture_uv<'py>(
         "positions",
         arrays::new_2d(py, m.positions.as_flattened(), 3)?,
     )?;
-    out.set_item(
-        "uvs",
-        arrays::new_2d(py, m.uvs.as_flattened(), 2)?,
-    )?;
+    out.set_item("uvs", arrays::new_2d(py, m.uvs.as_flattened(), 2)?)?;
     let idx = |pick: fn(&gonio::mesh::Corner) -> u32| -> Vec<Vec<u32>> {
         m.triangles
             .iter()
