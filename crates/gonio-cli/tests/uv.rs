@@ -115,6 +115,39 @@ fn uv_and_bake_write_what_they_say() {
         tex.to_str().unwrap(),
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    // A constant high-dynamic-range lat-long image (PFM, linear values) bakes to a constant texture
+    // everywhere (0.502, 0.254 and 2.0 clamped: 128, 65, 255 in 8 bits).
+    let pfm = dir.join("sky.pfm");
+    let sky = gonio::image::Image::constant(8, 4, [0.502, 0.254, 2.0]).unwrap();
+    std::fs::write(&pfm, gonio::image::write_pfm(&sky, false, false)).unwrap();
+    let hdr_tex = dir.join("sky.png");
+    let o = run(&[
+        "bake",
+        p,
+        "--texture",
+        pfm.to_str().unwrap(),
+        "--resolution",
+        "8",
+        "-o",
+        hdr_tex.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    {
+        let dec = png::Decoder::new(std::io::BufReader::new(
+            std::fs::File::open(&hdr_tex).unwrap(),
+        ));
+        let mut r = dec.read_info().unwrap();
+        let mut buf = vec![0u8; r.output_buffer_size()];
+        let info = r.next_frame(&mut buf).unwrap();
+        let px = &buf[..info.buffer_size()];
+        assert!(
+            px.chunks_exact(3).all(|c| c == [128, 65, 255]),
+            "{:?}",
+            &px[..12]
+        );
+    }
+    std::fs::remove_file(&pfm).unwrap();
+    std::fs::remove_file(&hdr_tex).unwrap();
     // Nothing else was left in the folder (no temporary files).
     assert_eq!(
         names(&dir),

@@ -4,8 +4,8 @@
 //! * `gonio uv MESH.obj|.ply -o OUT.obj [--density surface|solid-angle|property:NAME|FILE]
 //!   [--center X,Y,Z] [--layout hds|latlong|cube|octahedral] [--grid N]`: writes the mesh with
 //!   `vt` and prints the centre, the cut and the measures on standard error.
-//! * `gonio bake MESH … --texture IMAGE.png|checker --resolution N -o TEX.png [--obj OUT.obj]
-//!   [--preview PREVIEW.png]`: resamples an equirectangular PNG (or a procedural checkerboard over
+//! * `gonio bake MESH … --texture IMAGE.png|IMAGE.hdr|.exr|.pfm|checker --resolution N -o TEX.png
+//!   [--obj OUT.obj] [--preview PREVIEW.png]`: resamples an equirectangular image (or a procedural checkerboard over
 //!   directions) into the map's square texture; `--obj` also writes the OBJ with an MTL (beside
 //!   it, same stem) naming TEX.png, `--preview` a render of the mesh with a texture-space
 //!   checkerboard.
@@ -69,8 +69,9 @@ pub struct UvArgs {
 pub struct BakeArgs {
     #[command(flatten)]
     pub mesh: MeshArgs,
-    /// An equirectangular PNG (column: φ from +x toward +y, row: θ from +z at the top), or
-    /// `checker` for a checkerboard over directions.
+    /// An equirectangular image: PNG, or `.hdr`/`.exr`/`.pfm` (linear values, clamped to [0, 1]
+    /// in the 8-bit output), in the environment maps' lat-long frame (top row +z, centre column
+    /// +x, φ decreasing to the right); or `checker` for a checkerboard over directions.
     #[arg(long)]
     pub texture: String,
     /// The square texture's width and height in texels.
@@ -305,6 +306,34 @@ fn read_png(path: &Path) -> Result<Image> {
     })
 }
 
+/// Reads a high-dynamic-range lat-long image (`.hdr`, `.exr`, `.pfm`, by the readers of
+/// `gonio::image`) as linear RGB floats, in the frame of the environment maps.
+fn read_hdr_image(path: &Path) -> Result<Image> {
+    let name = shown(path);
+    let bytes = read_regular(path, &name, crate::envmap_in::MAX_IMAGE_BYTES)?;
+    let format = gonio::image::ImageFormat::sniff(&bytes)
+        .or_else(|| gonio::image::ImageFormat::from_path(path));
+    let img = gonio::image::Image::from_bytes(&bytes, format)
+        .map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
+    for w in img.warnings() {
+        eprintln!("gonio: warning: {name}: {w}");
+    }
+    let (w, h) = (img.width(), img.height());
+    if w < 2 || h < 2 {
+        bail!("{name}: the image is {w} × {h}; an equirectangular texture needs at least 2 × 2");
+    }
+    let rgb = img
+        .rgb()
+        .chunks_exact(3)
+        .map(|p| [p[0], p[1], p[2]])
+        .collect();
+    Ok(Image {
+        width: w,
+        height: h,
+        rgb,
+    })
+}
+
 /// Encodes an RGB float image (clamped to [0, 1]) as an 8-bit RGB PNG.
 fn encode_png(img: &Image) -> Result<Vec<u8>> {
     let mut bytes = Vec::new();
@@ -332,6 +361,8 @@ pub fn run_bake(a: &BakeArgs) -> Result<()> {
     }
     let source = if a.texture == "checker" {
         None
+    } else if crate::envmap_in::is_image_name(&a.texture) {
+        Some(read_hdr_image(Path::new(&a.texture))?)
     } else {
         Some(read_png(Path::new(&a.texture))?)
     };

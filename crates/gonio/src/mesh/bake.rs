@@ -4,9 +4,10 @@
 //! texture has texture coordinate ((x + ½)/N, 1 − (y + ½)/N), so that OBJ's `vt` (v up) addresses
 //! it as usual.
 //!
-//! An **equirectangular** image of W × H pixels covers the sphere with column x at φ = 2π(x + ½)/W
-//! (from +x toward +y) and row y at θ = π(y + ½)/H (from +z, the top row): the library's direction
-//! frame ([`crate::sampler::spherical`]).
+//! An **equirectangular** image of W × H pixels is read in the project's one lat-long frame, that
+//! of the environment maps ([`crate::envmap`], docs/ENVMAPS.md): row y at θ = π(y + ½)/H (from +z,
+//! the top row), column x at s = (x + ½)/W with φ = π − 2πs, so the centre column looks along +x
+//! and φ decreases to the right ([`crate::envmap::phi_to_s`]).
 
 use super::param::TextureMap;
 use super::UvMesh;
@@ -28,7 +29,7 @@ pub struct Image {
 /// clamped in θ).
 pub fn sample_equirect(img: &Image, d: Vec3) -> [f32; 3] {
     let (t, p) = spherical(d);
-    let x = p / TAU * img.width as f64 - 0.5;
+    let x = crate::envmap::phi_to_s(p) * img.width as f64 - 0.5;
     let y = (t / PI * img.height as f64 - 0.5).clamp(0.0, (img.height - 1) as f64);
     let x0 = x.floor();
     let fx = (x - x0) as f32;
@@ -228,4 +229,43 @@ fn cross3(a: Vec3, b: Vec3) -> Vec3 {
 fn norm3(a: Vec3) -> Vec3 {
     let l = dot3(a, a).sqrt();
     [a[0] / l, a[1] / l, a[2] / l]
+}
+
+#[cfg(test)]
+mod frame_tests {
+    use super::*;
+    use crate::envmap::{EnvOptions, EnvironmentMap, Lookup};
+
+    /// The bake reads lat-long images in the environment maps' frame: at every pixel centre the
+    /// bilinear lookup of `sample_equirect` returns that pixel, and so does the environment map's
+    /// own lookup (nearest and bilinear) of the same direction.
+    #[test]
+    fn equirect_frame_is_the_envmap_frame() {
+        let (w, h) = (8usize, 4usize);
+        let rgb: Vec<f32> = (0..w * h)
+            .flat_map(|i| [1.0 + i as f32, 0.5 * i as f32, 100.0 - i as f32])
+            .collect();
+        let img = crate::image::Image::new(w, h, rgb.clone()).unwrap();
+        let bake_img = Image {
+            width: w,
+            height: h,
+            rgb: rgb.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect(),
+        };
+        let env = EnvironmentMap::with_options(img, EnvOptions::default()).unwrap();
+        for y in 0..h {
+            for x in 0..w {
+                let d = crate::envmap::image_direction(
+                    (x as f64 + 0.5) / w as f64,
+                    (y as f64 + 0.5) / h as f64,
+                );
+                let want = bake_img.rgb[y * w + x];
+                let got = sample_equirect(&bake_img, d);
+                let env_near = env.eval_with(d, Lookup::Nearest);
+                for c in 0..3 {
+                    assert!((got[c] - want[c]).abs() <= 1e-4 * want[c].abs().max(1.0));
+                    assert_eq!(env_near[c], want[c], "pixel ({x}, {y})");
+                }
+            }
+        }
+    }
 }
