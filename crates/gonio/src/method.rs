@@ -96,7 +96,7 @@ impl Method {
         options: &BuildOptions,
     ) -> Result<Box<dyn Sampler>, BuildError> {
         if let Some(t) = options.tolerance {
-            if !(t > 0.0 && t < 1.0) {
+            if !crate::mapping::refine::valid_tolerance(t) {
                 return Err(BuildError::Tolerance { tolerance: t });
             }
         }
@@ -175,7 +175,8 @@ impl FromStr for Method {
 pub struct BuildOptions {
     /// Requested relative accuracy of the HDS map: refine it (`crate::mapping::refine`) until the
     /// guaranteed bound of pdf / target lies within [1 − tol, 1 + tol] wherever the target is
-    /// positive. Must lie in (0, 1) when given. Whether it was reached, the bound reached and the
+    /// positive. Must lie in (0, 1) when given (the one rule,
+    /// [`crate::mapping::refine::valid_tolerance`]). Whether it was reached, the bound reached and the
     /// cost: [`Sampler::refinement`] (a growth limit can stop it early; the map is still exact).
     /// Default `None`: the paper's map on the diagram's own grid.
     pub tolerance: Option<f64>,
@@ -268,7 +269,8 @@ pub enum BuildError {
         /// The smallest accepted rate, [`crate::baselines::MIN_ACCEPTANCE`].
         min: f64,
     },
-    /// The requested tolerance is not a number in (0, 1).
+    /// The requested tolerance is not a number in (0, 1)
+    /// ([`crate::mapping::refine::valid_tolerance`]).
     #[error("tolerance {tolerance} is outside (0, 1)")]
     Tolerance {
         /// The requested tolerance.
