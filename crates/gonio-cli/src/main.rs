@@ -70,10 +70,11 @@ enum Command {
     Brdf(commands::brdf::BrdfArgs),
 }
 
-/// `--tolerance`: a number in (0, 1), as `BuildOptions::tolerance` takes it.
+/// `--tolerance`: a number in (0, 1), the library's one rule
+/// (`gonio::mapping::refine::valid_tolerance`).
 fn parse_tolerance(s: &str) -> Result<f64, String> {
     match s.parse::<f64>() {
-        Ok(t) if t > 0.0 && t < 1.0 => Ok(t),
+        Ok(t) if gonio::mapping::refine::valid_tolerance(t) => Ok(t),
         _ => Err(format!(
             "the tolerance must be a number in (0, 1), got `{s}`"
         )),

@@ -149,7 +149,7 @@ impl PySampler {
         let d = diagram.get();
         let method: Method = method
             .parse()
-            .map_err(|e: gonio::baselines::ParseMethodError| InputError::new_err(e.to_string()))?;
+            .map_err(|e: gonio::method::ParseMethodError| InputError::new_err(e.to_string()))?;
         let domain = match domain {
             Some(s) => parse_domain(s)?,
             None => d.default_domain(),

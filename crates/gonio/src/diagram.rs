@@ -126,8 +126,9 @@ pub enum DiagramError {
         /// The largest θ the map covers, in degrees.
         limit_deg: f64,
     },
-    /// A map was asked for a tolerance that is not a finite number > 0.
-    #[error("the tolerance must be a finite number > 0, got {}", crate::decimal::shortest(*tolerance))]
+    /// A map was asked for a tolerance that is not a number in (0, 1)
+    /// ([`crate::mapping::refine::valid_tolerance`]).
+    #[error("the tolerance must be a number in (0, 1), got {}", crate::decimal::shortest(*tolerance))]
     BadTolerance {
         /// The tolerance asked for.
         tolerance: f64,

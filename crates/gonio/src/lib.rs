@@ -53,5 +53,5 @@ pub use error::Error;
 pub use mapping::{HemisphereMap, SphereLayout, SphereMap};
 pub use method::{BuildError, BuildOptions, Method};
 pub use photometry::{FileFormat, Photometry};
-pub use sampler::{Domain, InvertError, Point2, Sample, Sampler, Vec3};
+pub use sampler::{Domain, InvertError, MapRef, Point2, Sample, Sampler, Vec3};
 pub use sequence::{Sequence, SequenceKind};

@@ -24,7 +24,8 @@
 //! ```
 
 use crate::baselines::{Bilinear, PiecewiseConstant, Rejection, Uniform, DEFAULT_RESOLUTION};
-use crate::diagram::{Diagram, DiagramError};
+use crate::diagram::Diagram;
+pub use crate::error::BuildError;
 use crate::mapping::{HemisphereMap, SphereLayout, SphereMap};
 use crate::sampler::{Domain, Sampler};
 use std::f64::consts::FRAC_PI_2;
@@ -96,7 +97,7 @@ impl Method {
         options: &BuildOptions,
     ) -> Result<Box<dyn Sampler>, BuildError> {
         if let Some(t) = options.tolerance {
-            if !(t > 0.0 && t < 1.0) {
+            if !crate::mapping::refine::valid_tolerance(t) {
                 return Err(BuildError::Tolerance { tolerance: t });
             }
         }
@@ -184,7 +185,8 @@ impl FromStr for Method {
 pub struct BuildOptions {
     /// Requested relative accuracy of the HDS map: refine it (`crate::mapping::refine`) until the
     /// guaranteed bound of pdf / target lies within [1 − tol, 1 + tol] wherever the target is
-    /// positive. Must lie in (0, 1) when given. Whether it was reached, the bound reached and the
+    /// positive. Must lie in (0, 1) when given (the one rule,
+    /// [`crate::mapping::refine::valid_tolerance`]). Whether it was reached, the bound reached and the
     /// cost: [`Sampler::refinement`] (a growth limit can stop it early; the map is still exact).
     /// Default `None`: the paper's map on the diagram's own grid.
     pub tolerance: Option<f64>,
@@ -229,60 +231,6 @@ impl BuildOptions {
         self.sphere_layout = layout;
         self
     }
-}
-
-/// Why [`Method::build`] (or a sampler's own constructor) could not build a sampler.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[non_exhaustive]
-pub enum BuildError {
-    /// The diagram does not fit the map (see [`DiagramError`]).
-    #[error(transparent)]
-    Diagram(#[from] DiagramError),
-    /// A hemisphere sampler was given a diagram whose parallels pass θ = 90°.
-    #[error("the hemisphere domain needs θ ≤ 90°, but the diagram's last parallel is at {theta_max_deg}°; use the sphere domain")]
-    NotHemisphere {
-        /// The diagram's last parallel, in degrees.
-        theta_max_deg: f64,
-    },
-    /// The bilinear interpolant of the diagram integrates to zero (or to a non-finite number), e.g.
-    /// a single parallel, so there is no density to sample.
-    #[error("the interpolated diagram has no positive finite power to sample (integral = {} sr·unit)", crate::decimal::shortest(*integral))]
-    NoPower {
-        /// [`Diagram::integral`] of the diagram.
-        integral: f64,
-    },
-    /// The piecewise-constant image resolution is outside the accepted range.
-    #[error("image resolution {resolution} is outside 1..={max}")]
-    Resolution {
-        /// The requested number of pixels per side.
-        resolution: usize,
-        /// The largest accepted resolution.
-        max: usize,
-    },
-    /// Every pixel of the piecewise-constant image came out 0: the diagram's power lies between the
-    /// pixel sample points. A higher resolution resolves it.
-    #[error("every pixel of the {resolution}×{resolution} image is 0: the diagram is narrower than the pixels; raise the resolution")]
-    EmptyImage {
-        /// Pixels per side of the image.
-        resolution: usize,
-    },
-    /// Rejection sampling would accept too rarely: mean target / max target is below
-    /// [`crate::baselines::MIN_ACCEPTANCE`].
-    #[error(
-        "rejection sampling would accept only a fraction {rate:e} of proposals (minimum {min:e})"
-    )]
-    AcceptanceTooLow {
-        /// The exact acceptance rate.
-        rate: f64,
-        /// The smallest accepted rate, [`crate::baselines::MIN_ACCEPTANCE`].
-        min: f64,
-    },
-    /// The requested tolerance is not a number in (0, 1).
-    #[error("tolerance {} is outside (0, 1)", crate::decimal::shortest(*tolerance))]
-    Tolerance {
-        /// The requested tolerance.
-        tolerance: f64,
-    },
 }
 
 #[cfg(test)]

@@ -85,6 +85,27 @@ pub enum InvertError {
     ZeroDensity,
 }
 
+/// A borrowed HDS map, as [`Sampler::hds_map`] returns it: what only the map has is reached
+/// through its variant, with no downcast.
+///
+/// ```
+/// use gonio::{Diagram, Domain, MapRef, Method};
+/// let d = Diagram::from_degrees(&[0.0, 90.0, 180.0], &[0.0], &[vec![1.0, 0.5, 2.0]]).unwrap();
+/// let s = Method::Hds.build(&d, Domain::Sphere).unwrap();
+/// match s.hds_map() {
+///     Some(MapRef::Sphere(m)) => assert!(m.lower_probability().unwrap() > 0.5),
+///     _ => unreachable!("the HDS method on the sphere is a sphere map"),
+/// }
+/// assert!(Method::Uniform.build(&d, Domain::Sphere).unwrap().hds_map().is_none());
+/// ```
+#[derive(Debug, Clone, Copy)]
+pub enum MapRef<'a> {
+    /// The map of the upper hemisphere.
+    Hemisphere(&'a crate::HemisphereMap),
+    /// The map of the whole sphere (either layout).
+    Sphere(&'a crate::SphereMap),
+}
+
 /// A map from the unit square to directions with its exact density and (where it exists) its inverse.
 ///
 /// Contract, for every implementation:
@@ -148,11 +169,12 @@ pub trait Sampler: Send + Sync {
         None
     }
 
-    /// The sampler as [`std::any::Any`], for the few consumers that need what only one concrete
-    /// type offers (e.g. [`crate::SphereMap::lower_probability`] for `gonio info`): downcast with
-    /// `sampler.as_any().and_then(|a| a.downcast_ref::<SphereMap>())`. `None` (the default) for
-    /// samplers that do not offer it; every sampler of the library does.
-    fn as_any(&self) -> Option<&dyn std::any::Any> {
+    /// The HDS map behind the sampler, for what only the map has (e.g.
+    /// [`crate::SphereMap::lower_probability`] or the completed grid for `gonio info`, the stages
+    /// of both layouts for the warp plot). `None` (the default) for every other method; the
+    /// library's [`crate::HemisphereMap`] and [`crate::SphereMap`] return themselves. This is the
+    /// one typed accessor to concrete maps: no consumer downcasts.
+    fn hds_map(&self) -> Option<MapRef<'_>> {
         None
     }
 

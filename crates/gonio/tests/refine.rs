@@ -210,6 +210,38 @@ fn invalid_tolerances_are_refused() {
     }
 }
 
+/// One tolerance rule (`valid_tolerance`, (0, 1)): the maps' constructors and the factory refuse
+/// exactly the same values, and accept the same ones.
+#[test]
+fn every_entry_point_refuses_the_same_tolerances() {
+    let d = random_hemisphere(Family::Lobes, 5, 4, false, 1);
+    let cases = [
+        (0.0, false),
+        (-0.1, false),
+        (1.0, false),
+        (1.5, false),
+        (f64::NAN, false),
+        (f64::INFINITY, false),
+        (f64::NEG_INFINITY, false),
+        (0.5, true),
+        (0.999, true),
+        (0.05, true),
+    ];
+    for (tol, ok) in cases {
+        assert_eq!(gonio::mapping::refine::valid_tolerance(tol), ok, "{tol}");
+        assert_eq!(HemisphereMap::with_tolerance(&d, tol).is_ok(), ok, "{tol}");
+        assert_eq!(SphereMap::with_tolerance(&d, tol).is_ok(), ok, "{tol}");
+        let limits = RefineLimits::default();
+        let refined = SphereMap::with_refinement(&d, SphereLayout::Split, tol, &limits);
+        assert_eq!(refined.is_ok(), ok, "{tol}");
+        let opts = BuildOptions::default().tolerance(Some(tol));
+        for domain in [Domain::Hemisphere, Domain::Sphere] {
+            let built = Method::Hds.build_with(&d, domain, &opts);
+            assert_eq!(built.is_ok(), ok, "{tol} {domain:?}");
+        }
+    }
+}
+
 /// The split sphere is refined under one normalisation; the Lambert layout reaches the tolerance
 /// when the target is positive at θ = 180° and reports [`RefineStop::FarPoleZero`] when it is zero.
 #[test]

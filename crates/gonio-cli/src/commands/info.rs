@@ -4,7 +4,7 @@
 use crate::args::InfoArgs;
 use crate::load::{build_sampler_timed, load, InputKind, Loaded};
 use gonio::photometry::Photometry;
-use gonio::{Diagram, Domain, HemisphereMap, Method, SphereMap};
+use gonio::{Diagram, Domain, MapRef, Method, SphereMap};
 use serde::Serialize;
 
 /// Angle range of one axis.
@@ -255,9 +255,11 @@ pub fn collect(loaded: &Loaded) -> anyhow::Result<Info> {
     let (sampler, took) = build_sampler_timed(Method::Hds, loaded)?;
     // What only the map has: the completed grid of a hemisphere map, the lower-hemisphere
     // probability of a sphere map.
-    let any = sampler.as_any();
-    let hemisphere = any.and_then(|a| a.downcast_ref::<HemisphereMap>());
-    let sphere = any.and_then(|a| a.downcast_ref::<SphereMap>());
+    let (hemisphere, sphere) = match sampler.hds_map() {
+        Some(MapRef::Hemisphere(m)) => (Some(m), None),
+        Some(MapRef::Sphere(m)) => (None, Some(m)),
+        None => (None, None),
+    };
     // The target and completion figures of issue 9, which only the two maps report.
     macro_rules! map_only {
         ($f:ident) => {

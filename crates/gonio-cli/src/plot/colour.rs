@@ -1,6 +1,6 @@
 //! Colour maps and colour bars.
 
-use super::grid::Ticked;
+use super::axis::Ticked;
 use super::{desc_font, label_font};
 use anyhow::Result;
 use plotters::coord::Shift;

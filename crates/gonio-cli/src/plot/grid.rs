@@ -5,59 +5,14 @@
 //! density looks uniform. The y axis is labelled with the angles themselves (θ, or γ = 180° − θ
 //! for photometric data) at their cos positions.
 
+use super::axis::Ticked;
 use super::colour::{Frame, UNDEFINED};
 use super::{desc_font, label_font, PlotInput};
 use anyhow::Result;
 use gonio::{Domain, Vec3};
-use plotters::coord::ranged1d::{DefaultFormatting, KeyPointHint, Ranged};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::f64::consts::TAU;
-use std::ops::Range;
-
-/// A linear f64 axis whose ticks are exactly the given values (plotters' `WithKeyPoints` does not
-/// work with `configure_mesh` on f64 axes).
-#[derive(Debug, Clone)]
-pub struct Ticked {
-    pub lo: f64,
-    pub hi: f64,
-    pub ticks: Vec<f64>,
-}
-
-impl Ticked {
-    pub fn new(range: Range<f64>, ticks: Vec<f64>) -> Self {
-        Ticked {
-            lo: range.start,
-            hi: range.end,
-            ticks,
-        }
-    }
-}
-
-impl Ranged for Ticked {
-    type FormatOption = DefaultFormatting;
-    type ValueType = f64;
-
-    fn map(&self, v: &f64, limit: (i32, i32)) -> i32 {
-        if self.hi == self.lo {
-            return (limit.0 + limit.1) / 2;
-        }
-        let t = (v - self.lo) / (self.hi - self.lo);
-        limit.0 + (t * (limit.1 - limit.0) as f64).round() as i32
-    }
-
-    fn key_points<Hint: KeyPointHint>(&self, hint: Hint) -> Vec<f64> {
-        if hint.weight().allow_light_points() {
-            Vec::new()
-        } else {
-            self.ticks.clone()
-        }
-    }
-
-    fn range(&self) -> Range<f64> {
-        self.lo..self.hi
-    }
-}
 
 /// The range of z = cos θ a domain covers.
 pub fn z_range(domain: Domain) -> (f64, f64) {

@@ -16,6 +16,7 @@
 //! number and a legend wherever several series share axes. Text is drawn with the bundled DejaVu
 //! Sans font (`assets/fonts`), so the output does not depend on the fonts of the machine.
 
+mod axis;
 mod colour;
 mod density;
 mod grid;

@@ -14,7 +14,7 @@ use super::grid::{rect_chart, z_range};
 use super::{desc_font, label_font, titled, PlotInput};
 use anyhow::{bail, Result};
 use gonio::sequence::{Sequence, SequenceKind};
-use gonio::{Domain, Point2, Vec3};
+use gonio::{Domain, MapRef, Point2, Vec3};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::f64::consts::TAU;
@@ -61,41 +61,33 @@ fn rect_point(d: Vec3) -> (f64, f64) {
 fn panels(input: &PlotInput, u: &[Point2]) -> Vec<Panel> {
     let square = Panel::Square(u.iter().map(|p| (p[0], p[1])).collect());
     let photometric = input.photometric;
-    let staged: Option<(Vec<Option<gonio::mapping::Stages>>, String, f64)> = match (
-        input
-            .sampler
-            .as_any()
-            .and_then(|a| a.downcast_ref::<gonio::HemisphereMap>()),
-        input
-            .sampler
-            .as_any()
-            .and_then(|a| a.downcast_ref::<gonio::SphereMap>()),
-    ) {
-        (Some(map), _) => Some((
-            u.iter().map(|&p| Some(map.stages(p))).collect(),
-            String::new(),
-            1.0,
-        )),
-        (None, Some(map)) => match map.lower_probability() {
-            Some(p_lower) => {
-                let lower = p_lower >= 0.5;
-                let side = if lower { "lower" } else { "upper" };
-                Some((
-                    u.iter()
-                        .map(|&p| Some(map.stages(p)).filter(|s| s.lower == lower))
-                        .collect(),
-                    format!(" ({side}-hemisphere map)"),
-                    1.0,
-                ))
-            }
-            None => Some((
+    let staged: Option<(Vec<Option<gonio::mapping::Stages>>, String, f64)> =
+        match input.sampler.hds_map() {
+            Some(MapRef::Hemisphere(map)) => Some((
                 u.iter().map(|&p| Some(map.stages(p))).collect(),
-                " (Lambert sphere)".into(),
-                std::f64::consts::SQRT_2,
+                String::new(),
+                1.0,
             )),
-        },
-        (None, None) => None,
-    };
+            Some(MapRef::Sphere(map)) => match map.lower_probability() {
+                Some(p_lower) => {
+                    let lower = p_lower >= 0.5;
+                    let side = if lower { "lower" } else { "upper" };
+                    Some((
+                        u.iter()
+                            .map(|&p| Some(map.stages(p)).filter(|s| s.lower == lower))
+                            .collect(),
+                        format!(" ({side}-hemisphere map)"),
+                        1.0,
+                    ))
+                }
+                None => Some((
+                    u.iter().map(|&p| Some(map.stages(p))).collect(),
+                    " (Lambert sphere)".into(),
+                    std::f64::consts::SQRT_2,
+                )),
+            },
+            None => None,
+        };
     match staged {
         Some((st, which, d_extent)) => {
             let nan = (f64::NAN, f64::NAN);

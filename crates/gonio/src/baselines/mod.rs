@@ -32,13 +32,8 @@ pub use piecewise_constant::{
 pub use rejection::{Rejection, MAX_TV_ERROR, MIN_ACCEPTANCE};
 pub use uniform::Uniform;
 
-pub use crate::method::{BuildError, Method, ParseMethodError};
-
-/// The error type of the baseline constructors: the library's one [`BuildError`] (the old name,
-/// kept so that existing code compiles).
-pub type BaselineError = BuildError;
-
 use crate::diagram::Diagram;
+use crate::error::BuildError;
 use crate::sampler::{normalize, spherical, Domain, Vec3};
 use std::f64::consts::FRAC_PI_2;
 

@@ -295,9 +295,6 @@ impl Sampler for PiecewiseConstant {
     fn target_power(&self) -> f64 {
         self.target.integral
     }
-    fn as_any(&self) -> Option<&dyn std::any::Any> {
-        Some(self)
-    }
     fn memory_bytes(&self) -> usize {
         std::mem::size_of::<f64>() * (self.pdf.len() + self.marginal.len() + self.conditional.len())
             + std::mem::size_of::<u32>() * self.conditional_last.len()

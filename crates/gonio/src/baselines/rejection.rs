@@ -168,9 +168,6 @@ impl Sampler for Rejection {
     fn target_power(&self) -> f64 {
         self.target.integral
     }
-    fn as_any(&self) -> Option<&dyn std::any::Any> {
-        Some(self)
-    }
     fn memory_bytes(&self) -> usize {
         self.target.diagram_bytes()
     }

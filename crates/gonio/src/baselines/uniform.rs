@@ -104,9 +104,6 @@ impl Sampler for Uniform {
     fn target_power(&self) -> f64 {
         self.target.integral
     }
-    fn as_any(&self) -> Option<&dyn std::any::Any> {
-        Some(self)
-    }
     fn memory_bytes(&self) -> usize {
         0
     }

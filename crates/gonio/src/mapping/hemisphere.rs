@@ -331,8 +331,8 @@ impl Sampler for HemisphereMap {
     fn stages(&self, u: Point2) -> Option<super::Stages> {
         Some(HemisphereMap::stages(self, u))
     }
-    fn as_any(&self) -> Option<&dyn std::any::Any> {
-        Some(self)
+    fn hds_map(&self) -> Option<crate::sampler::MapRef<'_>> {
+        Some(crate::sampler::MapRef::Hemisphere(self))
     }
     fn memory_bytes(&self) -> usize {
         self.core.memory_bytes()

@@ -30,6 +30,7 @@ pub mod lift;
 pub mod radial;
 pub mod refine;
 pub mod simd;
+mod soa_maps;
 mod sphere;
 
 pub use blend::{BlendError, BlendedMap};

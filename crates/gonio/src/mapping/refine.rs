@@ -153,9 +153,22 @@ impl Refinement {
     }
 }
 
-/// Checks a tolerance asked by a caller: finite and > 0.
-pub(crate) fn valid_tolerance(tol: f64) -> bool {
-    tol.is_finite() && tol > 0.0
+/// The one rule for a tolerance asked by a caller, wherever it is asked
+/// ([`crate::BuildOptions::tolerance`], [`crate::HemisphereMap::with_tolerance`],
+/// [`crate::SphereMap::with_tolerance`] and `with_refinement`, the CLI's `--tolerance`, the
+/// bindings): a number in the open interval (0, 1). A tolerance is a relative accuracy, the
+/// guaranteed pdf / target lying within [1 − tol, 1 + tol]; at tol ≥ 1 the lower end is ≤ 0 and
+/// bounds nothing. 0, negative numbers, NaN and ±∞ are refused too.
+///
+/// ```
+/// use gonio::mapping::refine::valid_tolerance;
+/// assert!(valid_tolerance(0.01) && valid_tolerance(0.999));
+/// for t in [0.0, 1.0, 1.5, -0.1, f64::NAN, f64::INFINITY] {
+///     assert!(!valid_tolerance(t));
+/// }
+/// ```
+pub fn valid_tolerance(tol: f64) -> bool {
+    tol > 0.0 && tol < 1.0
 }
 
 /// One sub-segment [θ_a, θ_b] of an input segment.

@@ -655,8 +655,8 @@ impl Sampler for SphereMap {
     fn stages(&self, u: Point2) -> Option<super::Stages> {
         Some(SphereMap::stages(self, u))
     }
-    fn as_any(&self) -> Option<&dyn std::any::Any> {
-        Some(self)
+    fn hds_map(&self) -> Option<crate::sampler::MapRef<'_>> {
+        Some(crate::sampler::MapRef::Sphere(self))
     }
     fn memory_bytes(&self) -> usize {
         self.map_cores().map(|c| c.memory_bytes()).sum()
