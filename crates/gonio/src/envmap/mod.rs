@@ -476,8 +476,11 @@ impl Sampler for EnvironmentMap {
     fn ratio_bound(&self) -> Option<(f64, f64)> {
         Some(self.map.ratio_bound())
     }
-    fn as_any(&self) -> Option<&dyn std::any::Any> {
-        Some(self)
+    fn hds_map(&self) -> Option<crate::sampler::MapRef<'_>> {
+        Some(crate::sampler::MapRef::Sphere(&self.map))
+    }
+    fn stages(&self, u: Point2) -> Option<crate::mapping::Stages> {
+        Some(self.map.stages(u))
     }
 }
 

@@ -171,9 +171,6 @@ impl Sampler for LatLongPiecewiseConstant {
     fn target_power(&self) -> f64 {
         self.target.integral
     }
-    fn as_any(&self) -> Option<&dyn std::any::Any> {
-        Some(self)
-    }
 }
 
 impl EnvironmentMap {
