@@ -236,3 +236,52 @@ def test_batches_split_alike_and_inputs_convert(brdf, sampler):
     assert np.array_equal(strided, brdf.eval(wis[:100:2].copy(), wo[:100:2].copy()))
     lists = sampler.invert(wis[0].tolist(), wo[:3].tolist())
     assert np.array_equal(lists, sampler.invert(wis[0], wo[:3]))
+
+
+def test_fuzz_batches(brdf, sampler):
+    # 1500 calls with random shapes, dtypes and values (NaN, ±inf, huge, tiny, zero vectors):
+    # each returns or raises an ordinary error of the contract, never InternalError.
+    rng = np.random.default_rng(26)
+    special = [np.nan, np.inf, -np.inf, 0.0, -0.0, 1.0, 1e300, -1e300, 5e-324, 2.0, -1.0]
+    dtypes = [np.float64, np.float32, np.int32, bool, np.complex128, object]
+    allowed = (gonio.GonioError, TypeError, OverflowError, MemoryError)
+    samplers = [sampler, brdf.sampler("cosine")]
+
+    def arr(k, n):
+        shapes = [(n, k), (n,), (k,), (n, k + 1), (1, n, k), (n + 1, k)]
+        shape = shapes[0] if rng.random() < 0.8 else shapes[int(rng.integers(len(shapes)))]
+        a = rng.random(shape) * 2 - 1
+        if k == 2:
+            a = (a + 1) / 2
+        if a.size and rng.random() < 0.2:
+            a.flat[rng.integers(a.size)] = rng.choice(special)
+        if rng.random() < 0.3:
+            with np.errstate(all="ignore"):
+                return a.astype(dtypes[int(rng.integers(len(dtypes)))])
+        return a
+
+    calls = returned = 0
+    for _ in range(1500):
+        s = samplers[int(rng.integers(2))]
+        op = int(rng.integers(4))
+        n = int(rng.choice([0, 1, 3, 17]))
+        wi = arr(3, n) if rng.random() < 0.5 else rng.random(3) * 2 - 1
+        try:
+            if op == 0:
+                r = s.sample(wi, arr(2, n))
+                assert np.all(np.isfinite(r[0])) and np.all(r[1] >= 0)
+            elif op == 1:
+                assert np.all(s.pdf(wi, arr(3, n)) >= 0)
+            elif op == 2:
+                u = s.invert(wi, arr(3, n))
+                ok = ~np.isnan(u[:, 0])
+                assert np.all((u[ok] >= 0) & (u[ok] <= 1))
+            else:
+                assert np.all(brdf.eval(wi, arr(3, n)) >= 0)
+            calls += 1
+            returned += 1
+        except gonio.InternalError:
+            raise
+        except allowed:
+            calls += 1
+    assert calls == 1500 and returned > 100, returned
