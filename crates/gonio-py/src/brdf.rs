@@ -9,8 +9,8 @@
 use crate::diagram::parse_error;
 use crate::{arrays, detached, BuildError, GonioError, InputError};
 use gonio::brdf::{
-    read_any, BrdfError, BrdfMethod, BrdfSampler, CosineBrdf, GgxFit, MerlOptions, SamplerOptions,
-    Symmetry, TabulatedBrdf, MAX_VALUES,
+    read_any, scalar_albedo, BrdfError, BrdfMethod, BrdfSampler, CosineBrdf, GgxFit, MerlOptions,
+    SamplerOptions, Symmetry, TabulatedBrdf, MAX_VALUES,
 };
 use gonio::sampler::normalize;
 use gonio::{Point2, Vec3};
@@ -247,6 +247,25 @@ impl PyBrdf {
             PyResult::Ok(f)
         })??;
         arrays::new_2d(py, &f, ch)
+    }
+
+    /// ``albedo(wi)`` for wi (n, 3): ∫ f̄(ω_i, ω_o) cos θ_o dω_o (n,), f̄ the luminance of the
+    /// channels (or the one channel), exact up to round-off for the table's interpolant.
+    fn albedo<'py>(
+        &self,
+        py: Python<'py>,
+        wi: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let rows = arrays::rows::<3>(wi, "wi")?;
+        let wis = rows.as_slice();
+        check_dirs(&wis, "wi")?;
+        let b = &self.brdf;
+        let a = detached(py, "Brdf.albedo", || {
+            let mut a = buffer(wis.len(), "albedo")?;
+            par_fill(&mut a, 1, |k, row| row[0] = scalar_albedo(b, unit(wis[k])));
+            PyResult::Ok(a)
+        })??;
+        arrays::new_1d(py, &a)
     }
 
     /// ``sampler(method="hds", *, theta_o=46, phi_o=90, force_resample=False)``: a sampler of

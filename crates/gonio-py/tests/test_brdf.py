@@ -285,3 +285,39 @@ def test_fuzz_batches(brdf, sampler):
         except allowed:
             calls += 1
     assert calls == 1500 and returned > 100, returned
+
+
+def test_albedo_and_mean_weight(brdf, sampler):
+    # The mean luminance weight of HDS samples estimates the (luminance) albedo; the weight's
+    # spread is small, so 20 000 iid samples put it within 1 % (seeded).
+    lum = np.array([0.2126, 0.7152, 0.0722])
+    wis = np.array([direction(t, 20) for t in (0, 40, 70)])
+    a = brdf.albedo(wis)
+    assert a.shape == (3,) and np.all(a > 0)
+    u = np.random.default_rng(17).random((20000, 2))
+    for wi, ak in zip(wis, a):
+        _, _, weight = sampler.sample(wi, u)
+        assert abs((weight @ lum).mean() / ak - 1) < 0.01
+    with pytest.raises(gonio.InputError, match=r"wi: row 1:"):
+        brdf.albedo([[0.0, 0.0, 1.0], [0.0, 0.0, 0.0]])
+
+
+def test_utia_and_merl_by_content(tmp_path):
+    # A constant UTIA file (raw value 14: f = ((14/140 + 0.055)/1.055)^2.4 · 100 per sr) and a
+    # constant MERL file (stored 1.5: f = 1.5 · scale_c), recognised by their sizes and headers.
+    utia = tmp_path / "const.bin"
+    np.full(3 * 288 * 288, 14.0, "<f8").tofile(utia)
+    b = gonio.read_brdf(utia)
+    assert b.symmetry == "anisotropic" and b.channels == 3
+    f = ((14 / 140 + 0.055) / 1.055) ** 2.4 * 100
+    wo = np.array([direction(t, p) for t in (0, 30, 60) for p in (0, 100)])
+    assert np.allclose(b.eval(direction(45, 10), wo), f, rtol=1e-12)
+    assert np.all(b.eval(direction(45, 10), [direction(80, 0)]) == 0)  # no data beyond 75°
+    merl = tmp_path / "const.binary"
+    with open(merl, "wb") as fh:
+        fh.write(np.array([90, 90, 180], "<i4").tobytes())
+        fh.write(np.full(3 * 90 * 90 * 180, 1.5, "<f8").tobytes())
+    m = gonio.read_brdf(merl, merl_theta=10, merl_phi=8)
+    assert m.symmetry == "isotropic" and len(m.grid[0]) == 10 and len(m.grid[3]) == 8
+    scale = np.array([1.0, 1.15, 1.66]) / 1500
+    assert np.allclose(m.eval(direction(30, 0), wo), 1.5 * scale, rtol=1e-9)
