@@ -21,6 +21,7 @@ use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 
 mod arrays;
+mod brdf;
 mod diagram;
 mod envmap;
 mod mesh;
@@ -113,6 +114,7 @@ fn _gonio(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<diagram::PyDiagram>()?;
     m.add_class::<sampler::PySampler>()?;
     m.add_class::<envmap::PyEnvMap>()?;
+    brdf::register(m)?;
     m.add_function(wrap_pyfunction!(diagram::read, m)?)?;
     m.add_function(wrap_pyfunction!(diagram::read_bytes, m)?)?;
     m.add_function(wrap_pyfunction!(diagram::example, m)?)?;

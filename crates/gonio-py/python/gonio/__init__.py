@@ -19,6 +19,8 @@ Example::
 
 from ._gonio import (  # noqa: F401
     __version__,
+    Brdf,
+    BrdfSampler,
     BuildError,
     Diagram,
     DiagramError,
@@ -33,12 +35,15 @@ from ._gonio import (  # noqa: F401
     example,
     methods,
     read,
+    read_brdf,
     read_bytes,
     sequence,
     texture_uv,
 )
 
 __all__ = [
+    "Brdf",
+    "BrdfSampler",
     "BuildError",
     "Diagram",
     "DiagramError",
@@ -53,6 +58,7 @@ __all__ = [
     "example",
     "methods",
     "read",
+    "read_brdf",
     "read_bytes",
     "sequence",
     "texture_uv",

@@ -1,0 +1,471 @@
+//! `gonio.read_brdf`, `gonio.Brdf`, `gonio.BrdfSampler`: tabulated BRDFs (MERL, UTIA, gonio BRDF
+//! JSON) and the exact importance sampling of f_r·cos θ_o (frame and grids: docs/BRDF.md).
+//!
+//! Directions are in the local shading frame (z the normal), both pointing away from the surface;
+//! they need not be unit vectors (each row is normalised), but a row that is not finite or is the
+//! zero vector raises InputError naming the row. `wi` is one direction (3,) for every row or one
+//! per row (n, 3).
+
+use crate::diagram::parse_error;
+use crate::{arrays, detached, BuildError, GonioError, InputError};
+use gonio::brdf::{
+    read_any, scalar_albedo, BrdfError, BrdfMethod, BrdfSampler, CosineBrdf, GgxFit, MerlOptions,
+    SamplerOptions, Symmetry, TabulatedBrdf, MAX_VALUES,
+};
+use gonio::sampler::normalize;
+use gonio::{Point2, Vec3};
+use numpy::{PyArray1, PyArray2, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+use rayon::prelude::*;
+use std::borrow::Cow;
+use std::path::PathBuf;
+use std::sync::Arc;
+
+/// Rows per rayon task: small batches stay on one thread.
+const CHUNK: usize = 4096;
+
+/// A tabulated BRDF f_r(ω_i, ω_o) in 1/sr, 1 or 3 channels, read by [`read_brdf`].
+#[pyclass(name = "Brdf", module = "gonio", frozen)]
+pub struct PyBrdf {
+    brdf: Arc<TabulatedBrdf>,
+}
+
+/// The error of a BRDF file: ParseError (with line and column for JSON) or GonioError.
+fn brdf_error(path: &std::path::Path, e: BrdfError) -> PyErr {
+    let file = path.display().to_string();
+    match e {
+        BrdfError::Json {
+            line,
+            column,
+            message,
+        } => parse_error(&file, line, column, &message),
+        other => GonioError::new_err(format!("{file}: {other}")),
+    }
+}
+
+/// The OSError of a file that cannot be read (FileNotFoundError, PermissionError, ...).
+fn read_error(name: &str, e: &std::io::Error) -> PyErr {
+    let msg = format!("cannot read {name}: {e}");
+    match e.kind() {
+        std::io::ErrorKind::NotFound => pyo3::exceptions::PyFileNotFoundError::new_err(msg),
+        std::io::ErrorKind::PermissionDenied => pyo3::exceptions::PyPermissionError::new_err(msg),
+        _ => pyo3::exceptions::PyOSError::new_err(msg),
+    }
+}
+
+/// ``read_brdf(path, *, merl_theta=46, merl_phi=90)``: a BRDF file, its format recognised from
+/// the content (gonio BRDF JSON, UTIA raw, MERL binary resampled to `merl_theta` polar nodes and
+/// `merl_phi` relative azimuths).
+#[pyfunction]
+#[pyo3(signature = (path, *, merl_theta = 46, merl_phi = 90))]
+pub(crate) fn read_brdf(
+    py: Python<'_>,
+    path: PathBuf,
+    merl_theta: usize,
+    merl_phi: usize,
+) -> PyResult<PyBrdf> {
+    let merl = MerlOptions {
+        n_theta: merl_theta,
+        n_phi: merl_phi,
+    };
+    let name = path.display().to_string();
+    let meta = std::fs::metadata(&path).map_err(|e| read_error(&name, &e))?;
+    if !meta.is_file() {
+        return Err(pyo3::exceptions::PyOSError::new_err(format!(
+            "cannot read {name}: not a regular file"
+        )));
+    }
+    // The library's cap: no table it holds comes from a larger file.
+    let max = 8 * MAX_VALUES as u64 + 1024;
+    if meta.len() > max {
+        return Err(parse_error(
+            &name,
+            0,
+            0,
+            &format!("the file has {} bytes, more than any BRDF table this library holds ({max} bytes); not read", meta.len()),
+        ));
+    }
+    let mut bytes = arrays::try_vec(meta.len() as usize, &name)?;
+    std::fs::File::open(&path)
+        .and_then(|f| std::io::Read::read_to_end(&mut std::io::Read::take(f, max + 1), &mut bytes))
+        .map_err(|e| read_error(&name, &e))?;
+    let brdf =
+        detached(py, "read_brdf", || read_any(&bytes, &merl))?.map_err(|e| brdf_error(&path, e))?;
+    Ok(PyBrdf {
+        brdf: Arc::new(brdf),
+    })
+}
+
+/// InputError for the first row of `ds` that is not a finite non-zero vector.
+fn check_dirs(ds: &[Vec3], what: &str) -> PyResult<()> {
+    if let Some(k) = ds.iter().position(|d| normalize(*d).is_none()) {
+        let d = ds[k];
+        return Err(InputError::new_err(format!(
+            "{what}: row {k}: ({}, {}, {}) is not a finite non-zero direction",
+            d[0], d[1], d[2]
+        )));
+    }
+    Ok(())
+}
+
+/// InputError for the first point of `pts` outside the unit square (or NaN).
+fn check_square(pts: &[Point2], what: &str) -> PyResult<()> {
+    if let Some(k) = pts
+        .iter()
+        .position(|p| !(0.0..=1.0).contains(&p[0]) || !(0.0..=1.0).contains(&p[1]))
+    {
+        return Err(InputError::new_err(format!(
+            "{what}: row {k}: point ({}, {}) is outside the unit square [0, 1]²",
+            pts[k][0], pts[k][1]
+        )));
+    }
+    Ok(())
+}
+
+/// The incident directions: one for every row, or one per row.
+enum Incident<'py> {
+    One([Vec3; 1]),
+    Many(arrays::Rows<'py, 3>),
+}
+
+impl Incident<'_> {
+    fn slice(&self) -> Cow<'_, [Vec3]> {
+        match self {
+            Incident::One(d) => Cow::Borrowed(&d[..]),
+            Incident::Many(r) => r.as_slice(),
+        }
+    }
+}
+
+/// `wi` as one direction (3,) or `n` rows (n, 3), checked.
+fn incident<'py>(obj: &Bound<'py, PyAny>, n: usize) -> PyResult<Incident<'py>> {
+    let arr = arrays::real_array(obj, "wi")?;
+    let inc = if arr.ndim() == 1 {
+        let v = arrays::vector(obj, "wi")?;
+        if v.len() != 3 {
+            return Err(InputError::new_err(format!(
+                "wi: expected shape (3,) or (n, 3), got ({},)",
+                v.len()
+            )));
+        }
+        Incident::One([[v[0], v[1], v[2]]])
+    } else {
+        let r = arrays::rows::<3>(obj, "wi")?;
+        let m = r.as_slice().len();
+        if m != n {
+            return Err(InputError::new_err(format!(
+                "wi: {m} rows where one direction (3,) or {n} rows are needed"
+            )));
+        }
+        Incident::Many(r)
+    };
+    check_dirs(&inc.slice(), "wi")?;
+    Ok(inc)
+}
+
+/// A unit vector of a checked row.
+fn unit(d: Vec3) -> Vec3 {
+    normalize(d).unwrap_or(d)
+}
+
+/// Fills `out` (rows of `k` values, one per row k of the batch) in parallel.
+fn par_fill(out: &mut [f64], k: usize, f: impl Fn(usize, &mut [f64]) + Sync) {
+    out.par_chunks_mut(k * CHUNK)
+        .enumerate()
+        .for_each(|(c, block)| {
+            for (j, row) in block.chunks_mut(k).enumerate() {
+                f(c * CHUNK + j, row);
+            }
+        });
+}
+
+/// A zero-filled buffer of `n` values allocated fallibly.
+fn buffer(n: usize, what: &str) -> PyResult<Vec<f64>> {
+    let mut v = arrays::try_vec(n, what)?;
+    v.resize(n, 0.0);
+    Ok(v)
+}
+
+#[pymethods]
+impl PyBrdf {
+    /// 1 or 3 (R, G, B).
+    #[getter]
+    fn channels(&self) -> usize {
+        self.brdf.channels()
+    }
+
+    /// "isotropic" (f depends on θ_i, θ_o, φ_o − φ_i) or "anisotropic".
+    #[getter]
+    fn symmetry(&self) -> &'static str {
+        match self.brdf.symmetry() {
+            Symmetry::Isotropic => "isotropic",
+            Symmetry::Anisotropic => "anisotropic",
+        }
+    }
+
+    /// The grids in radians: (theta_i, phi_i, theta_o, phi_o), φ_o relative for isotropic tables.
+    #[allow(clippy::type_complexity)]
+    #[getter]
+    fn grid<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(
+        Bound<'py, PyArray1<f64>>,
+        Bound<'py, PyArray1<f64>>,
+        Bound<'py, PyArray1<f64>>,
+        Bound<'py, PyArray1<f64>>,
+    )> {
+        let b = &self.brdf;
+        Ok((
+            arrays::new_1d(py, b.theta_i())?,
+            arrays::new_1d(py, b.phi_i())?,
+            arrays::new_1d(py, b.theta_o())?,
+            arrays::new_1d(py, b.phi_o())?,
+        ))
+    }
+
+    /// ``eval(wi, wo)``: f_r (n, channels) in 1/sr; 0 where a direction is below the horizon.
+    fn eval<'py>(
+        &self,
+        py: Python<'py>,
+        wi: &Bound<'py, PyAny>,
+        wo: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let rows = arrays::rows::<3>(wo, "wo")?;
+        let wos = rows.as_slice();
+        check_dirs(&wos, "wo")?;
+        let inc = incident(wi, wos.len())?;
+        let wis = inc.slice();
+        let ch = self.brdf.channels();
+        let b = &self.brdf;
+        let f = detached(py, "Brdf.eval", || {
+            let mut f = buffer(ch * wos.len(), "f")?;
+            par_fill(&mut f, ch, |k, row| {
+                let w = unit(wis[if wis.len() == 1 { 0 } else { k }]);
+                row.copy_from_slice(&b.eval(w, unit(wos[k]))[..ch]);
+            });
+            PyResult::Ok(f)
+        })??;
+        arrays::new_2d(py, &f, ch)
+    }
+
+    /// ``albedo(wi)`` for wi (n, 3): ∫ f̄(ω_i, ω_o) cos θ_o dω_o (n,), f̄ the luminance of the
+    /// channels (or the one channel), exact up to round-off for the table's interpolant.
+    fn albedo<'py>(
+        &self,
+        py: Python<'py>,
+        wi: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let rows = arrays::rows::<3>(wi, "wi")?;
+        let wis = rows.as_slice();
+        check_dirs(&wis, "wi")?;
+        let b = &self.brdf;
+        let a = detached(py, "Brdf.albedo", || {
+            let mut a = buffer(wis.len(), "albedo")?;
+            par_fill(&mut a, 1, |k, row| row[0] = scalar_albedo(b, unit(wis[k])));
+            PyResult::Ok(a)
+        })??;
+        arrays::new_1d(py, &a)
+    }
+
+    /// ``sampler(method="hds", *, theta_o=46, phi_o=90, force_resample=False)``: a sampler of
+    /// f_r·cos θ_o. Methods: "hds" (the HDS map of the blended slice diagrams), "cosine",
+    /// "ggx-fit" (a GGX lobe fitted to the table). `theta_o`, `phi_o`: the slices' outgoing grid
+    /// when the table's own cannot be used (or `force_resample`).
+    #[pyo3(signature = (method = "hds", *, theta_o = 46, phi_o = 90, force_resample = false))]
+    fn sampler(
+        &self,
+        py: Python<'_>,
+        method: &str,
+        theta_o: usize,
+        phi_o: usize,
+        force_resample: bool,
+    ) -> PyResult<PyBrdfSampler> {
+        if !matches!(method, "hds" | "cosine" | "ggx-fit") {
+            return Err(InputError::new_err(format!(
+                "method: {method:?} is not \"hds\", \"cosine\" or \"ggx-fit\""
+            )));
+        }
+        let opts = SamplerOptions {
+            theta_o,
+            phi_o,
+            force_resample,
+        };
+        let brdf = &self.brdf;
+        let (sampler, alpha) = detached(py, "Brdf.sampler", || {
+            let s = BrdfSampler::new(TabulatedBrdf::clone(brdf), &opts)?;
+            let alpha = (method == "ggx-fit").then(|| GgxFit::fit(s.brdf()).alpha());
+            Ok::<_, BrdfError>((s, alpha))
+        })?
+        .map_err(|e| BuildError::new_err(format!("Brdf.sampler: {e}")))?;
+        let method = match alpha {
+            Some((ax, ay)) => Method::Ggx(ax, ay),
+            None if method == "cosine" => Method::Cosine,
+            None => Method::Hds,
+        };
+        Ok(PyBrdfSampler {
+            sampler: Arc::new(sampler),
+            method,
+        })
+    }
+}
+
+/// The sampling method of a [`PyBrdfSampler`].
+#[derive(Clone, Copy)]
+enum Method {
+    Hds,
+    Cosine,
+    Ggx(f64, f64),
+}
+
+/// Importance sampling of a tabulated BRDF's f_r·cos θ_o, with exact pdf and inverse.
+#[pyclass(name = "BrdfSampler", module = "gonio", frozen)]
+pub struct PyBrdfSampler {
+    sampler: Arc<BrdfSampler>,
+    method: Method,
+}
+
+impl PyBrdfSampler {
+    fn with<T>(&self, f: impl FnOnce(&dyn BrdfMethod) -> T) -> T {
+        let s = &*self.sampler;
+        match self.method {
+            Method::Hds => f(s),
+            Method::Cosine => f(&CosineBrdf::new(s.brdf())),
+            Method::Ggx(ax, ay) => f(&GgxFit::with_alpha(s.brdf(), ax, ay)),
+        }
+    }
+}
+
+#[pymethods]
+impl PyBrdfSampler {
+    /// "hds", "cosine" or "ggx-fit".
+    #[getter]
+    fn method(&self) -> &'static str {
+        self.with(|m| m.name())
+    }
+
+    /// Channels of the weights (those of the BRDF).
+    #[getter]
+    fn channels(&self) -> usize {
+        self.sampler.brdf().channels()
+    }
+
+    /// Whether the slices were resampled to the requested grid (else the table's own grid).
+    #[getter]
+    fn resampled(&self) -> bool {
+        self.sampler.resampled()
+    }
+
+    /// Bytes held by the sampler (slice maps and the table).
+    #[getter]
+    fn memory_bytes(&self) -> usize {
+        self.sampler.memory_bytes()
+    }
+
+    /// ``sample(wi, u)`` for u (n, 2) in [0, 1]²: (wo (n, 3), pdf (n,) per sr, weight
+    /// (n, channels) = f_r·cos θ_o / pdf, 0 where the pdf is 0).
+    #[allow(clippy::type_complexity)]
+    fn sample<'py>(
+        &self,
+        py: Python<'py>,
+        wi: &Bound<'py, PyAny>,
+        u: &Bound<'py, PyAny>,
+    ) -> PyResult<(
+        Bound<'py, PyArray2<f64>>,
+        Bound<'py, PyArray1<f64>>,
+        Bound<'py, PyArray2<f64>>,
+    )> {
+        let rows = arrays::rows::<2>(u, "u")?;
+        let pts = rows.as_slice();
+        check_square(&pts, "u")?;
+        let inc = incident(wi, pts.len())?;
+        let wis = inc.slice();
+        let ch = self.channels();
+        let n = pts.len();
+        let (d, p, w) = detached(py, "BrdfSampler.sample", || {
+            // One row of 3 + 1 + channels values per sample, split afterwards.
+            let k = 4 + ch;
+            let mut all = buffer(k * n, "samples")?;
+            self.with(|m| {
+                par_fill(&mut all, k, |j, row| {
+                    let s = m.sample(unit(wis[if wis.len() == 1 { 0 } else { j }]), pts[j]);
+                    row[..3].copy_from_slice(&s.direction);
+                    row[3] = s.pdf;
+                    row[4..].copy_from_slice(&s.weight[..ch]);
+                })
+            });
+            let mut d = arrays::try_vec(3 * n, "wo")?;
+            let mut p = arrays::try_vec(n, "pdf")?;
+            let mut w = arrays::try_vec(ch * n, "weight")?;
+            for row in all.chunks(k) {
+                d.extend_from_slice(&row[..3]);
+                p.push(row[3]);
+                w.extend_from_slice(&row[4..]);
+            }
+            PyResult::Ok((d, p, w))
+        })??;
+        Ok((
+            arrays::new_2d(py, &d, 3)?,
+            arrays::new_1d(py, &p)?,
+            arrays::new_2d(py, &w, ch)?,
+        ))
+    }
+
+    /// ``pdf(wi, wo)``: the exact density of ``sample`` at each wo (n,), per steradian.
+    fn pdf<'py>(
+        &self,
+        py: Python<'py>,
+        wi: &Bound<'py, PyAny>,
+        wo: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let rows = arrays::rows::<3>(wo, "wo")?;
+        let wos = rows.as_slice();
+        check_dirs(&wos, "wo")?;
+        let inc = incident(wi, wos.len())?;
+        let wis = inc.slice();
+        let p = detached(py, "BrdfSampler.pdf", || {
+            let mut p = buffer(wos.len(), "pdf")?;
+            self.with(|m| {
+                par_fill(&mut p, 1, |k, row| {
+                    row[0] = m.pdf(unit(wis[if wis.len() == 1 { 0 } else { k }]), unit(wos[k]));
+                })
+            });
+            PyResult::Ok(p)
+        })??;
+        arrays::new_1d(py, &p)
+    }
+
+    /// ``invert(wi, wo)``: the points (n, 2) of the square that ``sample`` maps to each wo
+    /// (NaN where there is none, e.g. below the horizon).
+    fn invert<'py>(
+        &self,
+        py: Python<'py>,
+        wi: &Bound<'py, PyAny>,
+        wo: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let rows = arrays::rows::<3>(wo, "wo")?;
+        let wos = rows.as_slice();
+        check_dirs(&wos, "wo")?;
+        let inc = incident(wi, wos.len())?;
+        let wis = inc.slice();
+        let u = detached(py, "BrdfSampler.invert", || {
+            let mut u = buffer(2 * wos.len(), "u")?;
+            self.with(|m| {
+                par_fill(&mut u, 2, |k, row| {
+                    let w = unit(wis[if wis.len() == 1 { 0 } else { k }]);
+                    row.copy_from_slice(&m.invert(w, unit(wos[k])).unwrap_or([f64::NAN; 2]));
+                })
+            });
+            PyResult::Ok(u)
+        })??;
+        arrays::new_2d(py, &u, 2)
+    }
+}
+
+/// Adds `read_brdf`, `Brdf` and `BrdfSampler` to the native module.
+pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PyBrdf>()?;
+    m.add_class::<PyBrdfSampler>()?;
+    m.add_function(wrap_pyfunction!(read_brdf, m)?)?;
+    Ok(())
+}
