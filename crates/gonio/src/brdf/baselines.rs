@@ -229,7 +229,13 @@ impl BrdfMethod for GgxFit<'_> {
             2.0 * c * h[1] - wi[1],
             2.0 * c * h[2] - wi[2],
         ];
-        let pdf = self.reflected_pdf(wi, wo);
+        // A normal whose mirror direction falls below the horizon gives no sample: pdf 0 and
+        // weight 0, as `pdf` says there (the mass VNDF sampling loses below the surface).
+        let pdf = if wo[2] >= 0.0 {
+            self.reflected_pdf(wi, wo)
+        } else {
+            0.0
+        };
         BrdfSample {
             direction: wo,
             pdf,
