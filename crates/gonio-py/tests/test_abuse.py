@@ -153,6 +153,41 @@ def test_memory_exhaustion_is_memory_error_not_an_abort():
         assert f"{name} MemoryError" in lines, out
 
 
+def test_numpy_api_is_resolved_at_import_not_inside_a_call():
+    # rust-numpy looks numpy's C API capsule up lazily, on the first call that makes an array; a
+    # failure there (a Ctrl-C while numpy's core loads, or the capsule gone) was a PanicException
+    # inside that call. gonio resolves it at import: with the capsule removed after `import
+    # gonio`, the first array-making calls still work (before the fix: PanicException).
+    out = run_child(
+        """
+        import numpy as np
+        core = np._core if hasattr(np, "_core") else np.core
+        mod = core.multiarray
+        import gonio
+        del mod._ARRAY_API
+        s = gonio.example().sampler()
+        d, p = s.sample(gonio.sequence(8, "halton"))
+        assert d.shape == (8, 3) and np.all(p > 0)
+        print("ok", s.pdf(d).shape)
+        """
+    )
+    assert "ok (8,)" in out, out
+    # The lookup's own failure is the import's exception, an ImportError, not a PanicException.
+    out = run_child(
+        """
+        import numpy as np
+        core = np._core if hasattr(np, "_core") else np.core
+        del core.multiarray._ARRAY_API
+        try:
+            import gonio
+            print("imported")
+        except ImportError:
+            print("ImportError")
+        """
+    )
+    assert out.strip() == "ImportError", out
+
+
 # 4. Hangs: far starts, FIFOs, Ctrl-C in long calls.
 
 
