@@ -282,7 +282,7 @@ static void check_envmap(void) {
         if (bright) CHECK(max_pdf > 10.0 * uniform, "bright pixel: max pdf %.17g", max_pdf);
         printf("environment map (%s sky, %dx%d PFM): %d samples, max pdf %.4g (uniform %.4g)\n",
                bright ? "one bright pixel" : "constant", ENV_W, ENV_H, ENV_N, max_pdf, uniform);
-        st = gonio_envmap_sample_batch(m, ENV_N, uv, dirs, pdfs, rgbs);
+        st = gonio_envmap_sample_batch(m, uv, ENV_N, dirs, pdfs, rgbs);
         CHECK(st == GONIO_OK, "envmap batch: %s", gonio_last_error_message());
         for (int i = 0; i < ENV_N; i++) {
             double d[3], pdf;
@@ -299,7 +299,7 @@ static void check_envmap(void) {
             CHECK(gonio_envmap_sample(m, 1.5, 0.5, d, &pdf, rgb) == GONIO_ERR_INVALID_ARGUMENT,
                   "envmap point outside the square");
             uv[2 * 9] = NAN;
-            CHECK(gonio_envmap_sample_batch(m, ENV_N, uv, dirs, pdfs, rgbs) ==
+            CHECK(gonio_envmap_sample_batch(m, uv, ENV_N, dirs, pdfs, rgbs) ==
                       GONIO_ERR_INVALID_ARGUMENT,
                   "envmap NaN in batch");
             CHECK(strncmp(gonio_last_error_message(), "point #9: ", 10) == 0, "message: %s",

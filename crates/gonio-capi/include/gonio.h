@@ -816,8 +816,8 @@ GonioStatus gonio_envmap_eval(const struct GonioEnvMap *map,
  `pdf`, `rgb` NULL or valid for writing 3n doubles, n doubles, 3n floats.
  */
 GonioStatus gonio_envmap_sample_batch(const struct GonioEnvMap *map,
-                                      size_t n,
                                       const double *uv,
+                                      size_t n,
                                       double *dirs,
                                       double *pdf,
                                       float *rgb);

@@ -240,8 +240,8 @@ pub unsafe extern "C" fn gonio_envmap_eval(
 #[no_mangle]
 pub unsafe extern "C" fn gonio_envmap_sample_batch(
     map: *const GonioEnvMap,
-    n: usize,
     uv: *const f64,
+    n: usize,
     dirs: *mut f64,
     pdf: *mut f64,
     rgb: *mut f32,
@@ -364,8 +364,8 @@ mod tests {
         let st = unsafe {
             gonio_envmap_sample_batch(
                 m,
-                n,
                 uv.as_ptr(),
+                n,
                 dirs.as_mut_ptr(),
                 pdf.as_mut_ptr(),
                 rgb.as_mut_ptr(),
@@ -408,8 +408,8 @@ mod tests {
         let st = unsafe {
             gonio_envmap_sample_batch(
                 m,
-                n,
                 bad.as_ptr(),
+                n,
                 dirs.as_mut_ptr(),
                 pdf2.as_mut_ptr(),
                 rgb.as_mut_ptr(),
