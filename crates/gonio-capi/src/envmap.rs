@@ -484,4 +484,58 @@ mod tests {
         assert_eq!(st, GONIO_OK, "{}", last_error());
         unsafe { gonio_envmap_free(m) };
     }
+
+    #[test]
+    fn size_cap_fifo_and_zero_density() {
+        let dir = std::env::temp_dir().join(format!("gonio-capi-env-cap-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        // A sparse file one byte over the cap: refused by its size, nothing read.
+        let big = dir.join("big.hdr");
+        std::fs::File::create(&big)
+            .unwrap()
+            .set_len(GONIO_MAX_FILE_BYTES + 1)
+            .unwrap();
+        let path = std::ffi::CString::new(big.to_str().unwrap()).unwrap();
+        let mut m = null_mut();
+        let st = unsafe { gonio_envmap_read_path(path.as_ptr(), &mut m) };
+        assert_eq!(st, GONIO_ERR_IO);
+        assert!(
+            last_error().contains("more than the limit of 67108864 bytes"),
+            "{}",
+            last_error()
+        );
+        // A FIFO without a writer is refused before it is opened (opening would block).
+        let fifo = dir.join("sky.hdr");
+        let made = std::process::Command::new("mkfifo")
+            .arg(&fifo)
+            .status()
+            .is_ok_and(|s| s.success());
+        if made {
+            let path = std::ffi::CString::new(fifo.to_str().unwrap()).unwrap();
+            let st = unsafe { gonio_envmap_read_path(path.as_ptr(), &mut m) };
+            assert_eq!(st, GONIO_ERR_IO);
+            assert!(
+                last_error().ends_with("not a regular file"),
+                "{}",
+                last_error()
+            );
+        }
+        let _ = std::fs::remove_dir_all(&dir);
+        assert!(m.is_null());
+
+        // The upper half black (PFM rows run bottom to top, so rows 2 and 3 are the top): the
+        // zenith has density 0, no point maps to it.
+        let (st, m) = read(&pfm(8, 4, |_, r| if r >= 2 { [0.0; 3] } else { [1.0; 3] }));
+        assert_eq!(st, GONIO_OK, "{}", last_error());
+        let (mut p, mut u, mut v) = (-1.0, 0.0, 0.0);
+        assert_eq!(
+            unsafe { gonio_envmap_pdf(m, 0.0, 0.0, 1.0, &mut p) },
+            GONIO_OK
+        );
+        assert_eq!(p, 0.0);
+        let st = unsafe { gonio_envmap_invert(m, 0.0, 0.0, 1.0, &mut u, &mut v) };
+        assert_eq!(st, crate::GONIO_ERR_ZERO_DENSITY, "{}", last_error());
+        assert!(unsafe { gonio_envmap_pdf(m, 0.0, 0.0, -1.0, &mut p) } == GONIO_OK && p > 0.0);
+        unsafe { gonio_envmap_free(m) };
+    }
 }
