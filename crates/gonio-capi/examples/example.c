@@ -1,6 +1,7 @@
 /* gonio C example: read photometric files, sample them with every method, check that
  * pdf(sample(u)) equals the sample's pdf and that invert(sample(u)) == u, and exercise the error
- * paths (NULL pointers, a missing file, a malformed file, bad enumeration values).
+ * paths (NULL pointers, a missing file, a malformed file, bad enumeration values); then sample,
+ * evaluate and invert an environment map built in memory (check_envmap).
  *
  * Build (see scripts/test-c.sh and docs/C_API.md):
  *   cc -std=c11 -Wall -Wextra -I crates/gonio-capi/include example.c \
@@ -224,6 +225,103 @@ static void check_errors(const char *good_path) {
     gonio_diagram_free(NULL);
 }
 
+/* Environment maps: a PFM image built in memory (little-endian RGB floats, rows bottom to top),
+ * read with gonio_envmap_read_memory. A constant sky has the uniform density 1/(4 pi) everywhere;
+ * a sky with one bright pixel is not uniform, and for both pdf(sample(u)) equals the sample's
+ * pdf, invert(sample(u)) == u and the batch agrees with single points. */
+#define ENV_W 16
+#define ENV_H 8
+static size_t env_pfm(unsigned char *buf, int bright) {
+    int n = sprintf((char *)buf, "PF\n%d %d\n-1.0\n", ENV_W, ENV_H);
+    size_t len = (size_t)n;
+    for (int row = 0; row < ENV_H; row++) {
+        for (int col = 0; col < ENV_W; col++) {
+            for (int c = 0; c < 3; c++) {
+                float x = (bright && row == 2 && col == 5) ? 100.0f : 0.25f * (float)(c + 1);
+                uint32_t bits;
+                memcpy(&bits, &x, sizeof bits);
+                for (int k = 0; k < 4; k++) buf[len++] = (unsigned char)(bits >> (8 * k));
+            }
+        }
+    }
+    return len;
+}
+
+#define ENV_N 64
+static void check_envmap(void) {
+    static unsigned char buf[64 + ENV_W * ENV_H * 12];
+    const double uniform = 1.0 / (4.0 * 3.14159265358979323846);
+    for (int bright = 0; bright < 2; bright++) {
+        size_t len = env_pfm(buf, bright);
+        GonioEnvMap *m = NULL;
+        GonioStatus st = gonio_envmap_read_memory(buf, len, "sky.pfm", &m);
+        CHECK(st == GONIO_OK, "envmap read: %s", gonio_last_error_message());
+        if (st != GONIO_OK) continue;
+        double uv[2 * ENV_N], dirs[3 * ENV_N], pdfs[ENV_N];
+        float rgbs[3 * ENV_N];
+        double max_pdf = 0.0;
+        for (int i = 0; i < 2 * ENV_N; i++) uv[i] = next_unit();
+        for (int i = 0; i < ENV_N; i++) {
+            double d[3], pdf = 0.0, q = 0.0, u = -1.0, v = -1.0;
+            float rgb[3], e[3];
+            st = gonio_envmap_sample(m, uv[2 * i], uv[2 * i + 1], d, &pdf, rgb);
+            CHECK(st == GONIO_OK, "envmap sample: %s", gonio_last_error_message());
+            if (!bright)
+                CHECK(fabs(pdf - uniform) < 1e-12, "constant sky pdf %.17g != 1/(4 pi)", pdf);
+            if (pdf > max_pdf) max_pdf = pdf;
+            CHECK(gonio_envmap_pdf(m, d[0], d[1], d[2], &q) == GONIO_OK, "envmap pdf");
+            CHECK(fabs(q - pdf) <= 1e-9 * pdf, "envmap pdf %.17g vs sample %.17g", q, pdf);
+            CHECK(gonio_envmap_eval(m, d[0], d[1], d[2], e) == GONIO_OK, "envmap eval");
+            CHECK(memcmp(e, rgb, sizeof e) == 0, "envmap eval != sample radiance");
+            st = gonio_envmap_invert(m, d[0], d[1], d[2], &u, &v);
+            CHECK(st == GONIO_OK, "envmap invert: %s", gonio_last_error_message());
+            CHECK(fabs(u - uv[2 * i]) < 1e-9 && fabs(v - uv[2 * i + 1]) < 1e-9,
+                  "envmap round trip (%.17g, %.17g) -> (%.17g, %.17g)", uv[2 * i], uv[2 * i + 1],
+                  u, v);
+        }
+        if (bright) CHECK(max_pdf > 10.0 * uniform, "bright pixel: max pdf %.17g", max_pdf);
+        printf("environment map (%s sky, %dx%d PFM): %d samples, max pdf %.4g (uniform %.4g)\n",
+               bright ? "one bright pixel" : "constant", ENV_W, ENV_H, ENV_N, max_pdf, uniform);
+        st = gonio_envmap_sample_batch(m, uv, ENV_N, dirs, pdfs, rgbs);
+        CHECK(st == GONIO_OK, "envmap batch: %s", gonio_last_error_message());
+        for (int i = 0; i < ENV_N; i++) {
+            double d[3], pdf;
+            float rgb[3];
+            gonio_envmap_sample(m, uv[2 * i], uv[2 * i + 1], d, &pdf, rgb);
+            CHECK(memcmp(d, dirs + 3 * i, sizeof d) == 0 && pdf == pdfs[i] &&
+                      memcmp(rgb, rgbs + 3 * i, sizeof rgb) == 0,
+                  "envmap batch element %d differs", i);
+        }
+        /* Errors: a point outside the square, a NaN in a batch (its index), NULL pointers. */
+        {
+            double d[3], pdf;
+            float rgb[3];
+            CHECK(gonio_envmap_sample(m, 1.5, 0.5, d, &pdf, rgb) == GONIO_ERR_INVALID_ARGUMENT,
+                  "envmap point outside the square");
+            uv[2 * 9] = NAN;
+            CHECK(gonio_envmap_sample_batch(m, uv, ENV_N, dirs, pdfs, rgbs) ==
+                      GONIO_ERR_INVALID_ARGUMENT,
+                  "envmap NaN in batch");
+            CHECK(strncmp(gonio_last_error_message(), "point #9: ", 10) == 0, "message: %s",
+                  gonio_last_error_message());
+            CHECK(gonio_envmap_pdf(m, 0.0, 0.0, 1.0, NULL) == GONIO_ERR_NULL_POINTER,
+                  "envmap NULL pdf");
+            CHECK(gonio_envmap_pdf(NULL, 0.0, 0.0, 1.0, &pdf) == GONIO_ERR_NULL_POINTER,
+                  "envmap NULL map");
+        }
+        gonio_envmap_free(m);
+    }
+    {
+        GonioEnvMap *m = NULL;
+        CHECK(gonio_envmap_read_memory((const unsigned char *)"junk", 4, NULL, &m) ==
+                      GONIO_ERR_PARSE && m == NULL,
+              "envmap junk");
+        CHECK(gonio_envmap_read_path("/nonexistent/sky.hdr", &m) == GONIO_ERR_IO && m == NULL,
+              "envmap missing file");
+        gonio_envmap_free(NULL);
+    }
+}
+
 int main(int argc, char **argv) {
     if (argc < 2) {
         fprintf(stderr, "usage: %s FILE.ies|FILE.ldt ...\n", argv[0]);
@@ -232,6 +330,7 @@ int main(int argc, char **argv) {
     printf("gonio %s\n", gonio_version());
     for (int i = 1; i < argc; i++) check_file(argv[i]);
     check_errors(argv[1]);
+    check_envmap();
     if (failures) {
         fprintf(stderr, "%d check(s) failed\n", failures);
         return 1;

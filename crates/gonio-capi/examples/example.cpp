@@ -1,6 +1,7 @@
 // gonio C++ example: the RAII wrapper gonio.hpp over gonio.h. Reads a photometric file, samples
 // it with the HDS mapping from four threads sharing one sampler, and checks pdf(sample(u)) ==
-// pdf and invert(sample(u)) == u; then checks that errors arrive as gonio::Error.
+// pdf and invert(sample(u)) == u; then checks that errors arrive as gonio::Error, and samples a
+// constant-sky environment map (gonio::EnvMap) built in memory.
 //
 // Build (one line): c++ -std=c++17 -Wall -Wextra -I crates/gonio-capi/include example.cpp
 //                   target/release/libgonio_capi.a -lpthread -ldl -lm -o example_cpp
@@ -10,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <random>
 #include <thread>
 
@@ -101,6 +103,37 @@ int main(int argc, char **argv) {
         if (e.status() != GONIO_ERR_PARSE || std::string(e.what()).rfind("bad.ldt:", 0) != 0)
             failures++;
         std::printf("expected error: %s\n", e.what());
+    }
+    // An environment map (a constant sky as a PFM built in memory): uniform density 1/(4 pi),
+    // round trips, and an all-black sky refused with GONIO_ERR_BUILD.
+    for (float level : {1.5f, 0.0f}) {
+        std::string head = "PF\n8 4\n-1.0\n";
+        std::vector<std::uint8_t> pfm(head.begin(), head.end());
+        std::uint32_t bits;
+        std::memcpy(&bits, &level, sizeof bits);
+        for (int i = 0; i < 8 * 4 * 3; i++)
+            for (int k = 0; k < 4; k++) pfm.push_back(std::uint8_t(bits >> (8 * k)));
+        try {
+            const gonio::EnvMap env = gonio::EnvMap::read_memory(pfm, "sky.pfm");
+            const double uniform = 1.0 / (4.0 * M_PI);
+            double worst = 0.0;
+            for (int i = 0; i < 100; i++) {
+                // v away from 0 and 1: at a pole every u maps to the same direction.
+                const double u = (i + 0.5) / 100.0;
+                const double v = 0.005 + 0.99 * std::fmod(0.37 * i, 1.0);
+                const gonio::EnvSample s = env.sample(u, v);
+                const std::array<double, 2> back = env.invert(s.direction);
+                worst = std::max({worst, std::fabs(s.pdf - uniform),
+                                  std::fabs(env.pdf(s.direction) - uniform),
+                                  std::fabs(back[0] - u), std::fabs(back[1] - v)});
+                if (s.rgb[0] != level || env.eval(s.direction)[2] != level) failures++;
+            }
+            if (level == 0.0f || worst > 1e-9) failures++;
+            std::printf("environment map: constant sky, 100 samples, max |error| %.1e\n", worst);
+        } catch (const gonio::Error &e) {
+            if (level != 0.0f || e.status() != GONIO_ERR_BUILD) failures++;
+            std::printf("expected error: %s\n", e.what());
+        }
     }
     if (failures) {
         std::fprintf(stderr, "%d check(s) failed\n", failures);

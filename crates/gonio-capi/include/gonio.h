@@ -22,6 +22,13 @@
 typedef struct GonioDiagram GonioDiagram;
 
 /*
+ An environment light read from an equirectangular image (opaque). Created by
+ [`gonio_envmap_read_path`] or [`gonio_envmap_read_memory`], released by [`gonio_envmap_free`].
+ Immutable: may be used from any number of threads at once.
+ */
+typedef struct GonioEnvMap GonioEnvMap;
+
+/*
  A sampler of any method and domain (opaque). Created by [`gonio_sampler_build`], released by
  [`gonio_sampler_free`]. Immutable: may be shared between threads and used from all of them at
  once (every function taking `const GonioSampler *` is thread-safe).
@@ -697,6 +704,123 @@ GonioStatus gonio_invert_batch_soa_f32(const struct GonioSampler *sampler,
                                        size_t n,
                                        float *u,
                                        float *v);
+
+/*
+ Reads an equirectangular environment map (Radiance `.hdr`, OpenEXR `.exr` or `.pfm`) from a
+ path; the format is chosen by the file's first bytes, else by its extension. Files larger than
+ [`GONIO_MAX_FILE_BYTES`] and anything that is not a regular file are refused
+ (`GONIO_ERR_IO`); a file that does not decode is
+ [`GONIO_ERR_PARSE`], an all-black image [`GONIO_ERR_BUILD`]. On success `*out` receives a new
+ handle that the caller releases with [`gonio_envmap_free`].
+
+ # Safety
+ `path` must be NULL or a NUL-terminated string; `out` must be NULL or valid for writing a
+ pointer.
+ */
+GonioStatus gonio_envmap_read_path(const char *path, struct GonioEnvMap **out);
+
+/*
+ Reads an environment map from `len` bytes at `data`, the format announced by the first bytes
+ (`#?` Radiance, `PF` PFM, the OpenEXR magic number). `name` (may be NULL, then `"<memory>"`)
+ is used in messages. More than [`GONIO_MAX_FILE_BYTES`] bytes are refused. On success `*out`
+ receives a new handle that the caller releases with [`gonio_envmap_free`].
+
+ # Safety
+ `data` must be NULL or valid for reading `len` bytes; `name` NULL or a NUL-terminated string;
+ `out` NULL or valid for writing a pointer.
+ */
+GonioStatus gonio_envmap_read_memory(const uint8_t *data,
+                                     size_t len,
+                                     const char *name,
+                                     struct GonioEnvMap **out);
+
+/*
+ Releases an environment map handle. NULL is accepted and ignored.
+
+ # Safety
+ `map` must be NULL or a handle from a `gonio_envmap_read_*` function that was not freed yet,
+ and no other thread may be using it.
+ */
+void gonio_envmap_free(struct GonioEnvMap *map);
+
+/*
+ Maps the point (u, v) of the unit square to a unit direction `dir[3]`, its exact density
+ `*pdf` (per steradian, equal to [`gonio_envmap_pdf`] there) and the image's linear RGB
+ radiance `rgb[3]` in that direction. A point outside [0, 1]² or with a NaN coordinate is
+ `GONIO_ERR_INVALID_ARGUMENT`.
+
+ # Safety
+ `map` must be NULL or a live handle; `dir` and `rgb` NULL or valid for writing 3 doubles /
+ 3 floats; `pdf` NULL or valid for writing a double.
+ */
+GonioStatus gonio_envmap_sample(const struct GonioEnvMap *map,
+                                double u,
+                                double v,
+                                double *dir,
+                                double *pdf,
+                                float *rgb);
+
+/*
+ The density of [`gonio_envmap_sample`] at direction (x, y, z) (normalised first), per
+ steradian. A zero or non-finite vector is
+ `GONIO_ERR_INVALID_ARGUMENT`.
+
+ # Safety
+ `map` must be NULL or a live handle; `pdf` NULL or valid for writing a double.
+ */
+GonioStatus gonio_envmap_pdf(const struct GonioEnvMap *map,
+                             double x,
+                             double y,
+                             double z,
+                             double *pdf);
+
+/*
+ The point (u, v) of the unit square that [`gonio_envmap_sample`] maps to direction
+ (x, y, z). `GONIO_ERR_ZERO_DENSITY` for a direction where
+ the density is 0 (a black part of the image: no point maps to it).
+
+ # Safety
+ `map` must be NULL or a live handle; `u` and `v` NULL or valid for writing a double.
+ */
+GonioStatus gonio_envmap_invert(const struct GonioEnvMap *map,
+                                double x,
+                                double y,
+                                double z,
+                                double *u,
+                                double *v);
+
+/*
+ The image's linear RGB radiance `rgb[3]` in direction (x, y, z) (normalised first), by the
+ map's lookup (nearest pixel). A zero or non-finite vector is
+ `GONIO_ERR_INVALID_ARGUMENT`.
+
+ # Safety
+ `map` must be NULL or a live handle; `rgb` NULL or valid for writing 3 floats.
+ */
+GonioStatus gonio_envmap_eval(const struct GonioEnvMap *map,
+                              double x,
+                              double y,
+                              double z,
+                              float *rgb);
+
+/*
+ Samples `n` points `uv[2n]` (u, v interleaved): unit directions into `dirs[3n]`, densities
+ into `pdf[n]`, RGB radiance into `rgb[3n]`, element i as [`gonio_envmap_sample`] gives it. A
+ point outside the unit square (or NaN) stops the batch with
+ `GONIO_ERR_INVALID_ARGUMENT` naming its index; every
+ point is checked before any output is written, and every input is read before any output is
+ written (an output may overlap `uv`). `n = 0` does nothing (the pointers are still checked).
+
+ # Safety
+ `map` must be NULL or a live handle; `uv` NULL or valid for reading 2n doubles; `dirs`,
+ `pdf`, `rgb` NULL or valid for writing 3n doubles, n doubles, 3n floats.
+ */
+GonioStatus gonio_envmap_sample_batch(const struct GonioEnvMap *map,
+                                      const double *uv,
+                                      size_t n,
+                                      double *dirs,
+                                      double *pdf,
+                                      float *rgb);
 
 #ifdef __cplusplus
 } /* extern "C" */

@@ -132,6 +132,59 @@ class Diagram {
     std::unique_ptr<GonioDiagram, Free> ptr_;
 };
 
+// One sample of an environment map: a unit direction, the exact density there (per sr) and the
+// image's linear RGB radiance in that direction.
+struct EnvSample {
+    Vec3 direction;
+    double pdf;
+    std::array<float, 3> rgb;
+};
+
+// An environment light read from an equirectangular .hdr, .exr or .pfm image. Movable, not
+// copyable; shareable between threads by reference (every member function is const).
+class EnvMap {
+  public:
+    static EnvMap read(const std::string &path) {
+        GonioEnvMap *m = nullptr;
+        check(gonio_envmap_read_path(path.c_str(), &m));
+        return EnvMap(m);
+    }
+    static EnvMap read_memory(const std::vector<std::uint8_t> &bytes,
+                              const std::string &name = "<memory>") {
+        GonioEnvMap *m = nullptr;
+        check(gonio_envmap_read_memory(bytes.data(), bytes.size(), name.c_str(), &m));
+        return EnvMap(m);
+    }
+    EnvSample sample(double u, double v) const {
+        EnvSample s;
+        check(gonio_envmap_sample(ptr_.get(), u, v, s.direction.data(), &s.pdf, s.rgb.data()));
+        return s;
+    }
+    double pdf(const Vec3 &d) const {
+        double p;
+        check(gonio_envmap_pdf(ptr_.get(), d[0], d[1], d[2], &p));
+        return p;
+    }
+    std::array<double, 2> invert(const Vec3 &d) const {
+        std::array<double, 2> uv;
+        check(gonio_envmap_invert(ptr_.get(), d[0], d[1], d[2], &uv[0], &uv[1]));
+        return uv;
+    }
+    std::array<float, 3> eval(const Vec3 &d) const {
+        std::array<float, 3> c;
+        check(gonio_envmap_eval(ptr_.get(), d[0], d[1], d[2], c.data()));
+        return c;
+    }
+    const GonioEnvMap *get() const noexcept { return ptr_.get(); }
+
+  private:
+    explicit EnvMap(GonioEnvMap *p) : ptr_(p) {}
+    struct Free {
+        void operator()(GonioEnvMap *p) const noexcept { gonio_envmap_free(p); }
+    };
+    std::unique_ptr<GonioEnvMap, Free> ptr_;
+};
+
 }  // namespace gonio
 
 #endif  // GONIO_HPP

@@ -1707,6 +1707,9 @@ pub unsafe extern "C" fn gonio_invert_batch_soa_f32(
     invert_soa::<f32>(sampler, x, y, z, n, u, v)
 }
 
+mod envmap;
+pub use envmap::*;
+
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
