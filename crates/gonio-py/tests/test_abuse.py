@@ -62,6 +62,37 @@ def test_out_sharing_memory_with_the_input_through_another_base_is_refused():
         s.pdf(dv, out=np.frombuffer(dbuf, np.float64, count=n, offset=8 * 3 * (n - 1)))
 
 
+def test_out_sharing_memory_through_ctypes_and_shared_memory_is_refused():
+    # The same rule whatever owns the memory: two views of one ctypes array, and of one
+    # multiprocessing shared-memory block, through different base objects.
+    import ctypes
+    from multiprocessing import shared_memory
+
+    s = gonio.example().sampler()
+    n = 64
+    u = gonio.sequence(n, "halton", start=1)
+
+    def views(make):
+        ua, da = make()
+        assert ua.base is not da.base and np.shares_memory(ua, da)
+        ua[:] = u
+        with pytest.raises(gonio.InputError, match=r"out\[0\] \(directions\): shares memory with u"):
+            s.sample(ua, out=(da, np.zeros(n)))
+        np.testing.assert_array_equal(ua, u)  # nothing was written
+
+    raw = (ctypes.c_double * (5 * n))()
+    views(lambda: (np.ctypeslib.as_array(raw)[: 2 * n].reshape(n, 2),
+                   np.ctypeslib.as_array(ctypes.cast(raw, ctypes.POINTER(ctypes.c_double)),
+                                         shape=(3 * n,)).reshape(n, 3)))
+    shm = shared_memory.SharedMemory(create=True, size=8 * 5 * n)
+    try:
+        views(lambda: (np.frombuffer(shm.buf[: 16 * n], np.float64).reshape(n, 2),
+                       np.frombuffer(shm.buf[: 24 * n], np.float64).reshape(n, 3)))
+    finally:
+        shm.close()
+        shm.unlink()
+
+
 def test_adjacent_views_of_one_buffer_are_accepted():
     # The range test is exact: outputs right next to the input in the same buffer are fine.
     s = gonio.example().sampler()
