@@ -1,7 +1,8 @@
 /* gonio C example: read photometric files, sample them with every method, check that
  * pdf(sample(u)) equals the sample's pdf and that invert(sample(u)) == u, and exercise the error
  * paths (NULL pointers, a missing file, a malformed file, bad enumeration values); then sample,
- * evaluate and invert an environment map built in memory (check_envmap).
+ * evaluate and invert an environment map built in memory (check_envmap) and build it with options
+ * (check_envmap_options).
  *
  * Build (see scripts/test-c.sh and docs/C_API.md):
  *   cc -std=c11 -Wall -Wextra -I crates/gonio-capi/include example.c \
@@ -322,6 +323,79 @@ static void check_envmap(void) {
     }
 }
 
+/* Environment map options: constant custom weights give the uniform density on a sky with a
+ * bright pixel; custom weights of the wrong length and an unknown lookup are refused; MIS
+ * compensation zeroes the dim sky; a negative pixel gives a warning, read back. */
+static void check_envmap_options(void) {
+    static unsigned char buf[64 + ENV_W * ENV_H * 12];
+    static float cw[ENV_W * ENV_H];
+    const double uniform = 1.0 / (4.0 * 3.14159265358979323846);
+    GonioEnvOptions o;
+    GonioEnvMap *m = NULL;
+    size_t len = env_pfm(buf, 1), n = 0;
+    const char *text = NULL;
+    double d[3], pdf = 0.0;
+    float rgb[3];
+    CHECK(gonio_envmap_options_default(&o) == GONIO_OK && o.weight == GONIO_ENV_WEIGHT_LUMINANCE &&
+              o.lookup == GONIO_ENV_LOOKUP_NEAREST && o.mis_compensation == 0,
+          "envmap default options");
+    for (int i = 0; i < ENV_W * ENV_H; i++) cw[i] = 2.0f;
+    o.weight = GONIO_ENV_WEIGHT_CUSTOM;
+    o.custom_weights = cw;
+    o.custom_len = ENV_W * ENV_H;
+    CHECK(gonio_envmap_read_memory_with(buf, len, "sky.pfm", &o, &m) == GONIO_OK, "custom: %s",
+          gonio_last_error_message());
+    for (int i = 0; m && i < 16; i++) {
+        CHECK(gonio_envmap_sample(m, next_unit(), next_unit(), d, &pdf, rgb) == GONIO_OK,
+              "custom sample");
+        CHECK(fabs(pdf - uniform) < 1e-12, "custom weights: pdf %.17g != 1/(4 pi)", pdf);
+    }
+    gonio_envmap_free(m);
+    m = NULL;
+    o.custom_len = 3;
+    CHECK(gonio_envmap_read_memory_with(buf, len, "sky.pfm", &o, &m) ==
+                  GONIO_ERR_INVALID_ARGUMENT && m == NULL,
+          "custom weights of the wrong length");
+    printf("expected error: %s\n", gonio_last_error_message());
+    gonio_envmap_options_default(&o);
+    o.lookup = 7;
+    CHECK(gonio_envmap_read_memory_with(buf, len, "sky.pfm", &o, &m) == GONIO_ERR_INVALID_ARGUMENT,
+          "unknown lookup");
+    /* MIS compensation of the sky with one bright pixel: the dim rest, below the mean, gets
+     * density 0 (the zenith here); the lookup option gives the bilinear radiance. */
+    gonio_envmap_options_default(&o);
+    o.mis_compensation = 1;
+    o.lookup = GONIO_ENV_LOOKUP_BILINEAR;
+    CHECK(gonio_envmap_read_memory_with(buf, len, "sky.pfm", &o, &m) == GONIO_OK, "mis: %s",
+          gonio_last_error_message());
+    CHECK(gonio_envmap_pdf(m, 0.0, 0.0, 1.0, &pdf) == GONIO_OK && pdf == 0.0,
+          "MIS-compensated zenith pdf %.17g", pdf);
+    CHECK(gonio_envmap_eval(m, 0.3, -0.2, 0.9, rgb) == GONIO_OK && rgb[2] == 0.75f,
+          "bilinear eval of the dim sky");
+    CHECK(gonio_envmap_warning_count(m, &n) == GONIO_OK && n == 0, "no warning, not %zu", n);
+    gonio_envmap_free(m);
+    m = NULL;
+    /* A negative pixel (the first three floats of the data): weighted as 0, with a warning. */
+    len = env_pfm(buf, 0);
+    {
+        const float neg = -1.0f;
+        uint32_t bits;
+        size_t at = len - (size_t)ENV_W * ENV_H * 12;
+        memcpy(&bits, &neg, sizeof bits);
+        for (int k = 0; k < 12; k++) buf[at + k] = (unsigned char)(bits >> (8 * (k % 4)));
+    }
+    gonio_envmap_options_default(&o);
+    CHECK(gonio_envmap_read_memory_with(buf, len, "sky.pfm", &o, &m) == GONIO_OK, "negative: %s",
+          gonio_last_error_message());
+    CHECK(gonio_envmap_warning_count(m, &n) == GONIO_OK && n == 1, "one warning, not %zu", n);
+    CHECK(gonio_envmap_warning(m, 0, &text) == GONIO_OK && text &&
+              strncmp(text, "sky.pfm: warning: 1 pixels have a negative luminance", 52) == 0,
+          "warning text: %s", text ? text : "(null)");
+    printf("envmap warning: %s\n", text ? text : "(null)");
+    CHECK(gonio_envmap_warning(m, 1, &text) == GONIO_ERR_INVALID_ARGUMENT, "warning index 1");
+    gonio_envmap_free(m);
+}
+
 int main(int argc, char **argv) {
     if (argc < 2) {
         fprintf(stderr, "usage: %s FILE.ies|FILE.ldt ...\n", argv[0]);
@@ -331,6 +405,7 @@ int main(int argc, char **argv) {
     for (int i = 1; i < argc; i++) check_file(argv[i]);
     check_errors(argv[1]);
     check_envmap();
+    check_envmap_options();
     if (failures) {
         fprintf(stderr, "%d check(s) failed\n", failures);
         return 1;

@@ -130,6 +130,20 @@ int main(int argc, char **argv) {
             }
             if (level == 0.0f || worst > 1e-9) failures++;
             std::printf("environment map: constant sky, 100 samples, max |error| %.1e\n", worst);
+            // Options: bilinear lookup and constant custom weights (the uniform density).
+            GonioEnvOptions o = gonio::EnvMap::default_options();
+            std::vector<float> cw(8 * 4, 2.0f);
+            o.lookup = GONIO_ENV_LOOKUP_BILINEAR;
+            o.weight = GONIO_ENV_WEIGHT_CUSTOM;
+            o.custom_weights = cw.data();
+            o.custom_len = cw.size();
+            const gonio::EnvMap opt = gonio::EnvMap::read_memory(pfm, o, "sky.pfm");
+            const gonio::EnvSample s = opt.sample(0.3, 0.7);
+            if (std::fabs(s.pdf - uniform) > 1e-12 || opt.eval({0.3, -0.2, 0.9})[1] != level ||
+                !opt.warnings().empty() || !env.warnings().empty())
+                failures++;
+            std::printf("environment map with options (bilinear, custom weights): pdf %.6g\n",
+                        s.pdf);
         } catch (const gonio::Error &e) {
             if (level != 0.0f || e.status() != GONIO_ERR_BUILD) failures++;
             std::printf("expected error: %s\n", e.what());

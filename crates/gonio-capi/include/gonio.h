@@ -23,8 +23,8 @@ typedef struct GonioDiagram GonioDiagram;
 
 /*
  An environment light read from an equirectangular image (opaque). Created by
- [`gonio_envmap_read_path`] or [`gonio_envmap_read_memory`], released by [`gonio_envmap_free`].
- Immutable: may be used from any number of threads at once.
+ [`gonio_envmap_read_path`], [`gonio_envmap_read_memory`] or their `_with` forms, released by
+ [`gonio_envmap_free`]. Immutable: may be used from any number of threads at once.
  */
 typedef struct GonioEnvMap GonioEnvMap;
 
@@ -98,6 +98,53 @@ typedef struct GonioSample {
    */
   double pdf;
 } GonioSample;
+
+/*
+ What an environment map's density is proportional to: one of the `GONIO_ENV_WEIGHT_*`
+ constants.
+ */
+typedef int32_t GonioEnvWeight;
+
+/*
+ How [`gonio_envmap_eval`] (and the radiance of a sample) reads the image: one of the
+ `GONIO_ENV_LOOKUP_*` constants.
+ */
+typedef int32_t GonioEnvLookup;
+
+/*
+ Options of [`gonio_envmap_read_path_with`] and [`gonio_envmap_read_memory_with`] (the
+ library's `EnvOptions`). Fill it with [`gonio_envmap_options_default`], then change fields.
+ (The struct may gain fields in later versions; always start from the defaults.)
+ */
+typedef struct GonioEnvOptions {
+  /*
+   A `GONIO_ENV_WEIGHT_*` constant (default luminance).
+   */
+  GonioEnvWeight weight;
+  /*
+   With [`GONIO_ENV_WEIGHT_CHANNEL`]: 0 = R, 1 = G, 2 = B (default 0; ignored otherwise).
+   */
+  uint32_t channel;
+  /*
+   With [`GONIO_ENV_WEIGHT_CUSTOM`]: `custom_len` floats, W × H row-major from the top row,
+   copied during the call (default NULL; ignored otherwise).
+   */
+  const float *custom_weights;
+  /*
+   The number of floats at `custom_weights`; must equal the image's W × H.
+   */
+  size_t custom_len;
+  /*
+   A `GONIO_ENV_LOOKUP_*` constant (default nearest).
+   */
+  GonioEnvLookup lookup;
+  /*
+   1: MIS compensation (the weight minus its solid-angle mean, clamped at 0; use it only
+   with MIS, see docs/ENVMAPS.md); 0: the plain weight (the default). Other values are
+   refused.
+   */
+  int32_t mis_compensation;
+} GonioEnvOptions;
 
 /*
  Success.
@@ -224,6 +271,33 @@ typedef struct GonioSample {
  One map with the whole-sphere Lambert lift.
  */
 #define GONIO_SPHERE_LAYOUT_LAMBERT 1
+
+/*
+ Rec. 709 luminance Y = 0.2126 R + 0.7152 G + 0.0722 B (the default).
+ */
+#define GONIO_ENV_WEIGHT_LUMINANCE 0
+
+/*
+ One channel of the image, [`GonioEnvOptions::channel`] (0 = R, 1 = G, 2 = B).
+ */
+#define GONIO_ENV_WEIGHT_CHANNEL 1
+
+/*
+ The caller's weights [`GonioEnvOptions::custom_weights`], W × H values row-major (row 0 at
+ the top of the image), finite and ≥ 0.
+ */
+#define GONIO_ENV_WEIGHT_CUSTOM 2
+
+/*
+ The pixel that holds the direction (the default).
+ */
+#define GONIO_ENV_LOOKUP_NEAREST 0
+
+/*
+ Bilinear between pixel centres, continuous across the seam and at the poles (the
+ interpolant the density follows; docs/ENVMAPS.md).
+ */
+#define GONIO_ENV_LOOKUP_BILINEAR 1
 
 #ifdef __cplusplus
 extern "C" {
@@ -706,6 +780,15 @@ GonioStatus gonio_invert_batch_soa_f32(const struct GonioSampler *sampler,
                                        float *v);
 
 /*
+ Writes the default options into `*options`: luminance weight, nearest lookup, no MIS
+ compensation.
+
+ # Safety
+ `options` must be NULL or valid for writing a [`GonioEnvOptions`].
+ */
+GonioStatus gonio_envmap_options_default(struct GonioEnvOptions *options);
+
+/*
  Reads an equirectangular environment map (Radiance `.hdr`, OpenEXR `.exr` or `.pfm`) from a
  path; the format is chosen by the file's first bytes, else by its extension. Files larger than
  [`GONIO_MAX_FILE_BYTES`] and anything that is not a regular file are refused
@@ -718,6 +801,20 @@ GonioStatus gonio_invert_batch_soa_f32(const struct GonioSampler *sampler,
  pointer.
  */
 GonioStatus gonio_envmap_read_path(const char *path, struct GonioEnvMap **out);
+
+/*
+ As [`gonio_envmap_read_path`] with `options` (see [`GonioEnvOptions`]); a bad option is
+ `GONIO_ERR_INVALID_ARGUMENT`, checked before the file is read (the number of custom weights
+ after it is decoded).
+
+ # Safety
+ `path` must be NULL or a NUL-terminated string; `options` NULL or a valid
+ [`GonioEnvOptions`] whose `custom_weights`, when used, is valid for reading `custom_len`
+ floats; `out` NULL or valid for writing a pointer.
+ */
+GonioStatus gonio_envmap_read_path_with(const char *path,
+                                        const struct GonioEnvOptions *options,
+                                        struct GonioEnvMap **out);
 
 /*
  Reads an environment map from `len` bytes at `data`, the format announced by the first bytes
@@ -733,6 +830,38 @@ GonioStatus gonio_envmap_read_memory(const uint8_t *data,
                                      size_t len,
                                      const char *name,
                                      struct GonioEnvMap **out);
+
+/*
+ As [`gonio_envmap_read_memory`] with `options` (see [`GonioEnvOptions`]); a bad option is
+ `GONIO_ERR_INVALID_ARGUMENT`.
+
+ # Safety
+ As [`gonio_envmap_read_memory`]; `options` NULL or a valid [`GonioEnvOptions`] whose
+ `custom_weights`, when used, is valid for reading `custom_len` floats.
+ */
+GonioStatus gonio_envmap_read_memory_with(const uint8_t *data,
+                                          size_t len,
+                                          const char *name,
+                                          const struct GonioEnvOptions *options,
+                                          struct GonioEnvMap **out);
+
+/*
+ The number of warnings the reader and the builder issued (ignored channels or trailing
+ bytes, negative pixels weighted as 0, MIS compensation that left nothing above the mean).
+
+ # Safety
+ `map` must be NULL or a live handle; `count` NULL or valid for writing a `size_t`.
+ */
+GonioStatus gonio_envmap_warning_count(const struct GonioEnvMap *map, size_t *count);
+
+/*
+ Warning number `index` (from 0) as `NAME: warning: message` (NAME the path or the name
+ given to `read_memory`). The string belongs to the map handle and lives as long as it.
+
+ # Safety
+ `map` must be NULL or a live handle; `text` NULL or valid for writing a pointer.
+ */
+GonioStatus gonio_envmap_warning(const struct GonioEnvMap *map, size_t index, const char **text);
 
 /*
  Releases an environment map handle. NULL is accepted and ignored.
@@ -791,7 +920,7 @@ GonioStatus gonio_envmap_invert(const struct GonioEnvMap *map,
 
 /*
  The image's linear RGB radiance `rgb[3]` in direction (x, y, z) (normalised first), by the
- map's lookup (nearest pixel). A zero or non-finite vector is
+ map's lookup ([`GonioEnvOptions::lookup`]; nearest pixel by default). A zero or non-finite vector is
  `GONIO_ERR_INVALID_ARGUMENT`.
 
  # Safety

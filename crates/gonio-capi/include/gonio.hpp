@@ -155,6 +155,36 @@ class EnvMap {
         check(gonio_envmap_read_memory(bytes.data(), bytes.size(), name.c_str(), &m));
         return EnvMap(m);
     }
+    /// The defaults of gonio_envmap_options_default (luminance, nearest, no MIS compensation).
+    static GonioEnvOptions default_options() {
+        GonioEnvOptions o;
+        check(gonio_envmap_options_default(&o));
+        return o;
+    }
+    static EnvMap read(const std::string &path, const GonioEnvOptions &options) {
+        GonioEnvMap *m = nullptr;
+        check(gonio_envmap_read_path_with(path.c_str(), &options, &m));
+        return EnvMap(m);
+    }
+    static EnvMap read_memory(const std::vector<std::uint8_t> &bytes,
+                              const GonioEnvOptions &options,
+                              const std::string &name = "<memory>") {
+        GonioEnvMap *m = nullptr;
+        check(gonio_envmap_read_memory_with(bytes.data(), bytes.size(), name.c_str(), &options,
+                                            &m));
+        return EnvMap(m);
+    }
+    std::vector<std::string> warnings() const {
+        size_t n = 0;
+        check(gonio_envmap_warning_count(ptr_.get(), &n));
+        std::vector<std::string> out;
+        for (size_t i = 0; i < n; i++) {
+            const char *w = nullptr;
+            check(gonio_envmap_warning(ptr_.get(), i, &w));
+            out.emplace_back(w);
+        }
+        return out;
+    }
     EnvSample sample(double u, double v) const {
         EnvSample s;
         check(gonio_envmap_sample(ptr_.get(), u, v, s.direction.data(), &s.pdf, s.rgb.data()));

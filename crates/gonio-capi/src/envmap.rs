@@ -1,31 +1,169 @@
 //! Environment maps at the C boundary: an equirectangular HDR image (`.hdr`, `.exr`, `.pfm`)
-//! read into a [`GonioEnvMap`] (the library's [`EnvironmentMap`] with default options: the HDS
-//! sphere map of the image's luminance), sampled, evaluated and inverted one point at a time or
-//! in a batch. Same rules as the rest of the ABI: status codes, the thread-local message, NULL
-//! pointers refused, panics caught, outputs written only on success.
+//! read into a [`GonioEnvMap`] (the library's [`EnvironmentMap`]: the HDS sphere map of the
+//! image's luminance, a channel or the caller's weights, optionally MIS-compensated, see
+//! [`GonioEnvOptions`]), sampled, evaluated and inverted one point at a time or in a batch, with
+//! the reader's and the builder's warnings. Same rules as the rest of the ABI: status codes, the
+//! thread-local message, NULL pointers refused, panics caught, outputs written only on success.
 
 use super::{
     check_in, check_len, check_out, guard, in_square, invert_error, path_of, r, read_bounded,
     too_large, unit, w, Failure, GonioStatus, GONIO_ERR_BUILD, GONIO_ERR_PARSE,
     GONIO_MAX_FILE_BYTES,
 };
-use gonio::envmap::EnvironmentMap;
+use gonio::envmap::{EnvMapError, EnvOptions, EnvironmentMap, Lookup, Weight};
 use gonio::image::{Image, ImageError, ImageFormat};
-use std::ffi::{c_char, CStr};
+use std::ffi::{c_char, CStr, CString};
 use std::path::Path;
 
-/// An environment light read from an equirectangular image (opaque). Created by
-/// [`gonio_envmap_read_path`] or [`gonio_envmap_read_memory`], released by [`gonio_envmap_free`].
-/// Immutable: may be used from any number of threads at once.
-pub struct GonioEnvMap {
-    inner: EnvironmentMap,
+/// What an environment map's density is proportional to: one of the `GONIO_ENV_WEIGHT_*`
+/// constants.
+pub type GonioEnvWeight = i32;
+/// Rec. 709 luminance Y = 0.2126 R + 0.7152 G + 0.0722 B (the default).
+pub const GONIO_ENV_WEIGHT_LUMINANCE: GonioEnvWeight = 0;
+/// One channel of the image, [`GonioEnvOptions::channel`] (0 = R, 1 = G, 2 = B).
+pub const GONIO_ENV_WEIGHT_CHANNEL: GonioEnvWeight = 1;
+/// The caller's weights [`GonioEnvOptions::custom_weights`], W × H values row-major (row 0 at
+/// the top of the image), finite and ≥ 0.
+pub const GONIO_ENV_WEIGHT_CUSTOM: GonioEnvWeight = 2;
+
+/// How [`gonio_envmap_eval`] (and the radiance of a sample) reads the image: one of the
+/// `GONIO_ENV_LOOKUP_*` constants.
+pub type GonioEnvLookup = i32;
+/// The pixel that holds the direction (the default).
+pub const GONIO_ENV_LOOKUP_NEAREST: GonioEnvLookup = 0;
+/// Bilinear between pixel centres, continuous across the seam and at the poles (the
+/// interpolant the density follows; docs/ENVMAPS.md).
+pub const GONIO_ENV_LOOKUP_BILINEAR: GonioEnvLookup = 1;
+
+/// Options of [`gonio_envmap_read_path_with`] and [`gonio_envmap_read_memory_with`] (the
+/// library's `EnvOptions`). Fill it with [`gonio_envmap_options_default`], then change fields.
+/// (The struct may gain fields in later versions; always start from the defaults.)
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GonioEnvOptions {
+    /// A `GONIO_ENV_WEIGHT_*` constant (default luminance).
+    pub weight: GonioEnvWeight,
+    /// With [`GONIO_ENV_WEIGHT_CHANNEL`]: 0 = R, 1 = G, 2 = B (default 0; ignored otherwise).
+    pub channel: u32,
+    /// With [`GONIO_ENV_WEIGHT_CUSTOM`]: `custom_len` floats, W × H row-major from the top row,
+    /// copied during the call (default NULL; ignored otherwise).
+    pub custom_weights: *const f32,
+    /// The number of floats at `custom_weights`; must equal the image's W × H.
+    pub custom_len: usize,
+    /// A `GONIO_ENV_LOOKUP_*` constant (default nearest).
+    pub lookup: GonioEnvLookup,
+    /// 1: MIS compensation (the weight minus its solid-angle mean, clamped at 0; use it only
+    /// with MIS, see docs/ENVMAPS.md); 0: the plain weight (the default). Other values are
+    /// refused.
+    pub mis_compensation: i32,
 }
 
-/// Decodes image bytes and builds the map, with the messages of the CLI.
+/// An environment light read from an equirectangular image (opaque). Created by
+/// [`gonio_envmap_read_path`], [`gonio_envmap_read_memory`] or their `_with` forms, released by
+/// [`gonio_envmap_free`]. Immutable: may be used from any number of threads at once.
+pub struct GonioEnvMap {
+    inner: EnvironmentMap,
+    /// The reader's and the builder's warnings, `NAME: warning: message`.
+    warnings: Vec<CString>,
+}
+
+/// The library's options from the C struct; the custom weights are copied.
+///
+/// # Safety
+/// `o.custom_weights` must be NULL or valid for reading `o.custom_len` floats when the weight is
+/// [`GONIO_ENV_WEIGHT_CUSTOM`].
+unsafe fn env_options_of(o: &GonioEnvOptions) -> Result<EnvOptions, Failure> {
+    let weight = match o.weight {
+        GONIO_ENV_WEIGHT_LUMINANCE => Weight::Luminance,
+        GONIO_ENV_WEIGHT_CHANNEL => {
+            if o.channel > 2 {
+                return Err(Failure::invalid(format!(
+                    "channel {} does not exist (0 = R, 1 = G, 2 = B)",
+                    o.channel
+                )));
+            }
+            Weight::Channel(o.channel as usize)
+        }
+        GONIO_ENV_WEIGHT_CUSTOM => {
+            if o.custom_weights.is_null() || !o.custom_weights.is_aligned() {
+                return Err(Failure::null("custom_weights"));
+            }
+            if o.custom_len > isize::MAX as usize / std::mem::size_of::<f32>() {
+                return Err(Failure::invalid(format!(
+                    "custom_len = {} is too large",
+                    o.custom_len
+                )));
+            }
+            Weight::Custom(std::slice::from_raw_parts(o.custom_weights, o.custom_len).to_vec())
+        }
+        other => {
+            return Err(Failure::invalid(format!(
+                "unknown weight {other}; expected GONIO_ENV_WEIGHT_LUMINANCE, _CHANNEL or _CUSTOM"
+            )))
+        }
+    };
+    let lookup = match o.lookup {
+        GONIO_ENV_LOOKUP_NEAREST => Lookup::Nearest,
+        GONIO_ENV_LOOKUP_BILINEAR => Lookup::Bilinear,
+        other => {
+            return Err(Failure::invalid(format!(
+                "unknown lookup {other}; expected GONIO_ENV_LOOKUP_NEAREST or _BILINEAR"
+            )))
+        }
+    };
+    let mis_compensation = match o.mis_compensation {
+        0 => false,
+        1 => true,
+        other => {
+            return Err(Failure::invalid(format!(
+                "mis_compensation is {other}; expected 0 or 1"
+            )))
+        }
+    };
+    Ok(EnvOptions {
+        weight,
+        lookup,
+        mis_compensation,
+    })
+}
+
+/// Writes the default options into `*options`: luminance weight, nearest lookup, no MIS
+/// compensation.
+///
+/// # Safety
+/// `options` must be NULL or valid for writing a [`GonioEnvOptions`].
+#[no_mangle]
+pub unsafe extern "C" fn gonio_envmap_options_default(
+    options: *mut GonioEnvOptions,
+) -> GonioStatus {
+    guard(|| {
+        let d = EnvOptions::default();
+        w(
+            options,
+            GonioEnvOptions {
+                weight: GONIO_ENV_WEIGHT_LUMINANCE,
+                channel: 0,
+                custom_weights: std::ptr::null(),
+                custom_len: 0,
+                lookup: match d.lookup {
+                    Lookup::Bilinear => GONIO_ENV_LOOKUP_BILINEAR,
+                    Lookup::Nearest => GONIO_ENV_LOOKUP_NEAREST,
+                },
+                mis_compensation: i32::from(d.mis_compensation),
+            },
+            "options",
+        )
+    })
+}
+
+/// Decodes image bytes and builds the map, with the messages of the CLI. A bad option (a
+/// wrong number of custom weights, a negative or non-finite one) is
+/// `GONIO_ERR_INVALID_ARGUMENT`, an all-black weight [`GONIO_ERR_BUILD`].
 fn build_env(
     name: &str,
     bytes: &[u8],
     format: Option<ImageFormat>,
+    options: EnvOptions,
 ) -> Result<GonioEnvMap, Failure> {
     let image = Image::from_bytes(bytes, format).map_err(|e| {
         let msg = match e {
@@ -34,9 +172,18 @@ fn build_env(
         };
         Failure::new(GONIO_ERR_PARSE, msg)
     })?;
-    let inner = EnvironmentMap::new(image)
-        .map_err(|e| Failure::new(GONIO_ERR_BUILD, format!("{name}: {e}")))?;
-    Ok(GonioEnvMap { inner })
+    let inner = EnvironmentMap::with_options(image, options).map_err(|e| match e {
+        EnvMapError::BadOption(_) => Failure::invalid(format!("{name}: {e}")),
+        _ => Failure::new(GONIO_ERR_BUILD, format!("{name}: {e}")),
+    })?;
+    let warnings = inner
+        .warnings()
+        .iter()
+        .map(|m| {
+            CString::new(format!("{name}: warning: {m}").replace('\0', "\\0")).unwrap_or_default()
+        })
+        .collect();
+    Ok(GonioEnvMap { inner, warnings })
 }
 
 /// Reads an equirectangular environment map (Radiance `.hdr`, OpenEXR `.exr` or `.pfm`) from a
@@ -54,20 +201,48 @@ pub unsafe extern "C" fn gonio_envmap_read_path(
     path: *const c_char,
     out: *mut *mut GonioEnvMap,
 ) -> GonioStatus {
+    guard(|| read_path(path, EnvOptions::default(), out))
+}
+
+/// As [`gonio_envmap_read_path`] with `options` (see [`GonioEnvOptions`]); a bad option is
+/// `GONIO_ERR_INVALID_ARGUMENT`, checked before the file is read (the number of custom weights
+/// after it is decoded).
+///
+/// # Safety
+/// `path` must be NULL or a NUL-terminated string; `options` NULL or a valid
+/// [`GonioEnvOptions`] whose `custom_weights`, when used, is valid for reading `custom_len`
+/// floats; `out` NULL or valid for writing a pointer.
+#[no_mangle]
+pub unsafe extern "C" fn gonio_envmap_read_path_with(
+    path: *const c_char,
+    options: *const GonioEnvOptions,
+    out: *mut *mut GonioEnvMap,
+) -> GonioStatus {
     guard(|| {
-        check_out(out, "out")?;
-        if path.is_null() {
-            return Err(Failure::null("path"));
-        }
-        let raw = CStr::from_ptr(path);
-        let owned = path_of(raw)?;
-        let lossy = raw.to_string_lossy();
-        let name: &str = &lossy;
-        let bytes = read_bounded(&owned, name)?;
-        let format = ImageFormat::sniff(&bytes).or_else(|| ImageFormat::from_path(Path::new(name)));
-        let e = build_env(name, &bytes, format)?;
-        w(out, Box::into_raw(Box::new(e)), "out")
+        let o = env_options_of(r(options, "options")?)?;
+        read_path(path, o, out)
     })
+}
+
+/// # Safety
+/// As [`gonio_envmap_read_path`].
+unsafe fn read_path(
+    path: *const c_char,
+    options: EnvOptions,
+    out: *mut *mut GonioEnvMap,
+) -> Result<(), Failure> {
+    check_out(out, "out")?;
+    if path.is_null() {
+        return Err(Failure::null("path"));
+    }
+    let raw = CStr::from_ptr(path);
+    let owned = path_of(raw)?;
+    let lossy = raw.to_string_lossy();
+    let name: &str = &lossy;
+    let bytes = read_bounded(&owned, name)?;
+    let format = ImageFormat::sniff(&bytes).or_else(|| ImageFormat::from_path(Path::new(name)));
+    let e = build_env(name, &bytes, format, options)?;
+    w(out, Box::into_raw(Box::new(e)), "out")
 }
 
 /// Reads an environment map from `len` bytes at `data`, the format announced by the first bytes
@@ -85,28 +260,98 @@ pub unsafe extern "C" fn gonio_envmap_read_memory(
     name: *const c_char,
     out: *mut *mut GonioEnvMap,
 ) -> GonioStatus {
+    guard(|| read_memory(data, len, name, EnvOptions::default(), out))
+}
+
+/// As [`gonio_envmap_read_memory`] with `options` (see [`GonioEnvOptions`]); a bad option is
+/// `GONIO_ERR_INVALID_ARGUMENT`.
+///
+/// # Safety
+/// As [`gonio_envmap_read_memory`]; `options` NULL or a valid [`GonioEnvOptions`] whose
+/// `custom_weights`, when used, is valid for reading `custom_len` floats.
+#[no_mangle]
+pub unsafe extern "C" fn gonio_envmap_read_memory_with(
+    data: *const u8,
+    len: usize,
+    name: *const c_char,
+    options: *const GonioEnvOptions,
+    out: *mut *mut GonioEnvMap,
+) -> GonioStatus {
     guard(|| {
-        check_out(out, "out")?;
-        if data.is_null() && len > 0 {
-            return Err(Failure::null("data"));
-        }
-        let name = if name.is_null() {
-            "<memory>"
-        } else {
-            super::c_str(name, "name")?
-        };
-        if len as u64 > GONIO_MAX_FILE_BYTES {
-            return Err(too_large(name, len as u64));
-        }
-        if len == 0 {
-            return Err(Failure::new(
-                GONIO_ERR_PARSE,
-                format!("{name}: the input is empty (0 bytes)"),
-            ));
-        }
-        let bytes = std::slice::from_raw_parts(data, len);
-        let e = build_env(name, bytes, None)?;
-        w(out, Box::into_raw(Box::new(e)), "out")
+        let o = env_options_of(r(options, "options")?)?;
+        read_memory(data, len, name, o, out)
+    })
+}
+
+/// # Safety
+/// As [`gonio_envmap_read_memory`].
+unsafe fn read_memory(
+    data: *const u8,
+    len: usize,
+    name: *const c_char,
+    options: EnvOptions,
+    out: *mut *mut GonioEnvMap,
+) -> Result<(), Failure> {
+    check_out(out, "out")?;
+    if data.is_null() && len > 0 {
+        return Err(Failure::null("data"));
+    }
+    let name = if name.is_null() {
+        "<memory>"
+    } else {
+        super::c_str(name, "name")?
+    };
+    if len as u64 > GONIO_MAX_FILE_BYTES {
+        return Err(too_large(name, len as u64));
+    }
+    if len == 0 {
+        return Err(Failure::new(
+            GONIO_ERR_PARSE,
+            format!("{name}: the input is empty (0 bytes)"),
+        ));
+    }
+    let bytes = std::slice::from_raw_parts(data, len);
+    let e = build_env(name, bytes, None, options)?;
+    w(out, Box::into_raw(Box::new(e)), "out")
+}
+
+/// The number of warnings the reader and the builder issued (ignored channels or trailing
+/// bytes, negative pixels weighted as 0, MIS compensation that left nothing above the mean).
+///
+/// # Safety
+/// `map` must be NULL or a live handle; `count` NULL or valid for writing a `size_t`.
+#[no_mangle]
+pub unsafe extern "C" fn gonio_envmap_warning_count(
+    map: *const GonioEnvMap,
+    count: *mut usize,
+) -> GonioStatus {
+    guard(|| {
+        let m = r(map, "map")?;
+        w(count, m.warnings.len(), "count")
+    })
+}
+
+/// Warning number `index` (from 0) as `NAME: warning: message` (NAME the path or the name
+/// given to `read_memory`). The string belongs to the map handle and lives as long as it.
+///
+/// # Safety
+/// `map` must be NULL or a live handle; `text` NULL or valid for writing a pointer.
+#[no_mangle]
+pub unsafe extern "C" fn gonio_envmap_warning(
+    map: *const GonioEnvMap,
+    index: usize,
+    text: *mut *const c_char,
+) -> GonioStatus {
+    guard(|| {
+        let m = r(map, "map")?;
+        check_out(text, "text")?;
+        let s = m.warnings.get(index).ok_or_else(|| {
+            Failure::invalid(format!(
+                "warning index {index} is out of range (the map has {} warnings)",
+                m.warnings.len()
+            ))
+        })?;
+        w(text, s.as_ptr(), "text")
     })
 }
 
@@ -202,7 +447,7 @@ pub unsafe extern "C" fn gonio_envmap_invert(
 }
 
 /// The image's linear RGB radiance `rgb[3]` in direction (x, y, z) (normalised first), by the
-/// map's lookup (nearest pixel). A zero or non-finite vector is
+/// map's lookup ([`GonioEnvOptions::lookup`]; nearest pixel by default). A zero or non-finite vector is
 /// `GONIO_ERR_INVALID_ARGUMENT`.
 ///
 /// # Safety
@@ -483,6 +728,329 @@ mod tests {
         std::fs::remove_file(&file).ok();
         assert_eq!(st, GONIO_OK, "{}", last_error());
         unsafe { gonio_envmap_free(m) };
+    }
+
+    fn read_with(bytes: &[u8], o: *const GonioEnvOptions) -> (GonioStatus, *mut GonioEnvMap) {
+        let mut m = null_mut();
+        let st = unsafe {
+            gonio_envmap_read_memory_with(bytes.as_ptr(), bytes.len(), c"sky".as_ptr(), o, &mut m)
+        };
+        (st, m)
+    }
+
+    fn defaults() -> GonioEnvOptions {
+        let mut o = GonioEnvOptions {
+            weight: -1,
+            channel: 9,
+            custom_weights: null(),
+            custom_len: 9,
+            lookup: -1,
+            mis_compensation: -1,
+        };
+        assert_eq!(unsafe { gonio_envmap_options_default(&mut o) }, GONIO_OK);
+        o
+    }
+
+    fn warnings(m: *const GonioEnvMap) -> Vec<String> {
+        let mut n = usize::MAX;
+        assert_eq!(unsafe { gonio_envmap_warning_count(m, &mut n) }, GONIO_OK);
+        (0..n)
+            .map(|i| {
+                let mut t = null();
+                assert_eq!(unsafe { gonio_envmap_warning(m, i, &mut t) }, GONIO_OK);
+                unsafe { CStr::from_ptr(t) }.to_string_lossy().into_owned()
+            })
+            .collect()
+    }
+
+    fn pdf_at(m: *const GonioEnvMap, d: [f64; 3]) -> f64 {
+        let mut p = -1.0;
+        let st = unsafe { gonio_envmap_pdf(m, d[0], d[1], d[2], &mut p) };
+        assert_eq!(st, GONIO_OK, "{}", last_error());
+        p
+    }
+
+    #[test]
+    fn options_default_and_refused_values() {
+        let o = defaults();
+        assert_eq!(
+            (
+                o.weight,
+                o.channel,
+                o.custom_weights,
+                o.custom_len,
+                o.lookup,
+                o.mis_compensation
+            ),
+            (
+                GONIO_ENV_WEIGHT_LUMINANCE,
+                0,
+                null(),
+                0,
+                GONIO_ENV_LOOKUP_NEAREST,
+                0
+            )
+        );
+        assert_eq!(
+            unsafe { gonio_envmap_options_default(null_mut()) },
+            GONIO_ERR_NULL_POINTER
+        );
+        let sky = pfm(8, 4, |_, _| [0.5, 1.0, 2.0]);
+        let cases: [(GonioEnvOptions, GonioStatus, &str); 6] = [
+            (
+                GonioEnvOptions { weight: 7, ..o },
+                GONIO_ERR_INVALID_ARGUMENT,
+                "unknown weight 7",
+            ),
+            (
+                GonioEnvOptions {
+                    weight: GONIO_ENV_WEIGHT_CHANNEL,
+                    channel: 3,
+                    ..o
+                },
+                GONIO_ERR_INVALID_ARGUMENT,
+                "channel 3 does not exist",
+            ),
+            (
+                GonioEnvOptions { lookup: 2, ..o },
+                GONIO_ERR_INVALID_ARGUMENT,
+                "unknown lookup 2",
+            ),
+            (
+                GonioEnvOptions {
+                    mis_compensation: 2,
+                    ..o
+                },
+                GONIO_ERR_INVALID_ARGUMENT,
+                "mis_compensation is 2",
+            ),
+            (
+                GonioEnvOptions {
+                    weight: GONIO_ENV_WEIGHT_CUSTOM,
+                    custom_len: 32,
+                    ..o
+                },
+                GONIO_ERR_NULL_POINTER,
+                "custom_weights is NULL",
+            ),
+            (
+                GonioEnvOptions {
+                    weight: GONIO_ENV_WEIGHT_CUSTOM,
+                    custom_weights: [1.0f32; 4].as_ptr(),
+                    custom_len: 4,
+                    ..o
+                },
+                GONIO_ERR_INVALID_ARGUMENT,
+                "sky: 4 custom weights for an image of 8 × 4 pixels",
+            ),
+        ];
+        for (opt, status, msg) in cases {
+            let (st, m) = read_with(&sky, &opt);
+            assert_eq!((st, m), (status, null_mut()), "{opt:?}: {}", last_error());
+            assert!(last_error().starts_with(msg), "{opt:?}: {}", last_error());
+        }
+        let (st, m) = read_with(&sky, null());
+        assert_eq!((st, m), (GONIO_ERR_NULL_POINTER, null_mut()));
+        assert_eq!(last_error(), "options is NULL or not aligned for its type");
+        // A custom weight that is negative, and a channel that is 0 everywhere (blue here).
+        let mut cw = [1.0f32; 32];
+        cw[5] = -1.0;
+        let opt = GonioEnvOptions {
+            weight: GONIO_ENV_WEIGHT_CUSTOM,
+            custom_weights: cw.as_ptr(),
+            custom_len: cw.len(),
+            ..o
+        };
+        assert_eq!(read_with(&sky, &opt).0, GONIO_ERR_INVALID_ARGUMENT);
+        assert!(
+            last_error().contains("pixel (x 5, y 0)"),
+            "{}",
+            last_error()
+        );
+        let yellow = pfm(8, 4, |_, _| [1.0, 1.0, 0.0]);
+        let opt = GonioEnvOptions {
+            weight: GONIO_ENV_WEIGHT_CHANNEL,
+            channel: 2,
+            ..o
+        };
+        assert_eq!(read_with(&yellow, &opt), (GONIO_ERR_BUILD, null_mut()));
+        assert!(last_error().contains("black"), "{}", last_error());
+        // The path form reads the options too.
+        let mut m = null_mut();
+        let bad = GonioEnvOptions { lookup: 5, ..o };
+        let st = unsafe { gonio_envmap_read_path_with(c"/nonexistent.hdr".as_ptr(), &bad, &mut m) };
+        assert_eq!(st, GONIO_ERR_INVALID_ARGUMENT, "{}", last_error());
+        let st = unsafe { gonio_envmap_read_path_with(c"/nonexistent.hdr".as_ptr(), &o, &mut m) };
+        assert_eq!(st, GONIO_ERR_IO, "{}", last_error());
+    }
+
+    #[test]
+    fn weight_options_change_the_density() {
+        let o = defaults();
+        // Red on the left half (columns 0..8 of 16), green on the right; the image's centre
+        // column looks along +x, its left edge along −x (docs/ENVMAPS.md).
+        let sky = pfm(16, 8, |c, _| {
+            if c < 8 {
+                [1.0, 0.0, 0.0]
+            } else {
+                [0.0, 1.0, 0.0]
+            }
+        });
+        let left = [-0.3, 0.9, 0.1]; // s ≈ 0.3: the left (red) half
+        let right = [-0.3, -0.9, 0.1]; // s ≈ 0.7: the right (green) half
+        let (st, lum) = read_with(&sky, &o);
+        assert_eq!(st, GONIO_OK, "{}", last_error());
+        assert!(
+            pdf_at(lum, right) > pdf_at(lum, left),
+            "green is brighter in luminance"
+        );
+        let (st, red) = read_with(
+            &sky,
+            &GonioEnvOptions {
+                weight: GONIO_ENV_WEIGHT_CHANNEL,
+                ..o
+            },
+        );
+        assert_eq!(st, GONIO_OK, "{}", last_error());
+        assert!(pdf_at(red, left) > 0.0);
+        assert_eq!(pdf_at(red, right), 0.0);
+        // Constant custom weights: the uniform density, whatever the image.
+        let cw = vec![3.0f32; 16 * 8];
+        let opt = GonioEnvOptions {
+            weight: GONIO_ENV_WEIGHT_CUSTOM,
+            custom_weights: cw.as_ptr(),
+            custom_len: cw.len(),
+            ..o
+        };
+        let (st, uni) = read_with(&sky, &opt);
+        assert_eq!(st, GONIO_OK, "{}", last_error());
+        drop(cw); // copied during the call
+        let uniform = 1.0 / (4.0 * std::f64::consts::PI);
+        for d in [left, right, [0.0, 0.0, 1.0], [0.2, -0.1, -0.9]] {
+            assert!((pdf_at(uni, d) - uniform).abs() < 1e-12);
+        }
+        for m in [lum, red, uni] {
+            assert!(warnings(m).is_empty());
+            unsafe { gonio_envmap_free(m) };
+        }
+    }
+
+    #[test]
+    fn bilinear_lookup_mis_compensation_and_warnings() {
+        let o = defaults();
+        let sky = pfm(16, 8, |c, r| {
+            if (c, r) == (5, 5) {
+                [80.0; 3]
+            } else {
+                [[0.1f32, 0.3, 0.5][c % 3]; 3]
+            }
+        });
+        let (st, near) = read_with(&sky, &o);
+        assert_eq!(st, GONIO_OK, "{}", last_error());
+        let (st, bil) = read_with(
+            &sky,
+            &GonioEnvOptions {
+                lookup: GONIO_ENV_LOOKUP_BILINEAR,
+                ..o
+            },
+        );
+        assert_eq!(st, GONIO_OK, "{}", last_error());
+        // Halfway between two pixel centres of one row the bilinear lookup is their mean, the
+        // nearest lookup one of them; at a centre both give the pixel.
+        let dir = |s: f64, t: f64| gonio::envmap::image_direction(s, t);
+        let eval = |m, d: [f64; 3]| {
+            let mut c = [0.0f32; 3];
+            let st = unsafe { gonio_envmap_eval(m, d[0], d[1], d[2], c.as_mut_ptr()) };
+            assert_eq!(st, GONIO_OK, "{}", last_error());
+            c
+        };
+        // PFM rows run bottom to top: file row 5 (the bright pixel's) is image row 2 from the
+        // top; image row 1 is dim: its columns 4 and 5 hold 0.3 and 0.5.
+        let t = 1.5 / 8.0;
+        let (a, b) = (
+            eval(near, dir(4.5 / 16.0, t)),
+            eval(near, dir(5.5 / 16.0, t)),
+        );
+        assert_eq!((a, b), ([0.3; 3], [0.5; 3]));
+        let close = |c: [f32; 3], x: f32| c.iter().all(|&v| (v - x).abs() < 1e-6);
+        let mid = eval(bil, dir(5.0 / 16.0, t));
+        assert!(close(mid, 0.4), "{mid:?}");
+        let centre = eval(bil, dir(4.5 / 16.0, t));
+        assert!(close(centre, 0.3), "{centre:?}");
+        // The sample's radiance follows the lookup.
+        let (mut d, mut p, mut c) = ([0.0; 3], 0.0, [0.0f32; 3]);
+        let st =
+            unsafe { gonio_envmap_sample(bil, 0.3, 0.6, d.as_mut_ptr(), &mut p, c.as_mut_ptr()) };
+        assert_eq!(st, GONIO_OK);
+        assert_eq!(c, eval(bil, d));
+        // The density does not depend on the lookup.
+        assert!((pdf_at(near, d) - p).abs() <= 1e-9 * p);
+
+        // MIS compensation: dim directions far from the bright pixel get density 0.
+        let (st, mis) = read_with(
+            &sky,
+            &GonioEnvOptions {
+                mis_compensation: 1,
+                ..o
+            },
+        );
+        assert_eq!(st, GONIO_OK, "{}", last_error());
+        assert!(pdf_at(near, [0.0, 0.0, 1.0]) > 0.0);
+        assert_eq!(pdf_at(mis, [0.0, 0.0, 1.0]), 0.0);
+        assert!(warnings(mis).is_empty());
+        // On a constant sky nothing is above the mean: the plain weight, with a warning.
+        let (st, flat) = read_with(
+            &pfm(8, 4, |_, _| [1.0; 3]),
+            &GonioEnvOptions {
+                mis_compensation: 1,
+                ..o
+            },
+        );
+        assert_eq!(st, GONIO_OK, "{}", last_error());
+        let ws = warnings(flat);
+        assert_eq!(ws.len(), 1, "{ws:?}");
+        assert!(
+            ws[0].starts_with("sky: warning: MIS compensation left no pixel above the mean"),
+            "{ws:?}"
+        );
+        // Negative pixels are weighted as 0, with the reader's convention of a warning.
+        let neg = pfm(8, 4, |c, r| {
+            if (c, r) == (1, 1) {
+                [-1.0; 3]
+            } else {
+                [1.0; 3]
+            }
+        });
+        let (st, negm) = read_with(&neg, &o);
+        assert_eq!(st, GONIO_OK, "{}", last_error());
+        let ws = warnings(negm);
+        assert_eq!(ws, ["sky: warning: 1 pixels have a negative luminance; they are weighted as 0 (their radiance is kept)"]);
+        // Warning errors: an index out of range, NULL pointers.
+        let mut text = null();
+        assert_eq!(
+            unsafe { gonio_envmap_warning(negm, 1, &mut text) },
+            GONIO_ERR_INVALID_ARGUMENT
+        );
+        assert_eq!(
+            last_error(),
+            "warning index 1 is out of range (the map has 1 warnings)"
+        );
+        assert!(text.is_null());
+        assert_eq!(
+            unsafe { gonio_envmap_warning(negm, 0, null_mut()) },
+            GONIO_ERR_NULL_POINTER
+        );
+        assert_eq!(
+            unsafe { gonio_envmap_warning(null(), 0, &mut text) },
+            GONIO_ERR_NULL_POINTER
+        );
+        assert_eq!(
+            unsafe { gonio_envmap_warning_count(negm, null_mut()) },
+            GONIO_ERR_NULL_POINTER
+        );
+        for m in [near, bil, mis, flat, negm] {
+            unsafe { gonio_envmap_free(m) };
+        }
     }
 
     #[test]

@@ -1,14 +1,17 @@
 //! Environment-map experiments (docs/ENVMAPS.md): build time and memory of a 2048 × 1024 map on
 //! one thread, and direct illumination of a diffuse and a glossy surface under the shared maps,
 //! light sampling alone and MIS with BSDF sampling, HDS vs the lat-long piecewise-constant and
-//! the pbrt-v4-style equal-area piecewise-constant peers, iid and Owen-scrambled Sobol' points.
+//! the pbrt-v4-style equal-area piecewise-constant peers, iid and Owen-scrambled Sobol' points,
+//! with the image's radiance read both ways: `Lookup::Nearest` (piecewise constant per pixel, the
+//! lat-long peer's density then matches the integrand) and `Lookup::Bilinear` (the interpolant of
+//! the diagram, which the HDS density follows).
 //!
 //! `cargo run --release -p gonio --example envmaps` (set GONIO_ENVMAPS to the maps' folder).
 
 #[path = "../tests/common/corpus.rs"]
 mod corpus;
 
-use gonio::envmap::{luminance, EnvironmentMap};
+use gonio::envmap::{luminance, EnvironmentMap, Lookup};
 use gonio::image::Image;
 use gonio::sampler::normalize;
 use gonio::sequence::{Random, Sobol};
@@ -83,10 +86,11 @@ impl Surface {
     }
 }
 
-fn reference(env: &EnvironmentMap, s: &Surface) -> f64 {
-    // Midpoint rule on 4 × 4 points per pixel (the radiance is constant per pixel).
+/// Midpoint rule on k × k points per pixel with the radiance read by `lookup` (the nearest-pixel
+/// radiance is constant per pixel; the bilinear one has its kinks on pixel centres, which are
+/// cell boundaries for even k).
+fn reference(env: &EnvironmentMap, s: &Surface, lookup: Lookup, k: usize) -> f64 {
     let (w, h) = (env.image().width(), env.image().height());
-    let k = 4;
     let (nt, np) = (h * k, w * k);
     let mut sum = 0.0;
     for i in 0..nt {
@@ -96,15 +100,17 @@ fn reference(env: &EnvironmentMap, s: &Surface) -> f64 {
             let d = gonio::envmap::image_direction((j as f64 + 0.5) / np as f64, t);
             let f = s.f_cos(d);
             if f > 0.0 {
-                sum += f * f64::from(luminance(env.eval(d))) * st;
+                sum += f * f64::from(luminance(env.eval_with(d, lookup))) * st;
             }
         }
     }
     sum * (PI / nt as f64) * (2.0 * PI / np as f64)
 }
 
+#[allow(clippy::too_many_arguments)]
 fn estimate(
     env: &EnvironmentMap,
+    lookup: Lookup,
     light: &dyn Sampler,
     s: &Surface,
     mis: bool,
@@ -117,7 +123,7 @@ fn estimate(
         if smp.pdf > 0.0 {
             let f = s.f_cos(smp.direction);
             if f > 0.0 {
-                let l = f64::from(luminance(env.eval(smp.direction)));
+                let l = f64::from(luminance(env.eval_with(smp.direction, lookup)));
                 let w = if mis {
                     smp.pdf / (smp.pdf + s.pdf(smp.direction))
                 } else {
@@ -131,7 +137,7 @@ fn estimate(
             if pb > 0.0 {
                 let f = s.f_cos(d);
                 if f > 0.0 {
-                    let l = f64::from(luminance(env.eval(d)));
+                    let l = f64::from(luminance(env.eval_with(d, lookup)));
                     sum += pb / (pb + light.pdf(d)) * f * l / pb;
                 }
             }
@@ -186,7 +192,7 @@ fn main() {
     let normals = [[0.0, 0.0, 1.0], normalize([1.0, 0.3, 0.4]).unwrap()];
     let counts = [64usize, 256, 1024, 4096];
     let reps = 32u64;
-    println!("map,surface,normal,estimator,points,sampler,ns_per_sample,rmse@64,rmse@256,rmse@1024,rmse@4096,slope,rel_rmse@4096,rel_rmse@4096_equal_time");
+    println!("map,radiance,surface,normal,estimator,points,sampler,ns_per_sample,rmse@64,rmse@256,rmse@1024,rmse@4096,slope,rel_rmse@4096,rel_rmse@4096_equal_time");
     for f in &files {
         let name = f.file_stem().unwrap().to_string_lossy().to_string();
         let env = EnvironmentMap::new(Image::read(f).unwrap()).unwrap();
@@ -209,61 +215,77 @@ fn main() {
                     normalize([0, 1, 2].map(|k| 2.0 * d * n[k] - view[k])).unwrap()
                 };
                 let surf = Surface { n, r, e };
-                let refv = reference(&env, &surf);
-                for mis in [false, true] {
-                    for qmc in [false, true] {
-                        // Per-sample cost of each sampler in this configuration, for equal time.
-                        let mut rows = Vec::new();
-                        for (lname, light) in samplers {
-                            let mut rmse = Vec::new();
-                            let mut ns = 0.0;
-                            for &c in &counts {
-                                let mut se = 0.0;
-                                for rep in 0..reps {
-                                    let mut p1 = vec![[0.0; 2]; c];
-                                    let mut p2 = vec![[0.0; 2]; c];
-                                    if qmc {
-                                        Sobol::owen(1000 + rep).fill(0, &mut p1);
-                                        Sobol::owen(5000 + rep).fill(0, &mut p2);
-                                    } else {
-                                        Random::new(1000 + rep).fill(0, &mut p1);
-                                        Random::new(5000 + rep).fill(0, &mut p2);
+                for (lk, lookup) in [("nearest", Lookup::Nearest), ("bilinear", Lookup::Bilinear)] {
+                    let refv = if lookup == Lookup::Nearest {
+                        reference(&env, &surf, lookup, 4)
+                    } else {
+                        // The bilinear integrand is not constant per pixel: 8 × 8 points, and the
+                        // change from 4 × 4 as the reference's own error estimate.
+                        let r8 = reference(&env, &surf, lookup, 8);
+                        let r4 = reference(&env, &surf, lookup, 4);
+                        eprintln!(
+                        "{name} {sname} normal {ni} bilinear reference {r8:.6e}, |4x4 - 8x8| / 8x8 = {:.1e}",
+                        (r4 - r8).abs() / r8
+                    );
+                        r8
+                    };
+                    for mis in [false, true] {
+                        for qmc in [false, true] {
+                            // Per-sample cost of each sampler in this configuration, for equal time.
+                            let mut rows = Vec::new();
+                            for (lname, light) in samplers {
+                                let mut rmse = Vec::new();
+                                let mut ns = 0.0;
+                                for &c in &counts {
+                                    let mut se = 0.0;
+                                    for rep in 0..reps {
+                                        let mut p1 = vec![[0.0; 2]; c];
+                                        let mut p2 = vec![[0.0; 2]; c];
+                                        if qmc {
+                                            Sobol::owen(1000 + rep).fill(0, &mut p1);
+                                            Sobol::owen(5000 + rep).fill(0, &mut p2);
+                                        } else {
+                                            Random::new(1000 + rep).fill(0, &mut p1);
+                                            Random::new(5000 + rep).fill(0, &mut p2);
+                                        }
+                                        let t = Instant::now();
+                                        let v = estimate(&env, lookup, light, &surf, mis, &p1, &p2);
+                                        if c == 4096 {
+                                            ns += t.elapsed().as_secs_f64() * 1e9 / c as f64;
+                                        }
+                                        se += (v - refv) * (v - refv);
                                     }
-                                    let t = Instant::now();
-                                    let v = estimate(&env, light, &surf, mis, &p1, &p2);
-                                    if c == 4096 {
-                                        ns += t.elapsed().as_secs_f64() * 1e9 / c as f64;
-                                    }
-                                    se += (v - refv) * (v - refv);
+                                    rmse.push((se / reps as f64).sqrt());
                                 }
-                                rmse.push((se / reps as f64).sqrt());
+                                ns /= reps as f64;
+                                // Least-squares slope of log RMSE against log N.
+                                let xs: Vec<f64> =
+                                    counts.iter().map(|&c| (c as f64).ln()).collect();
+                                let ys: Vec<f64> =
+                                    rmse.iter().map(|r| r.max(1e-300).ln()).collect();
+                                let (mx, my) =
+                                    (xs.iter().sum::<f64>() / 4.0, ys.iter().sum::<f64>() / 4.0);
+                                let slope = xs
+                                    .iter()
+                                    .zip(&ys)
+                                    .map(|(x, y)| (x - mx) * (y - my))
+                                    .sum::<f64>()
+                                    / xs.iter().map(|x| (x - mx) * (x - mx)).sum::<f64>();
+                                rows.push((lname, ns, rmse, slope));
                             }
-                            ns /= reps as f64;
-                            // Least-squares slope of log RMSE against log N.
-                            let xs: Vec<f64> = counts.iter().map(|&c| (c as f64).ln()).collect();
-                            let ys: Vec<f64> = rmse.iter().map(|r| r.max(1e-300).ln()).collect();
-                            let (mx, my) =
-                                (xs.iter().sum::<f64>() / 4.0, ys.iter().sum::<f64>() / 4.0);
-                            let slope = xs
-                                .iter()
-                                .zip(&ys)
-                                .map(|(x, y)| (x - mx) * (y - my))
-                                .sum::<f64>()
-                                / xs.iter().map(|x| (x - mx) * (x - mx)).sum::<f64>();
-                            rows.push((lname, ns, rmse, slope));
-                        }
-                        let ns_hds = rows[0].1;
-                        for (lname, ns, rmse, slope) in rows {
-                            // Equal time: at the HDS map's time budget for 4096 samples, a sampler
-                            // that costs ns per sample draws 4096·ns_hds/ns samples; its RMSE there
-                            // follows its measured slope.
-                            let eq = rmse[3] * (ns_hds / ns).powf(slope);
-                            println!(
-                                "{name},{sname},{ni},{},{},{lname},{ns:.0},{:.3e},{:.3e},{:.3e},{:.3e},{slope:.2},{:.3e},{:.3e}",
+                            let ns_hds = rows[0].1;
+                            for (lname, ns, rmse, slope) in rows {
+                                // Equal time: at the HDS map's time budget for 4096 samples, a sampler
+                                // that costs ns per sample draws 4096·ns_hds/ns samples; its RMSE there
+                                // follows its measured slope.
+                                let eq = rmse[3] * (ns_hds / ns).powf(slope);
+                                println!(
+                                "{name},{lk},{sname},{ni},{},{},{lname},{ns:.0},{:.3e},{:.3e},{:.3e},{:.3e},{slope:.2},{:.3e},{:.3e}",
                                 if mis { "mis" } else { "light" },
                                 if qmc { "sobol" } else { "iid" },
                                 rmse[0], rmse[1], rmse[2], rmse[3], rmse[3] / refv, eq / refv
                             );
+                            }
                         }
                     }
                 }
