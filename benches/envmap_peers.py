@@ -73,9 +73,10 @@ TO_WORLD = [[0, 0, 1, 0], [1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 0, 1]]
 F32_BELOW_ONE = np.nextafter(np.float32(1), np.float32(0))
 
 
-def pick_variant():
-    if not os.environ.get("DRJIT_LIBLLVM_PATH"):
-        print("no libLLVM >= 16 found (apt-get install libllvm19); using scalar_rgb (slow)", file=sys.stderr)
+def pick_variant(want="auto"):
+    if want == "scalar_rgb" or not os.environ.get("DRJIT_LIBLLVM_PATH"):
+        if want != "scalar_rgb":
+            print("no libLLVM >= 16 found (apt-get install libllvm19); using scalar_rgb (slow)", file=sys.stderr)
         mi.set_variant("scalar_rgb")
         return "scalar_rgb"
     try:
@@ -364,10 +365,12 @@ def main():
     ap.add_argument("--ref-k", type=int, default=4, help="reference points per pixel side (nearest; bilinear 2x)")
     ap.add_argument("--speed-n", type=int, default=1 << 18)
     ap.add_argument("--repeats", type=int, default=5)
+    ap.add_argument("--variant", choices=["auto", "scalar_rgb"], default="auto",
+                    help="Mitsuba variant: llvm_ad_rgb when libLLVM >= 16 is found (auto), or scalar_rgb")
     ap.add_argument("--csv", help="write every row here")
     ap.add_argument("--checks-json", help="write the frame and pdf checks here (for the smoke test)")
     args = ap.parse_args()
-    variant = pick_variant()
+    variant = pick_variant(args.variant)
     print(f"mitsuba {mi.__version__} ({variant}), gonio {gonio.__version__}, {os.cpu_count()} cores", file=sys.stderr)
     rows, speed, checks = [], [], []
     t0 = time.perf_counter()
