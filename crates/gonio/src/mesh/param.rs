@@ -8,6 +8,17 @@
 //! edges, shared by both neighbours; the pieces fan-triangulated), so every output triangle lies in
 //! one chart and the vertices on the cut get one UV per chart.
 //!
+//! Inside a chart the map is not smooth everywhere: the concentric stage switches branch along the
+//! square's diagonals, which map to four meridians per hemisphere
+//! ([`TextureMap::kink_azimuths`]), and the disk centres (the poles) are cone points where a
+//! straight-edged triangle spanning an angle Δ around the pole has its UV area off by Δ / sin Δ.
+//! The HDS layout is therefore also cut along vertical planes through the centre
+//! ([`TextureMap::cut_planes`]): every kink meridian, and more in between until neighbouring
+//! half-planes are at most [`POLE_SECTOR`] apart. These cuts are like the horizon's (shared new
+//! vertices on the input's edges, exactly on the surface, attributes interpolated) but make no
+//! seam: both sides get the same UV. The poles and the square's corners (kink meridians on the
+//! horizon) become vertices, and every output triangle lies inside one branch of the map.
+//!
 //! Each chart is made orientation-preserving: where the inverse map of a hemisphere turns a
 //! counter-clockwise triangle (seen from outside) clockwise in the square, the texture coordinate
 //! of that chart is v ↦ 1 − v ([`TextureMap`] applies the same flip in [`TextureMap::direction`],
@@ -331,7 +342,7 @@ pub struct UvResult {
     pub texture: Option<TextureMap>,
     /// The density diagram the map was built from (HDS layout).
     pub diagram: Option<Diagram>,
-    /// Input triangles cut by a seam.
+    /// Input triangles cut: by a seam, or (HDS layout) by a kink or pole-sector plane.
     pub cut_triangles: usize,
     /// Seconds: star check, density diagram, map build, UVs and cut.
     pub seconds: [f64; 4],
