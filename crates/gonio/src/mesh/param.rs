@@ -8,6 +8,17 @@
 //! edges, shared by both neighbours; the pieces fan-triangulated), so every output triangle lies in
 //! one chart and the vertices on the cut get one UV per chart.
 //!
+//! Inside a chart the map is not smooth everywhere: the concentric stage switches branch along the
+//! square's diagonals, which map to four meridians per hemisphere
+//! ([`TextureMap::kink_azimuths`]), and the disk centres (the poles) are cone points where a
+//! straight-edged triangle spanning an angle Δ around the pole has its UV area off by Δ / sin Δ.
+//! The HDS layout is therefore also cut along vertical planes through the centre
+//! ([`TextureMap::cut_planes`]): every kink meridian, and more in between until neighbouring
+//! half-planes are at most [`POLE_SECTOR`] apart. These cuts are like the horizon's (shared new
+//! vertices on the input's edges, exactly on the surface, attributes interpolated) but make no
+//! seam: both sides get the same UV. The poles and the square's corners (kink meridians on the
+//! horizon) become vertices, and every output triangle lies inside one branch of the map.
+//!
 //! Each chart is made orientation-preserving: where the inverse map of a hemisphere turns a
 //! counter-clockwise triangle (seen from outside) clockwise in the square, the texture coordinate
 //! of that chart is v ↦ 1 − v ([`TextureMap`] applies the same flip in [`TextureMap::direction`],
@@ -241,7 +252,74 @@ impl TextureMap {
     pub fn pdf(&self, d: Vec3) -> f64 {
         self.map.pdf(d)
     }
+
+    /// The azimuths φ ∈ [0, 2π) of the meridians that the diagonals of each chart's square map to,
+    /// lower chart first (four per non-empty chart). The concentric stage of the map switches
+    /// branch there, so the forward map has a kink along these half-planes (its derivative jumps),
+    /// and the square's corners map to where they meet the horizon. The disk azimuth alone decides
+    /// the direction's azimuth, so each diagonal is one meridian; it is read at the middle of the
+    /// diagonal with the forward map.
+    pub fn kink_azimuths(&self) -> Vec<f64> {
+        let mut out = Vec::with_capacity(8);
+        for chart in 0..2 {
+            let (u0, w) = if chart == 0 {
+                (0.0, self.p_lower)
+            } else {
+                (self.p_lower, 1.0 - self.p_lower)
+            };
+            if w <= 0.0 {
+                continue;
+            }
+            for (s, t) in [(1.0, 1.0), (-1.0, 1.0), (-1.0, -1.0), (1.0, -1.0)] {
+                let uv = [u0 + w * (0.5 + 0.25 * s), 0.5 + 0.25 * t];
+                let d = self.direction(uv);
+                let mut phi = d[1].atan2(d[0]);
+                if phi < 0.0 {
+                    phi += TAU;
+                }
+                out.push(phi);
+            }
+        }
+        out
+    }
+
+    /// The normals of the vertical planes through the centre the mesh is cut along besides the
+    /// horizon: one per kink meridian of [`TextureMap::kink_azimuths`] (with its opposite
+    /// half-plane), and more, evenly spaced in the gaps, until neighbouring half-planes are at most
+    /// [`POLE_SECTOR`] apart. All of them contain the poles, so a triangle around a pole is cut into
+    /// sectors with the pole as their shared vertex; the concentric map is smooth inside each.
+    pub fn cut_planes(&self) -> Vec<Vec3> {
+        let mut a: Vec<f64> = self
+            .kink_azimuths()
+            .into_iter()
+            .map(|p| p.rem_euclid(PI))
+            .collect();
+        a.sort_by(f64::total_cmp);
+        a.dedup_by(|x, y| (*x - *y).abs() < 1e-12);
+        if a.len() > 1 && (a[0] + PI - a[a.len() - 1]) < 1e-12 {
+            a.pop();
+        }
+        if a.is_empty() {
+            a.push(0.0);
+        }
+        let mut all = Vec::with_capacity(a.len() * 2);
+        for k in 0..a.len() {
+            let lo = a[k];
+            let hi = if k + 1 < a.len() { a[k + 1] } else { a[0] + PI };
+            let n = ((hi - lo) / POLE_SECTOR - 1e-9).ceil().max(1.0) as usize;
+            for j in 0..n {
+                all.push(lo + (hi - lo) * j as f64 / n as f64);
+            }
+        }
+        all.into_iter().map(|p| [-p.sin(), p.cos(), 0.0]).collect()
+    }
 }
+
+/// The widest angle (radians, π/8) between neighbouring vertical cut half-planes of the HDS layout
+/// ([`TextureMap::cut_planes`]). A sector of angle Δ with its apex at a pole is a straight-edged
+/// triangle on the surface but bounded by an arc in the map, so its UV area is off by the factor
+/// Δ / sin Δ: 1.026 at π/8.
+pub const POLE_SECTOR: f64 = PI / 8.0;
 
 /// `d` moved onto the horizon z = `z` (x, y rescaled to unit length).
 fn horizon(d: Vec3, z: f64) -> Vec3 {
@@ -264,7 +342,7 @@ pub struct UvResult {
     pub texture: Option<TextureMap>,
     /// The density diagram the map was built from (HDS layout).
     pub diagram: Option<Diagram>,
-    /// Input triangles cut by a seam.
+    /// Input triangles cut: by a seam, or (HDS layout) by a kink or pole-sector plane.
     pub cut_triangles: usize,
     /// Seconds: star check, density diagram, map build, UVs and cut.
     pub seconds: [f64; 4],
@@ -686,7 +764,14 @@ pub fn build_uvs(
     for p in &mesh.positions {
         radius = radius.max(dot(sub(*p, center), sub(*p, center)).sqrt());
     }
-    let planes = layout.planes();
+    let planes = match (layout, texture) {
+        (Layout::Hds, Some(t)) => {
+            let mut p = layout.planes();
+            p.extend(t.cut_planes());
+            p
+        }
+        _ => layout.planes(),
+    };
     let n_charts = layout.charts();
     let mut cutter = Cutter {
         mesh,
@@ -726,12 +811,22 @@ pub fn build_uvs(
         pieces.push((0..3).map(|k| (t[k], nrm[k])).collect());
         let mut was_cut = false;
         for k in 0..cutter.planes.len() {
+            let straddles = |cutter: &mut Cutter, poly: &[PolyCorner]| {
+                let (mut has_pos, mut has_neg) = (false, false);
+                for c in poly {
+                    let cl = cutter.class(c.0, k);
+                    has_pos |= cl > 0;
+                    has_neg |= cl < 0;
+                }
+                has_pos && has_neg
+            };
+            // Most triangles miss most planes: no new vectors for them.
+            if !pieces.iter().any(|poly| straddles(&mut cutter, poly)) {
+                continue;
+            }
             let mut next = Vec::with_capacity(pieces.len() + 1);
             for poly in pieces.drain(..) {
-                let classes: Vec<i8> = poly.iter().map(|c| cutter.class(c.0, k)).collect();
-                let has_pos = classes.iter().any(|&c| c > 0);
-                let has_neg = classes.iter().any(|&c| c < 0);
-                if has_pos && has_neg {
+                if straddles(&mut cutter, &poly) {
                     was_cut = true;
                     let (a, b) = cutter.split(&poly, k);
                     for p in [a, b] {
