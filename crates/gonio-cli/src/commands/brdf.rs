@@ -510,6 +510,7 @@ pub fn run(a: &BrdfArgs) -> Result<bool> {
                 &crate::plot::brdf::SlicePlot {
                     title,
                     sampler: &inc,
+                    method,
                     diagram: diagram.diagram(),
                     value: &value,
                     samples: &samples,

@@ -23,8 +23,10 @@ const BAR_AREA: u32 = 150;
 pub struct SlicePlot<'a> {
     /// The first line of the title (file, incident direction, method).
     pub title: String,
-    /// The sampler at the incident direction (its name appears in the notes).
+    /// The sampler at the incident direction (for the chart's labels).
     pub sampler: &'a dyn Sampler,
+    /// The name of the method that drew `samples`.
+    pub method: &'a str,
     /// A diagram for the chart's labels (the axes of a non-photometric hemisphere).
     pub diagram: &'a Diagram,
     /// f̄·cos θ_o at an outgoing direction (1/sr).
@@ -105,7 +107,7 @@ where
         "colour: f·cos θ_o (1/sr, luminance) on {nx} × {ny} cells; dots: {} samples of `{}`; \
          cross: mirror direction",
         plot.samples.len(),
-        plot.sampler.name()
+        plot.method
     );
     let area = titled(&area, &notes, 16.0)?;
     let (left, right) = area.split_horizontally(w - BAR_AREA);
