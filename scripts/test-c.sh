@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The C ABI from C and C++ (docs/C_API.md): builds crates/gonio-capi in release, compiles the C
-# example and the C++ RAII example with the system cc/c++ against include/gonio.h and the static
-# library, runs both on corpus files, then runs both again under valgrind (no error, no leak).
+# examples (photometry and BRDF) and the C++ RAII example with the system cc/c++ against
+# include/gonio.h and the static library, runs them (on corpus files; the BRDF example on a table
+# it writes itself), then runs both again under valgrind (no error, no leak).
 # The corpus is $GONIO_CORPUS, else ../shared/data/photometry beside the repository.
 # Whatever cannot run on this machine (no compiler, no valgrind, no corpus) is reported as SKIPPED.
 set -euo pipefail
@@ -30,6 +31,8 @@ libs=(-lpthread -ldl -lm)
 
 cc -std=c11 -O1 -g -Wall -Wextra -Werror -pedantic -I "$inc" "$ex/example.c" "$lib" "${libs[@]}" \
   -o "$out/example_c"
+cc -std=c11 -O1 -g -Wall -Wextra -Werror -pedantic -I "$inc" "$ex/brdf.c" "$lib" "${libs[@]}" \
+  -o "$out/brdf_c"
 # The header alone is C89 (C users may include it from C89 code).
 printf '#include "gonio.h"\nint main(void) { return GONIO_OK; }\n' > "$out/c89.c"
 cc -std=c89 -pedantic -Wall -Wextra -Werror -I "$inc" -c "$out/c89.c" -o "$out/c89.o"
@@ -47,6 +50,8 @@ echo "== C example"
 "$out/example_c" "${files[@]}"
 echo "== C++ example"
 "$out/example_cpp" "${files[0]}"
+echo "== C BRDF example (writes and reads its own analytic JSON table)"
+"$out/brdf_c" "$out"
 
 if command -v valgrind >/dev/null; then
   # One file each (valgrind runs ~50x slower); any memory error or definite/indirect leak fails
@@ -58,6 +63,8 @@ if command -v valgrind >/dev/null; then
   "${vg[@]}" "$out/example_c" "${files[1]}" >/dev/null
   echo "== C++ example under valgrind"
   "${vg[@]}" "$out/example_cpp" "${files[1]}" >/dev/null
+  echo "== C BRDF example under valgrind"
+  "${vg[@]}" "$out/brdf_c" "$out" >/dev/null
   echo "test-c: valgrind found no error and no leak"
 else
   echo "test-c: SKIPPED the valgrind runs: valgrind is not installed"

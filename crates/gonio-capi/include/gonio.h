@@ -15,6 +15,20 @@
 #define GONIO_MAX_FILE_BYTES (64 << 20)
 
 /*
+ A tabulated BRDF read from a file (opaque). Created by [`gonio_brdf_read_path`] or
+ [`gonio_brdf_read_memory`], released by [`gonio_brdf_free`]. Immutable: may be used from any
+ number of threads at once.
+ */
+typedef struct GonioBrdf GonioBrdf;
+
+/*
+ A BRDF sampler of one method (opaque). Created by [`gonio_brdf_sampler_build`], released by
+ [`gonio_brdf_sampler_free`]; it holds its own copy of the table (the [`GonioBrdf`] may be
+ freed first). Immutable: may be used from any number of threads at once.
+ */
+typedef struct GonioBrdfSampler GonioBrdfSampler;
+
+/*
  A read photometric file or diagram (opaque). Created by [`gonio_diagram_read_path`] or
  [`gonio_diagram_read_memory`], released by [`gonio_diagram_free`]. Immutable: may be used from
  any number of threads at once.
@@ -98,6 +112,117 @@ typedef struct GonioSample {
    */
   double pdf;
 } GonioSample;
+
+/*
+ Options of [`gonio_brdf_read_path`] and [`gonio_brdf_read_memory`]. Fill it with
+ [`gonio_brdf_read_options_default`], then change fields (the struct may gain fields).
+ */
+typedef struct GonioBrdfReadOptions {
+  /*
+   MERL resampling: polar nodes 0°…90°, incident and outgoing (≥ 2; default 46, 2° steps).
+   */
+  size_t merl_theta;
+  /*
+   MERL resampling: nodes of the relative azimuth φ_o − φ_i in [0°, 360°) (≥ 1; default 90).
+   */
+  size_t merl_phi;
+} GonioBrdfReadOptions;
+
+/*
+ Options of [`gonio_brdf_sampler_build`]. Fill it with
+ [`gonio_brdf_sampler_options_default`], then change fields (the struct may gain fields).
+ */
+typedef struct GonioBrdfSamplerOptions {
+  /*
+   HDS and piecewise-constant: polar nodes 0°…90° of the slices' outgoing grid when the
+   table's own grid cannot be used (≥ 2; default 46).
+   */
+  size_t theta_o;
+  /*
+   The same grid's azimuth nodes (≥ 1; default 90).
+   */
+  size_t phi_o;
+  /*
+   Piecewise-constant: pixels per side of each slice's image (1…4096; default 128).
+   */
+  size_t resolution;
+} GonioBrdfSamplerOptions;
+
+/*
+ The format of a BRDF file: one of the `GONIO_BRDF_FORMAT_*` constants.
+ */
+typedef int32_t GonioBrdfFormat;
+
+/*
+ What [`gonio_brdf_info`] reports about a read file.
+ */
+typedef struct GonioBrdfInfo {
+  /*
+   The file's format, a `GONIO_BRDF_FORMAT_*` constant.
+   */
+  GonioBrdfFormat format;
+  /*
+   1 when the table depends on the incident azimuth, 0 when it is isotropic.
+   */
+  int32_t anisotropic;
+  /*
+   1 or 3 (R, G, B).
+   */
+  size_t channels;
+  /*
+   Incident polar nodes of the table.
+   */
+  size_t theta_i;
+  /*
+   Incident azimuth nodes (1 for isotropic tables).
+   */
+  size_t phi_i;
+  /*
+   Outgoing polar nodes.
+   */
+  size_t theta_o;
+  /*
+   Outgoing azimuth nodes (of φ_o − φ_i for isotropic tables).
+   */
+  size_t phi_o;
+  /*
+   Bytes held by the table.
+   */
+  size_t table_bytes;
+  /*
+   MERL only (else NaN): the resampling error of the density, the mean over θ_i = 0°, 30°,
+   60°, 75°, 85° of ∫ |p_table − p_file| dω_o (0 = identical, 2 = disjoint).
+   */
+  double merl_resampling_error;
+  /*
+   MERL only (else 0): stored values marked as no data (negative).
+   */
+  size_t merl_no_data;
+} GonioBrdfInfo;
+
+/*
+ A BRDF sampling method: one of the `GONIO_BRDF_METHOD_*` constants.
+ */
+typedef int32_t GonioBrdfMethod;
+
+/*
+ One BRDF sample: the outgoing direction, its exact density and the weight per channel.
+ */
+typedef struct GonioBrdfSample {
+  /*
+   The unit outgoing direction `[x, y, z]` (local frame).
+   */
+  double direction[3];
+  /*
+   Density of the method at `direction`, per steradian (equal to [`gonio_brdf_pdf`] there).
+   */
+  double pdf;
+  /*
+   f_r·cos θ_o / pdf per channel (R, G, B; a one-channel table repeats it); 0 where the pdf
+   is 0 or the direction lies below the horizon.
+   */
+  double weight[3];
+} GonioBrdfSample;
 
 /*
  What an environment map's density is proportional to: one of the `GONIO_ENV_WEIGHT_*`
@@ -271,6 +396,43 @@ typedef struct GonioEnvOptions {
  One map with the whole-sphere Lambert lift.
  */
 #define GONIO_SPHERE_LAYOUT_LAMBERT 1
+
+/*
+ MERL binary (`.binary`): three int32 dimensions, then three planes of float64.
+ */
+#define GONIO_BRDF_FORMAT_MERL 1
+
+/*
+ UTIA raw float64 (`.bin`, exactly 3 × 288 × 288 doubles).
+ */
+#define GONIO_BRDF_FORMAT_UTIA 2
+
+/*
+ gonio's self-describing BRDF table (JSON with `"format": "gonio-brdf"`).
+ */
+#define GONIO_BRDF_FORMAT_JSON 3
+
+/*
+ The HDS map of the slice diagram blended between the tabulated incident directions (exact pdf,
+ bijective, continuous in u and in ω_i, closed-form inverse).
+ */
+#define GONIO_BRDF_METHOD_HDS 0
+
+/*
+ Cosine-weighted sampling, pdf = cos θ_o / π.
+ */
+#define GONIO_BRDF_METHOD_COSINE 1
+
+/*
+ GGX visible-normal sampling (Heitz 2018) with the roughness fitted to the table; reflections
+ below the horizon are zero-weight samples.
+ */
+#define GONIO_BRDF_METHOD_GGX_FIT 2
+
+/*
+ A piecewise-constant image of the nearest tabulated slice (discontinuous in ω_i).
+ */
+#define GONIO_BRDF_METHOD_PIECEWISE_CONSTANT 3
 
 /*
  Rec. 709 luminance Y = 0.2126 R + 0.7152 G + 0.0722 B (the default).
@@ -778,6 +940,248 @@ GonioStatus gonio_invert_batch_soa_f32(const struct GonioSampler *sampler,
                                        size_t n,
                                        float *u,
                                        float *v);
+
+/*
+ Fills `*out` with the default read options (MERL resampled to 46 × 46 × 90 nodes).
+
+ # Safety
+ `out` must be NULL or valid for writing a [`GonioBrdfReadOptions`].
+ */
+GonioStatus gonio_brdf_read_options_default(struct GonioBrdfReadOptions *out);
+
+/*
+ Fills `*out` with the default sampler options.
+
+ # Safety
+ `out` must be NULL or valid for writing a [`GonioBrdfSamplerOptions`].
+ */
+GonioStatus gonio_brdf_sampler_options_default(struct GonioBrdfSamplerOptions *out);
+
+/*
+ Reads a BRDF file (MERL `.binary`, UTIA `.bin` or gonio BRDF JSON; the format is recognised
+ from the content, not the extension). `options` may be NULL (the defaults). Files larger than
+ [`GONIO_MAX_FILE_BYTES`] and anything that is not a regular file are refused
+ ([`GONIO_ERR_IO`]); a file that does not decode (wrong size, NaN, no reflectance at all, …) is
+ [`GONIO_ERR_PARSE`] with what and where (byte offset or value index); options out of range are
+ `GONIO_ERR_INVALID_ARGUMENT`. On success `*out` receives a new handle that the caller releases
+ with [`gonio_brdf_free`].
+
+ # Safety
+ `path` must be NULL or a NUL-terminated string; `options` NULL or valid for reading a
+ [`GonioBrdfReadOptions`]; `out` NULL or valid for writing a pointer.
+ */
+GonioStatus gonio_brdf_read_path(const char *path,
+                                 const struct GonioBrdfReadOptions *options,
+                                 struct GonioBrdf **out);
+
+/*
+ Reads a BRDF file from `len` bytes at `data` (any format, as [`gonio_brdf_read_path`]).
+ `name` (may be NULL, then `"<memory>"`) is used in messages; `options` may be NULL. More than
+ [`GONIO_MAX_FILE_BYTES`] bytes are refused. On success `*out` receives a new handle that the
+ caller releases with [`gonio_brdf_free`].
+
+ # Safety
+ `data` must be NULL or valid for reading `len` bytes; `name` NULL or a NUL-terminated string;
+ `options` NULL or valid for reading a [`GonioBrdfReadOptions`]; `out` NULL or valid for
+ writing a pointer.
+ */
+GonioStatus gonio_brdf_read_memory(const uint8_t *data,
+                                   size_t len,
+                                   const char *name,
+                                   const struct GonioBrdfReadOptions *options,
+                                   struct GonioBrdf **out);
+
+/*
+ Releases a BRDF handle. NULL is accepted and ignored.
+
+ # Safety
+ `brdf` must be NULL or a handle from a `gonio_brdf_read_*` function that was not freed yet,
+ and no other thread may be using it.
+ */
+void gonio_brdf_free(struct GonioBrdf *brdf);
+
+/*
+ Writes the file's format, grid and (MERL) resampling error into `*out`.
+
+ # Safety
+ `brdf` must be NULL or a live handle; `out` NULL or valid for writing a [`GonioBrdfInfo`].
+ */
+GonioStatus gonio_brdf_info(const struct GonioBrdf *brdf, struct GonioBrdfInfo *out);
+
+/*
+ f_r per channel (1/sr, R, G, B; a one-channel table repeats it) at the incident direction
+ `wi[3]` and the outgoing direction `wo[3]`, by the table's multilinear interpolation; 0 when
+ either lies below the horizon. A zero or non-finite vector is `GONIO_ERR_INVALID_ARGUMENT`.
+
+ # Safety
+ `brdf` must be NULL or a live handle; `wi` and `wo` NULL or valid for reading 3 doubles; `f`
+ NULL or valid for writing 3 doubles.
+ */
+GonioStatus gonio_brdf_eval(const struct GonioBrdf *brdf,
+                            const double *wi,
+                            const double *wo,
+                            double *f);
+
+/*
+ Builds a sampler of `method` (a `GONIO_BRDF_METHOD_*` constant) for the table of `brdf`;
+ `options` may be NULL (the defaults). An unknown method or options out of range are
+ `GONIO_ERR_INVALID_ARGUMENT`; a table the HDS sampler cannot map is [`GONIO_ERR_BUILD`]. On
+ success `*out` receives a new handle that the caller releases with
+ [`gonio_brdf_sampler_free`].
+
+ # Safety
+ `brdf` must be NULL or a live handle; `options` NULL or valid for reading a
+ [`GonioBrdfSamplerOptions`]; `out` NULL or valid for writing a pointer.
+ */
+GonioStatus gonio_brdf_sampler_build(const struct GonioBrdf *brdf,
+                                     GonioBrdfMethod method,
+                                     const struct GonioBrdfSamplerOptions *options,
+                                     struct GonioBrdfSampler **out);
+
+/*
+ Releases a BRDF sampler. NULL is accepted and ignored.
+
+ # Safety
+ `sampler` must be NULL or a handle from [`gonio_brdf_sampler_build`] that was not freed yet,
+ and no other thread may be using it.
+ */
+void gonio_brdf_sampler_free(struct GonioBrdfSampler *sampler);
+
+/*
+ The sampler's method as a static string (`"hds"`, `"cosine"`, `"ggx-fit"`,
+ `"piecewise-constant"`); NULL for a NULL handle.
+
+ # Safety
+ `sampler` must be NULL or a live handle.
+ */
+const char *gonio_brdf_sampler_method(const struct GonioBrdfSampler *sampler);
+
+/*
+ Samples an outgoing direction for the incident direction `wi[3]` at the point (u, v) of the
+ unit square: `*out` receives the direction, its exact density and the weight f_r·cos θ_o / pdf
+ per channel. An incident direction below the horizon gives the documented zero-weight cosine
+ sample. A point outside [0, 1]² (or NaN), a zero or non-finite `wi` are
+ `GONIO_ERR_INVALID_ARGUMENT`.
+
+ # Safety
+ `sampler` must be NULL or a live handle; `wi` NULL or valid for reading 3 doubles; `out` NULL
+ or valid for writing a [`GonioBrdfSample`].
+ */
+GonioStatus gonio_brdf_sample(const struct GonioBrdfSampler *sampler,
+                              const double *wi,
+                              double u,
+                              double v,
+                              struct GonioBrdfSample *out);
+
+/*
+ The density of [`gonio_brdf_sample`] at the outgoing direction `wo[3]` for the incident
+ direction `wi[3]`, per steradian (0 below the horizon).
+
+ # Safety
+ `sampler` must be NULL or a live handle; `wi`, `wo` NULL or valid for reading 3 doubles;
+ `pdf` NULL or valid for writing a double.
+ */
+GonioStatus gonio_brdf_pdf(const struct GonioBrdfSampler *sampler,
+                           const double *wi,
+                           const double *wo,
+                           double *pdf);
+
+/*
+ The point (u, v) of the unit square that [`gonio_brdf_sample`] maps to the outgoing
+ direction `wo[3]` for the incident direction `wi[3]`. [`GONIO_ERR_OUTSIDE_DOMAIN`] below the
+ horizon, [`GONIO_ERR_ZERO_DENSITY`] where the density is 0.
+
+ # Safety
+ `sampler` must be NULL or a live handle; `wi`, `wo` NULL or valid for reading 3 doubles; `u`,
+ `v` NULL or valid for writing a double.
+ */
+GonioStatus gonio_brdf_invert(const struct GonioBrdfSampler *sampler,
+                              const double *wi,
+                              const double *wo,
+                              double *u,
+                              double *v);
+
+/*
+ f_r per channel for `n` pairs: incident directions `wi[3·wi_count]` (`wi_count` 1 or n),
+ outgoing directions `wo[3n]`, results into `f[3n]` (R, G, B per element), element i as
+ [`gonio_brdf_eval`] gives it. A zero or non-finite direction stops the batch with
+ `GONIO_ERR_INVALID_ARGUMENT` naming its index; every input is checked and read before any
+ output is written (an output may overlap an input). `n = 0` does nothing.
+
+ # Safety
+ `brdf` must be NULL or a live handle; `wi` NULL or valid for reading 3·wi_count doubles; `wo`
+ valid for reading 3n doubles; `f` valid for writing 3n doubles.
+ */
+GonioStatus gonio_brdf_eval_batch(const struct GonioBrdf *brdf,
+                                  const double *wi,
+                                  size_t wi_count,
+                                  const double *wo,
+                                  size_t n,
+                                  double *f);
+
+/*
+ Samples `n` points `uv[2n]` (u, v interleaved) for the incident directions
+ `wi[3·wi_count]` (`wi_count` 1 or n) into `out[n]`, element i as [`gonio_brdf_sample`] gives
+ it. A point outside the unit square (or NaN) or a bad direction stops the batch with
+ `GONIO_ERR_INVALID_ARGUMENT` naming its index; every input is checked and read before any
+ output is written. `n = 0` does nothing.
+
+ # Safety
+ `sampler` must be NULL or a live handle; `wi` NULL or valid for reading 3·wi_count doubles;
+ `uv` valid for reading 2n doubles; `out` valid for writing n [`GonioBrdfSample`]s.
+ */
+GonioStatus gonio_brdf_sample_batch(const struct GonioBrdfSampler *sampler,
+                                    const double *wi,
+                                    size_t wi_count,
+                                    const double *uv,
+                                    size_t n,
+                                    struct GonioBrdfSample *out);
+
+/*
+ The densities of `n` pairs into `pdf[n]`: incident directions `wi[3·wi_count]` (`wi_count` 1
+ or n), outgoing directions `wo[3n]`, element i as [`gonio_brdf_pdf`] gives it. Inputs are
+ checked and read before any output is written. `n = 0` does nothing.
+
+ # Safety
+ `sampler` must be NULL or a live handle; `wi` NULL or valid for reading 3·wi_count doubles;
+ `wo` valid for reading 3n doubles; `pdf` valid for writing n doubles.
+ */
+GonioStatus gonio_brdf_pdf_batch(const struct GonioBrdfSampler *sampler,
+                                 const double *wi,
+                                 size_t wi_count,
+                                 const double *wo,
+                                 size_t n,
+                                 double *pdf);
+
+/*
+ The points of the square of `n` pairs into `uv[2n]` (u, v interleaved): incident directions
+ `wi[3·wi_count]` (`wi_count` 1 or n), outgoing directions `wo[3n]`; NaN, NaN for a direction
+ that no point maps to (below the horizon or of density 0). Inputs are checked and read before
+ any output is written. `n = 0` does nothing.
+
+ # Safety
+ `sampler` must be NULL or a live handle; `wi` NULL or valid for reading 3·wi_count doubles;
+ `wo` valid for reading 3n doubles; `uv` valid for writing 2n doubles.
+ */
+GonioStatus gonio_brdf_invert_batch(const struct GonioBrdfSampler *sampler,
+                                    const double *wi,
+                                    size_t wi_count,
+                                    const double *wo,
+                                    size_t n,
+                                    double *uv);
+
+/*
+ f_r per channel from a sampler's own copy of the table (as [`gonio_brdf_eval`]), so that a
+ caller holding only the sampler can evaluate the BRDF (e.g. for light sampling with MIS).
+
+ # Safety
+ `sampler` must be NULL or a live handle; `wi` and `wo` NULL or valid for reading 3 doubles;
+ `f` NULL or valid for writing 3 doubles.
+ */
+GonioStatus gonio_brdf_sampler_eval(const struct GonioBrdfSampler *sampler,
+                                    const double *wi,
+                                    const double *wo,
+                                    double *f);
 
 /*
  Writes the default options into `*options`: luminance weight, nearest lookup, no MIS

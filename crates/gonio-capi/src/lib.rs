@@ -1707,6 +1707,8 @@ pub unsafe extern "C" fn gonio_invert_batch_soa_f32(
     invert_soa::<f32>(sampler, x, y, z, n, u, v)
 }
 
+mod brdf;
+pub use brdf::*;
 mod envmap;
 pub use envmap::*;
 

@@ -42,6 +42,8 @@ fn committed_header_is_current() {
         "gonio_sample_batch_soa_f32",
         "gonio_invert_batch",
         "gonio_last_error_message",
+        "gonio_brdf_read_memory",
+        "gonio_brdf_sample_batch",
     ] {
         assert!(generated.contains(f), "{f} is missing from the header");
     }

@@ -65,8 +65,9 @@ enum Command {
     Uv(commands::uv::UvArgs),
     /// Bake an equirectangular PNG (or a checkerboard) into the map's square texture.
     Bake(commands::uv::BakeArgs),
-    /// Tabulated BRDFs (MERL, UTIA, gonio BRDF JSON): info, sample, pdf, invert, check, bench
-    /// `FILE --incident THETA,PHI`.
+    /// Tabulated BRDFs (MERL, UTIA, gonio BRDF JSON): info, sample, pdf, invert, check, plot,
+    /// bench `FILE --incident THETA,PHI`. The same commands at the top level (`gonio sample FILE
+    /// --incident 30,0`) come here when FILE is a BRDF file by its content.
     Brdf(commands::brdf::BrdfArgs),
 }
 
@@ -106,7 +107,15 @@ fn main() -> ExitCode {
 
     cleanup::install();
 
-    let cli = match Cli::try_parse() {
+    // A BRDF file after a top-level command goes to `gonio brdf …` (recognised by its content).
+    let argv = match commands::brdf::route(std::env::args_os().collect()) {
+        Ok(a) => a,
+        Err(msg) => {
+            eprintln!("gonio: error: {msg}");
+            return ExitCode::from(EXIT_USAGE);
+        }
+    };
+    let cli = match Cli::try_parse_from(argv) {
         Ok(c) => c,
         Err(e) => {
             use clap::error::ErrorKind;

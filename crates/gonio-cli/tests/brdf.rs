@@ -100,7 +100,7 @@ fn brdf_commands_on_every_format() {
     let bytes = std::fs::read(&merl).unwrap();
     let cut = dir.join("cut.binary");
     std::fs::write(&cut, &bytes[..bytes.len() - 5]).unwrap();
-    let (ok, _, err) = gonio(&["brdf", "info", cut.to_str().unwrap()]);
+    let (ok, _, err) = gonio(&["brdf", "info", cut.to_str().unwrap(), "--incident", "0,0"]);
     assert!(
         !ok && err.contains("merl") && err.contains("bytes"),
         "{err}"

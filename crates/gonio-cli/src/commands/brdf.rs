@@ -1,5 +1,7 @@
-//! `gonio brdf info|sample|pdf|invert|check|bench FILE --incident THETA,PHI`: tabulated BRDFs
-//! (MERL `.binary`, UTIA `.bin`, gonio BRDF JSON; the format is recognised from the content).
+//! `gonio info|sample|pdf|invert|check|plot|bench FILE --incident THETA,PHI` on a BRDF file, and
+//! its alias `gonio brdf info|sample|…`: tabulated BRDFs (MERL `.binary`, UTIA `.bin`, gonio BRDF
+//! JSON; the format is recognised from the content, [`sniff`]). `main` sends a top-level command
+//! whose FILE is a BRDF file here ([`route`]).
 //!
 //! Directions are in the local shading frame (z the normal, x the tangent), both pointing away
 //! from the surface; `--incident` gives ω_i's polar angle and azimuth in degrees.
@@ -34,7 +36,9 @@ enum BrdfCommand {
     /// The point of the square of each direction of `--directions`: `x,y,z,u,v`.
     Invert(DirArgs),
     /// The check battery at the incident direction; exit 3 if an item fails.
-    Check(Common),
+    Check(CheckArgs),
+    /// Draw the slice f·cos θ_o over the outgoing hemisphere and its samples (PNG or SVG).
+    Plot(PlotArgs),
     /// Time per sample of every method at the incident direction, against the light map of the
     /// same slice diagram (`HemisphereMap`), and the sampler's memory.
     Bench(BenchArgs),
@@ -52,8 +56,8 @@ enum MethodArg {
 struct Common {
     /// The BRDF file.
     file: PathBuf,
-    /// Incident direction: polar angle and azimuth in degrees, e.g. `30,0`.
-    #[arg(long, default_value = "30,0", value_parser = parse_incident)]
+    /// Incident direction (required): polar angle and azimuth in degrees, e.g. `30,0`.
+    #[arg(long, value_name = "THETA,PHI", value_parser = parse_incident)]
     incident: (f64, f64),
     /// MERL resampling: polar nodes 0°…90° (incident and outgoing).
     #[arg(long, default_value_t = 46)]
@@ -74,7 +78,7 @@ struct SampleArgs {
     #[command(flatten)]
     common: Common,
     /// Number of samples.
-    #[arg(short = 'n', long, default_value_t = 10)]
+    #[arg(short = 'n', long, visible_alias = "samples", default_value_t = 10)]
     count: usize,
     /// Seed of the iid points of the square.
     #[arg(long, default_value_t = 1)]
@@ -94,6 +98,42 @@ struct DirArgs {
     /// Sampling method.
     #[arg(long, value_enum, default_value = "hds")]
     method: MethodArg,
+}
+
+#[derive(Debug, Args)]
+struct CheckArgs {
+    #[command(flatten)]
+    common: Common,
+    /// The cheaper battery (about ten times faster, same tolerances).
+    #[arg(long)]
+    quick: bool,
+    /// Seed of every random item.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+}
+
+#[derive(Debug, Args)]
+struct PlotArgs {
+    #[command(flatten)]
+    common: Common,
+    /// Output image; the extension (`.png` or `.svg`) picks the format.
+    #[arg(short = 'o', long = "output", value_name = "OUT")]
+    output: PathBuf,
+    /// Number of samples drawn as dots.
+    #[arg(long, default_value_t = 2000)]
+    samples: usize,
+    /// Seed of the iid points of the square.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Sampling method of the dots.
+    #[arg(long, value_enum, default_value = "hds")]
+    method: MethodArg,
+    /// Image width in pixels.
+    #[arg(long, default_value_t = 1200)]
+    width: u32,
+    /// Image height in pixels.
+    #[arg(long, default_value_t = 700)]
+    height: u32,
 }
 
 #[derive(Debug, Args)]
@@ -152,15 +192,121 @@ fn load(c: &Common) -> Result<Loaded> {
 }
 
 fn read_bytes(path: &Path) -> Result<Vec<u8>> {
-    let meta = std::fs::metadata(path).with_context(|| path.display().to_string())?;
-    if meta.len() > (1 << 30) {
-        bail!(
-            "{}: {} bytes, larger than any BRDF file this tool reads",
-            path.display(),
-            meta.len()
-        );
+    crate::input::read_regular(
+        path,
+        &path.display().to_string(),
+        gonio::photometry::MAX_FILE_BYTES,
+    )
+}
+
+/// The commands a BRDF file may follow at the top level (`gonio sample FILE --incident …`).
+pub const COMMANDS: [&str; 7] = ["info", "sample", "pdf", "invert", "check", "plot", "bench"];
+
+/// The BRDF format of a file, from its content (not its name): `MERL binary` (a 12-byte header
+/// of three int32 dimensions matching the length, or 90 × 90 × 180), `UTIA raw` (exactly
+/// `UTIA_SIZE` bytes) or `gonio BRDF JSON` (a JSON object whose `format` is `"gonio-brdf"`, which
+/// tells it from a diagram JSON; a file that does not parse counts when its first 4 KiB name
+/// `"gonio-brdf"`, so that its own reader reports the error). `None` for anything else, and for
+/// what is not a readable regular file (the command then reports it as usual).
+pub fn sniff(path: &Path) -> Option<&'static str> {
+    use std::io::Read;
+    let meta = std::fs::metadata(path).ok()?;
+    if !meta.is_file() || meta.len() > gonio::photometry::MAX_FILE_BYTES {
+        return None;
     }
-    std::fs::read(path).with_context(|| path.display().to_string())
+    let mut head = Vec::with_capacity(4096);
+    std::fs::File::open(path)
+        .ok()?
+        .take(4096)
+        .read_to_end(&mut head)
+        .ok()?;
+    let first = head.iter().find(|b| !b.is_ascii_whitespace());
+    if first == Some(&b'{') {
+        #[derive(serde::Deserialize)]
+        struct Probe {
+            format: Option<serde_json::Value>,
+        }
+        let named = |v: &[u8]| v.windows(12).any(|w| w == b"\"gonio-brdf\"");
+        let bytes = std::fs::read(path).ok()?;
+        return match serde_json::from_slice::<Probe>(&bytes) {
+            Ok(p) => (p.format.as_ref().and_then(|f| f.as_str()) == Some("gonio-brdf"))
+                .then_some("gonio BRDF JSON"),
+            Err(_) => named(&head).then_some("gonio BRDF JSON"),
+        };
+    }
+    if meta.len() == gonio::brdf::UTIA_SIZE {
+        return Some("UTIA raw");
+    }
+    if head.len() >= 12 {
+        let dim = |k: usize| {
+            i32::from_le_bytes([
+                head[4 * k],
+                head[4 * k + 1],
+                head[4 * k + 2],
+                head[4 * k + 3],
+            ]) as i64
+        };
+        let (a, b, c) = (dim(0), dim(1), dim(2));
+        let length = a
+            .checked_mul(b)
+            .and_then(|ab| ab.checked_mul(c))
+            .and_then(|abc| abc.checked_mul(24))
+            .and_then(|n| n.checked_add(12));
+        if (a > 0 && b > 0 && c > 0 && length == Some(meta.len() as i64))
+            || (a, b, c) == (90, 90, 180)
+        {
+            return Some("MERL binary");
+        }
+    }
+    None
+}
+
+/// Rewrites `gonio [GLOBAL…] CMD … FILE …` as `gonio [GLOBAL…] brdf CMD … FILE …` when CMD is one
+/// of [`COMMANDS`] and one of its plain arguments names a BRDF file ([`sniff`]). `Err` holds the
+/// usage message when such a command lacks `--incident`.
+pub fn route(
+    args: Vec<std::ffi::OsString>,
+) -> std::result::Result<Vec<std::ffi::OsString>, String> {
+    // The subcommand: the first argument that is neither an option nor the value of --tolerance.
+    let mut k = 1;
+    while k < args.len() {
+        let a = args[k].to_string_lossy();
+        if a == "--tolerance" {
+            k += 2;
+        } else if a.starts_with('-') {
+            k += 1;
+        } else {
+            break;
+        }
+    }
+    let Some(cmd) = args.get(k).map(|a| a.to_string_lossy().into_owned()) else {
+        return Ok(args);
+    };
+    if !COMMANDS.contains(&cmd.as_str()) {
+        return Ok(args);
+    }
+    let rest = &args[k + 1..];
+    let found = rest
+        .iter()
+        .filter(|a| !a.to_string_lossy().starts_with('-'))
+        .find_map(|a| sniff(Path::new(a)).map(|f| (a.to_string_lossy().into_owned(), f)));
+    let Some((file, format)) = found else {
+        return Ok(args);
+    };
+    let has_incident = rest.iter().any(|a| {
+        let a = a.to_string_lossy();
+        a == "--incident" || a.starts_with("--incident=")
+    });
+    if !has_incident {
+        return Err(format!(
+            "{file} is a BRDF file ({format}): `gonio {cmd}` needs the incident direction \
+             --incident THETA,PHI in degrees, e.g. --incident 30,0 (see `gonio brdf {cmd} --help`)"
+        ));
+    }
+    let mut out = args[..k].to_vec();
+    out.push("brdf".into());
+    out.extend_from_slice(&args[k..]);
+    Ok(out)
 }
 
 fn sampler_of(c: &Common, brdf: TabulatedBrdf) -> Result<BrdfSampler> {
@@ -329,11 +475,65 @@ pub fn run(a: &BrdfArgs) -> Result<bool> {
             })?;
             Ok(true)
         }
-        BrdfCommand::Check(c) => {
+        BrdfCommand::Plot(pa) => {
+            let c = &pa.common;
+            let l = load(c)?;
+            let s = sampler_of(c, l.brdf)?;
+            let wi = incident(c);
+            let seq = Sequence::new(SequenceKind::Random, pa.seed);
+            let samples: Vec<Vec3> = with_method(pa.method, &s, |m| {
+                (0..pa.samples as u64)
+                    .map(|k| m.sample(wi, seq.point(k)).direction)
+                    .filter(|d| d[2] >= 0.0)
+                    .collect()
+            });
+            let Some(diagram) = (0..s.slice_counts().0).find_map(|k| s.slice(k)) else {
+                bail!(
+                    "{}: no slice holds reflectance above the horizon",
+                    c.file.display()
+                );
+            };
+            let inc = IncidentSampler::new(&s, wi);
+            let b = s.brdf();
+            let value = |d: Vec3| b.scalar(b.eval(wi, d)) * d[2].max(0.0);
+            let name = c
+                .file
+                .file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_else(|| c.file.display().to_string());
+            let method = with_method(pa.method, &s, |m| m.name());
+            let title = format!(
+                "{name} ({}) — slice at θ_i = {}°, φ_i = {}°, samples of `{method}`",
+                l.format, c.incident.0, c.incident.1
+            );
+            crate::plot::brdf::render_slice(
+                &crate::plot::brdf::SlicePlot {
+                    title,
+                    sampler: &inc,
+                    method,
+                    diagram: diagram.diagram(),
+                    value: &value,
+                    samples: &samples,
+                    mirror: [-wi[0], -wi[1], wi[2]],
+                },
+                &pa.output,
+                pa.width,
+                pa.height,
+            )?;
+            Ok(true)
+        }
+        BrdfCommand::Check(ca) => {
+            let c = &ca.common;
             let l = load(c)?;
             let s = sampler_of(c, l.brdf)?;
             let inc = IncidentSampler::new(&s, incident(c));
-            let report = gonio::run_battery(&inc, &gonio::BatteryOptions::default());
+            let opts = if ca.quick {
+                gonio::BatteryOptions::quick()
+            } else {
+                gonio::BatteryOptions::default()
+            }
+            .with_seed(ca.seed);
+            let report = gonio::run_battery(&inc, &opts);
             writeln!(w, "incident {:?}: albedo {:.6}", c.incident, inc.albedo())?;
             writeln!(w, "{report}")?;
             Ok(report.passed)

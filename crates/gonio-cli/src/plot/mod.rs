@@ -17,6 +17,7 @@
 //! Sans font (`assets/fonts`), so the output does not depend on the fonts of the machine.
 
 mod axis;
+pub mod brdf;
 mod colour;
 mod density;
 mod grid;

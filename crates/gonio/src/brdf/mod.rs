@@ -503,7 +503,13 @@ pub fn read_any(bytes: &[u8], merl: &MerlOptions) -> Result<TabulatedBrdf, BrdfE
     if bytes.len() >= 12 {
         let dim = |k: usize| i32::from_le_bytes(bytes[4 * k..4 * k + 4].try_into().unwrap());
         let (a, b, c) = (dim(0) as i64, dim(1) as i64, dim(2) as i64);
-        if a > 0 && b > 0 && c > 0 && 12 + 24 * a * b * c == bytes.len() as i64 {
+        // i64 holds 24·(2³¹)³ only with checks: garbage headers must not overflow.
+        let length = a
+            .checked_mul(b)
+            .and_then(|ab| ab.checked_mul(c))
+            .and_then(|abc| abc.checked_mul(24))
+            .and_then(|n| n.checked_add(12));
+        if a > 0 && b > 0 && c > 0 && length == Some(bytes.len() as i64) {
             return read_merl(bytes, merl);
         }
         if (a, b, c) == (90, 90, 180) {

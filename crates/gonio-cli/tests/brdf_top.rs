@@ -1,0 +1,267 @@
+//! The spelling `gonio info|sample|pdf|invert|check|plot|bench FILE --incident THETA,PHI`
+//! on BRDF files the test writes (a gonio BRDF JSON told apart from a diagram JSON by its content,
+//! a MERL file named `.binary`, a UTIA `.bin`), the alias `gonio brdf …`, the usage error without
+//! `--incident`, and the slice picture.
+
+use gonio::brdf::{write_json, write_merl, write_utia_dirs, Analytic};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn gonio(args: &[&str]) -> (Option<i32>, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_gonio"))
+        .args(args)
+        .output()
+        .expect("runs");
+    (
+        out.status.code(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn rows(text: &str) -> Vec<Vec<f64>> {
+    text.lines()
+        .skip(1)
+        .filter(|l| !l.starts_with('#'))
+        .map(|l| l.split(',').map(|f| f.parse().unwrap()).collect())
+        .collect()
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("gonio-brdf-top-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// The small grids that keep the MERL resampling and the slices quick.
+const SMALL: [&str; 8] = [
+    "--merl-theta",
+    "7",
+    "--merl-phi",
+    "12",
+    "--theta-o",
+    "7",
+    "--phi-o",
+    "12",
+];
+
+fn with_small(mut a: Vec<&str>) -> Vec<&str> {
+    a.extend(SMALL);
+    a
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+#[test]
+fn top_level_commands_on_every_format() {
+    let dir = tmp("all");
+    let mix = Analytic::families()[4];
+    let json = dir.join("mix.json");
+    std::fs::write(&json, write_json(&mix.table(7, 12).unwrap())).unwrap();
+    let merl = dir.join("mix.binary");
+    std::fs::write(&merl, write_merl(|wi, wo| mix.eval(wi, wo))).unwrap();
+    let aniso = Analytic::families()[2];
+    let utia = dir.join("aniso.bin");
+    std::fs::write(&utia, write_utia_dirs(|wi, wo| aniso.eval(wi, wo))).unwrap();
+    for (file, format) in [
+        (&json, "gonio BRDF JSON"),
+        (&merl, "MERL binary"),
+        (&utia, "UTIA raw"),
+    ] {
+        let f = s(file);
+        let (code, out, err) = gonio(&with_small(vec!["info", f, "--incident", "35,20"]));
+        assert_eq!(code, Some(0), "{err}");
+        assert!(out.contains(&format!("format: {format}")), "{out}");
+        let (code, out, err) = gonio(&with_small(vec![
+            "sample",
+            f,
+            "--incident",
+            "35,20",
+            "--samples",
+            "30",
+        ]));
+        assert_eq!(code, Some(0), "{err}");
+        assert!(out.starts_with("u,v,x,y,z,pdf,w_r,w_g,w_b\n"), "{out}");
+        let samples = rows(&out);
+        assert_eq!(samples.len(), 30);
+        assert!(samples.iter().all(|r| r.len() == 9));
+        let kept: Vec<&Vec<f64>> = samples.iter().filter(|r| r[5] > 1e-6).collect();
+        assert!(
+            kept.len() > 20,
+            "{format}: {} samples of density > 1e-6",
+            kept.len()
+        );
+        let csv = dir.join("dirs.csv");
+        let text: String = kept
+            .iter()
+            .map(|r| format!("{},{},{}\n", r[2], r[3], r[4]))
+            .collect();
+        std::fs::write(&csv, text).unwrap();
+        let (code, out, err) = gonio(&with_small(vec![
+            "pdf",
+            f,
+            "--incident",
+            "35,20",
+            "--directions",
+            s(&csv),
+        ]));
+        assert_eq!(code, Some(0), "{err}");
+        assert!(out.starts_with("x,y,z,pdf\n"), "{out}");
+        for (g, r) in rows(&out).iter().zip(&kept) {
+            assert!(
+                (g[3] - r[5]).abs() <= 1e-9 * r[5],
+                "{format}: pdf {} vs {}",
+                g[3],
+                r[5]
+            );
+        }
+        let (code, out, err) = gonio(&with_small(vec![
+            "invert",
+            f,
+            "--incident",
+            "35,20",
+            "--directions",
+            s(&csv),
+        ]));
+        assert_eq!(code, Some(0), "{err}");
+        assert!(out.starts_with("x,y,z,u,v\n"), "{out}");
+        let inv = rows(&out);
+        assert_eq!(inv.len(), kept.len());
+        for (g, r) in inv.iter().zip(&kept) {
+            assert!(
+                (g[3] - r[0]).abs() < 1e-8 && (g[4] - r[1]).abs() < 1e-8,
+                "{format}: {g:?} vs {r:?}"
+            );
+        }
+    }
+    // `bench` times every method (a few samples: the test checks the table, not the speed).
+    let (code, out, err) = gonio(&with_small(vec![
+        "bench",
+        s(&json),
+        "--incident",
+        "35,20",
+        "-n",
+        "200",
+    ]));
+    assert_eq!(code, Some(0), "{err}");
+    assert!(out.starts_with("method,ns_per_sample"), "{out}");
+    for m in ["hds,", "cosine,", "ggx-fit,", "piecewise-constant,"] {
+        assert!(out.contains(m), "{m}: {out}");
+    }
+    // The alias still works, and agrees with the top-level spelling.
+    let a = gonio(&with_small(vec![
+        "sample",
+        s(&json),
+        "--incident",
+        "10,0",
+        "-n",
+        "5",
+    ]));
+    let b = gonio(&with_small(vec![
+        "brdf",
+        "sample",
+        s(&json),
+        "--incident",
+        "10,0",
+        "-n",
+        "5",
+    ]));
+    assert_eq!(a.0, Some(0));
+    assert_eq!(a, b);
+    // `check --quick` runs the cheaper battery at the incident direction (exit 0: every item
+    // passes; the battery's own fixed seed and stated error rates).
+    let (code, out, err) = gonio(&with_small(vec![
+        "check",
+        s(&json),
+        "--incident",
+        "50,0",
+        "--quick",
+    ]));
+    assert_eq!(code, Some(0), "{out}{err}");
+    assert!(out.contains("incident (50.0, 0.0)"), "{out}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn usage_errors_and_diagram_json_untouched() {
+    let dir = tmp("usage");
+    let lambert = Analytic::families()[0];
+    // Named like a diagram: the content decides.
+    let json = dir.join("diagram.json");
+    std::fs::write(&json, write_json(&lambert.table(5, 8).unwrap())).unwrap();
+    for cmd in ["info", "sample", "pdf", "invert", "check", "plot", "bench"] {
+        let (code, _, err) = gonio(&[cmd, s(&json)]);
+        assert_eq!(code, Some(2), "{cmd}: {err}");
+        assert!(
+            err.contains("is a BRDF file (gonio BRDF JSON)")
+                && err.contains("--incident THETA,PHI"),
+            "{cmd}: {err}"
+        );
+    }
+    let (code, _, err) = gonio(&["brdf", "info", s(&json)]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("--incident"), "{err}");
+    // A diagram JSON still goes to the diagram commands.
+    let diagram = dir.join("lamp.json");
+    let (code, _, err) = gonio(&["convert", "example", s(&diagram)]);
+    assert_eq!(code, Some(0), "{err}");
+    let (code, out, err) = gonio(&["info", s(&diagram)]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(!out.contains("gonio BRDF JSON"), "{out}");
+    // A broken BRDF JSON is still recognised (by its format name) and its reader says where.
+    let text = std::fs::read_to_string(&json).unwrap();
+    let cut = dir.join("cut.json");
+    std::fs::write(&cut, &text[..text.len() / 2]).unwrap();
+    let (code, _, err) = gonio(&["info", s(&cut), "--incident", "0,0"]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(err.contains("json "), "{err}");
+    // A garbage file that happens to start like a huge MERL header: an error, not a crash.
+    let junk = dir.join("junk.binary");
+    std::fs::write(
+        &junk,
+        b"\xff\xff\xff\x7f\xff\xff\xff\x7f\xff\xff\xff\x7fxyz",
+    )
+    .unwrap();
+    let (code, _, err) = gonio(&["brdf", "info", s(&junk), "--incident", "0,0"]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(err.contains("not a BRDF file"), "{err}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn plot_draws_the_slice() {
+    let dir = tmp("plot");
+    let ggx = Analytic::families()[1];
+    let json = dir.join("ggx.json");
+    std::fs::write(&json, write_json(&ggx.table(7, 12).unwrap())).unwrap();
+    for (out, magic) in [("slice.png", &b"\x89PNG"[..]), ("slice.svg", &b"<svg"[..])] {
+        let path = dir.join(out);
+        let (code, _, err) = gonio(&with_small(vec![
+            "plot",
+            s(&json),
+            "--incident",
+            "45,30",
+            "-o",
+            s(&path),
+            "--samples",
+            "300",
+        ]));
+        assert_eq!(code, Some(0), "{err}");
+        let bytes = std::fs::read(&path).unwrap();
+        assert!(bytes.starts_with(magic), "{out}");
+        assert!(bytes.len() > 5000, "{out}: {} bytes", bytes.len());
+    }
+    let (code, _, err) = gonio(&with_small(vec![
+        "plot",
+        s(&json),
+        "--incident",
+        "45,30",
+        "-o",
+        s(&dir.join("slice.gif")),
+    ]));
+    assert_eq!(code, Some(1));
+    assert!(err.contains(".png or .svg"), "{err}");
+    std::fs::remove_dir_all(&dir).ok();
+}
