@@ -8,7 +8,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::batch::{check_len, core_density, core_invert, core_sample, SoaSampler, CHUNK};
-use super::simd::{Backend, BatchFloat, Lane};
+use super::simd::{Backend, BatchFloat, Elem};
 use super::sphere::CoresRef;
 use super::{HemisphereMap, SphereMap};
 
@@ -73,7 +73,7 @@ impl SoaSampler for HemisphereMap {
 /// Whether a direction with these z and the presence of an upper map is served by the lower map
 /// (`sphere::lower_side`).
 #[inline]
-fn lower_side<T: Lane>(z: T, has_upper: bool) -> bool {
+fn lower_side<T: Elem>(z: T, has_upper: bool) -> bool {
     z < T::ZERO || (z == T::ZERO && !has_upper)
 }
 
@@ -275,7 +275,7 @@ impl SoaSampler for SphereMap {
 
 /// Splits directions into chunks and each chunk by hemisphere; calls `f(side, dirs, positions)`
 /// with side 0 (lower, the direction mirrored to z ≥ 0) or 1 (upper).
-fn split_by_side<T: Lane>(
+fn split_by_side<T: Elem>(
     dir: [&[T]; 3],
     has_upper: bool,
     mut f: impl FnMut(usize, [&[T]; 3], &[usize]),

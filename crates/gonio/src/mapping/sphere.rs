@@ -14,7 +14,7 @@
 //! the pdf is the node value times one constant.
 
 use super::complete::{complete, hemisphere_part, with_horizon_node, Completion};
-use super::core::HdsCore;
+use super::hds::HdsCore;
 use super::refine::{refine, valid_tolerance, RefineLimits, Refinement};
 use crate::diagram::{Diagram, DiagramError};
 use crate::sampler::{spherical, Domain, InvertError, Point2, Sample, Sampler, Vec3};
