@@ -32,6 +32,7 @@ pub mod refine;
 pub mod simd;
 mod soa_maps;
 mod sphere;
+mod split;
 
 pub use blend::{BlendError, BlendedMap};
 pub use complete::Completion;
