@@ -26,25 +26,68 @@ pub const ANGULAR_AREA: f64 = 1.0;
 /// and the sector lookup of a D-disk azimuth.
 #[derive(Debug, Clone)]
 pub(crate) struct Angular {
-    pub(super) m: usize,
+    m: usize,
     /// Meridian azimuths, M + 1 entries with φ_M = 2π.
-    pub(super) phi: Vec<f64>,
+    phi: Vec<f64>,
     /// Sector widths β_i, M entries.
-    pub(super) beta: Vec<f64>,
+    beta: Vec<f64>,
     /// 1/β when the meridians are uniform (O(1) sector lookup), else 0.
-    pub(super) inv_uniform_beta: f64,
+    inv_uniform_beta: f64,
     /// Squared star radii R_i² = U(i, N−1)/s, M + 1 entries (R_M = R_0).
-    pub(super) r2: Vec<f64>,
+    r2: Vec<f64>,
     /// Cumulative wedge angles Γ_i, M + 1 entries, Γ_0 = 0, Γ_M = 2π exactly.
-    pub(super) cum: Vec<f64>,
+    cum: Vec<f64>,
     /// Γ_M / Σγ^i (1 up to round-off): keeps Γ exactly cumulative.
-    pub(super) kappa: f64,
+    kappa: f64,
     /// Guide table of the wedge search: entry k is the wedge that holds φ_B = 2πk/K (K = the
     /// table's length, 2M), so the search starts at most a step or two below its answer (O(1)
     /// for all but pathological Γ).
-    pub(super) wedge_guide: Vec<u32>,
+    wedge_guide: Vec<u32>,
     /// K / 2π for [`Angular::wedge_guide`].
-    pub(super) guide_scale: f64,
+    guide_scale: f64,
+}
+
+/// The read-only view of [`Angular`]'s tables, the one door through which code outside this file
+/// (the vector kernels of `mapping::simd`, the blended maps) reads them: a layout change touches
+/// this file only. Fields as in [`Angular`].
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct AngularView<'a> {
+    /// M, the number of meridians.
+    pub(crate) m: usize,
+    /// Meridian azimuths, M + 1 entries with φ_M = 2π.
+    pub(crate) phi: &'a [f64],
+    /// Sector widths β_i, M entries.
+    pub(crate) beta: &'a [f64],
+    /// 1/β when the meridians are uniform, else 0.
+    pub(crate) inv_uniform_beta: f64,
+    /// Squared star radii R_i², M + 1 entries.
+    pub(crate) r2: &'a [f64],
+    /// Cumulative wedge angles Γ_i, M + 1 entries.
+    pub(crate) cum: &'a [f64],
+    /// Γ_M / Σγ^i.
+    pub(crate) kappa: f64,
+    /// Guide table of the wedge search.
+    pub(crate) wedge_guide: &'a [u32],
+    /// K / 2π for the guide table.
+    pub(crate) guide_scale: f64,
+}
+
+impl Angular {
+    /// The read-only view of the tables ([`AngularView`]).
+    #[inline]
+    pub(crate) fn view(&self) -> AngularView<'_> {
+        AngularView {
+            m: self.m,
+            phi: &self.phi,
+            beta: &self.beta,
+            inv_uniform_beta: self.inv_uniform_beta,
+            r2: &self.r2,
+            cum: &self.cum,
+            kappa: self.kappa,
+            wedge_guide: &self.wedge_guide,
+            guide_scale: self.guide_scale,
+        }
+    }
 }
 
 impl Angular {

@@ -23,7 +23,7 @@
 
 use super::angular::{solve_wedge, wedge_angle, Angular};
 use super::concentric::{disk_to_square, square_to_disk};
-use super::core::HdsCore;
+use super::hds::HdsCore;
 use super::lift::{disk_to_sphere, sphere_to_disk_azimuth, sphere_to_disk_radius};
 use super::radial::{partial_mass, solve_radius, Radial};
 use super::HemisphereMap;
@@ -112,7 +112,7 @@ impl<'a> BlendedMap<'a> {
             let total = cores[k].total();
             c[k] = w[k] / total;
             t += c[k] * total;
-            kappa += w[k] * cores[k].tables().0.kappa;
+            kappa += w[k] * cores[k].tables().0.view().kappa;
         }
         BlendedMap {
             cores,
@@ -137,14 +137,14 @@ impl<'a> BlendedMap<'a> {
     #[inline]
     fn gamma(&self, i: usize) -> f64 {
         (0..self.len)
-            .map(|k| self.w[k] * self.angular(k).cum[i])
+            .map(|k| self.w[k] * self.angular(k).view().cum[i])
             .sum()
     }
     /// Blended R_i².
     #[inline]
     fn r2(&self, i: usize) -> f64 {
         (0..self.len)
-            .map(|k| self.w[k] * self.angular(k).r2[i])
+            .map(|k| self.w[k] * self.angular(k).view().r2[i])
             .sum()
     }
 
@@ -166,7 +166,7 @@ impl<'a> BlendedMap<'a> {
         rows.iter()
             .map(|&(k, r, a)| {
                 let rad = self.radial(k);
-                a * rad.u[r * rad.n + j]
+                a * rad.view().u[r * rad.view().n + j]
             })
             .sum()
     }
@@ -176,7 +176,7 @@ impl<'a> BlendedMap<'a> {
         rows.iter()
             .map(|&(k, r, a)| {
                 let rad = self.radial(k);
-                a * rad.d[r * rad.n + j]
+                a * rad.view().d[r * rad.view().n + j]
             })
             .sum()
     }
@@ -201,14 +201,14 @@ impl<'a> BlendedMap<'a> {
             }
         }
         let i = lo;
-        let beta = a0.beta[i];
+        let beta = a0.view().beta[i];
         let eps = solve_wedge(
             beta,
             self.r2(i),
             self.r2(i + 1),
             (phib - self.gamma(i)) / self.kappa,
         );
-        (i, eps, a0.phi[i] + eps * beta)
+        (i, eps, a0.view().phi[i] + eps * beta)
     }
 
     /// The forward map: a point of the unit square to (direction, blended disk density there).
@@ -220,14 +220,14 @@ impl<'a> BlendedMap<'a> {
         let (rows, nr) = self.rows(i, i1, eps);
         let rows = &rows[..nr];
         let r0 = self.radial(0);
-        let n = r0.n;
+        let n = r0.view().n;
         let w = rb * rb * self.ut(rows, n - 1);
         // Bracket from every row's own radial guide table (convex combination, as in M_D).
-        let kg = r0.radial_k;
+        let kg = r0.view().radial_k;
         let kk = ((rb * rb * kg as f64) as usize).min(kg - 1);
         let (mut lo, mut hi) = (usize::MAX, 0usize);
         for &(k, r, _) in rows {
-            let g = &self.radial(k).radial_guide[r * (kg + 1)..(r + 1) * (kg + 1)];
+            let g = &self.radial(k).view().radial_guide[r * (kg + 1)..(r + 1) * (kg + 1)];
             lo = lo.min(g[kk] as usize);
             hi = hi.max(g[kk + 1] as usize);
         }
@@ -250,13 +250,13 @@ impl<'a> BlendedMap<'a> {
             j -= 1;
         }
         let (d0, d1) = (self.dt(rows, j), self.dt(rows, j + 1));
-        let (x0, x1) = (r0.x[j], r0.x[j + 1]);
+        let (x0, x1) = (r0.view().x[j], r0.view().x[j + 1]);
         let xr = solve_radius(x0, x1, d0, d1, w - self.ut(rows, j)).min(x1);
         let dir = disk_to_sphere(xr, phi);
         if dir[0] == 0.0 && dir[1] == 0.0 {
             return (dir, self.density(dir));
         }
-        let t = ((sphere_to_disk_radius(dir) - x0) * r0.inv_dx[j]).clamp(0.0, 1.0);
+        let t = ((sphere_to_disk_radius(dir) - x0) * r0.view().inv_dx[j]).clamp(0.0, 1.0);
         (dir, (d0 + (d1 - d0) * t).max(0.0))
     }
 
@@ -302,11 +302,11 @@ impl<'a> BlendedMap<'a> {
         let (rows, nr) = self.rows(i, i1, eps);
         let rows = &rows[..nr];
         let r0 = self.radial(0);
-        let n = r0.n;
+        let n = r0.view().n;
         let j = r0.segment_of(xr);
-        let (x0, x1) = (r0.x[j], r0.x[j + 1]);
+        let (x0, x1) = (r0.view().x[j], r0.view().x[j + 1]);
         let (d0, d1) = (self.dt(rows, j), self.dt(rows, j + 1));
-        let k = (d1 - d0) * r0.inv_dx[j];
+        let k = (d1 - d0) * r0.view().inv_dx[j];
         let tau = (xr - x0).clamp(0.0, x1 - x0);
         let w = self.ut(rows, j) + partial_mass(x0, d0, k, tau);
         let wn = self.ut(rows, n - 1);
@@ -316,7 +316,7 @@ impl<'a> BlendedMap<'a> {
             0.0
         };
         let phib = (self.gamma(i)
-            + self.kappa * wedge_angle(a0.beta[i], self.r2(i), self.r2(i + 1), eps))
+            + self.kappa * wedge_angle(a0.view().beta[i], self.r2(i), self.r2(i + 1), eps))
         .min(self.gamma(i + 1));
         Some(disk_to_square(rb, phib))
     }

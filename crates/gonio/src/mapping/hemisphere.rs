@@ -2,7 +2,7 @@
 //! A6).
 
 use super::complete::{complete, Completion};
-use super::core::HdsCore;
+use super::hds::HdsCore;
 use super::refine::{refine, valid_tolerance, RefineLimits, Refinement};
 use crate::diagram::{Diagram, DiagramError};
 use crate::sampler::{spherical, Domain, InvertError, Point2, Sample, Sampler, Vec3};

@@ -10,7 +10,7 @@
 //!
 //! Each stage is one room: its module holds the forward map, the inverse and the area factor, and
 //! for the two stages with tables (M_C, M_D) the tables themselves (`angular::Angular`,
-//! `radial::Radial`). The private `core` composes them: `sample` is
+//! `radial::Radial`). The private `hds` module composes them: `sample` is
 //! M_E(M_D(M_C(M_B(u)))), `invert` runs the four inverses back, and the density is the radial
 //! room's D over the constant 2T. The product of the area factors, π · 1 · (s/D) · 2 = 2T/D, gives
 //! the exact density p(ω) = D(ω)/(2T) per steradian (§7), with T = πs. [`HemisphereMap`] and
@@ -24,7 +24,7 @@ pub mod blend;
 mod bound;
 mod complete;
 pub mod concentric;
-mod core;
+mod hds;
 mod hemisphere;
 pub mod lift;
 pub mod radial;
@@ -32,6 +32,7 @@ pub mod refine;
 pub mod simd;
 mod soa_maps;
 mod sphere;
+mod split;
 
 pub use blend::{BlendError, BlendedMap};
 pub use complete::Completion;

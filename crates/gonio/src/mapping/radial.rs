@@ -181,30 +181,76 @@ pub fn radial_area(s: f64, d: f64) -> f64 {
 /// density D that the map's pdf is made of.
 #[derive(Debug, Clone)]
 pub(crate) struct Radial {
-    pub(super) n: usize,
+    n: usize,
     /// Parallel radii x_j = √(1 − cos θ_j) on the disk, N entries.
-    pub(super) x: Vec<f64>,
+    x: Vec<f64>,
     /// Nodal disk densities d_{i,j} = p_{i,j}, row-major M × N.
-    pub(super) d: Vec<f64>,
+    d: Vec<f64>,
     /// Cumulative radial masses U(i, j) = 2∫₀^{x_j} d_i(x) x dx, row-major M × N.
-    pub(super) u: Vec<f64>,
+    u: Vec<f64>,
     /// U(i, N−1), the total radial mass of each meridian (M entries): the last column of `u`,
     /// kept apart so that the batch kernels read it from 8·M contiguous bytes instead of one
     /// cache line per meridian (the inverse at 1024 × 1024: 54 → 47 ns per point).
-    pub(super) total: Vec<f64>,
+    total: Vec<f64>,
     /// Guide table of the parallel search: entry k is the segment of x that holds radius
     /// k·x_{N−1}/K (K = the table's length, 2N), for `pdf` and `invert`.
-    pub(super) radius_guide: Vec<u32>,
+    radius_guide: Vec<u32>,
     /// K / x_{N−1} for [`Radial::radius_guide`].
-    pub(super) radius_scale: f64,
+    radius_scale: f64,
     /// 1 / (x_{j+1} − x_j), N − 1 entries (0 for an empty segment).
-    pub(super) inv_dx: Vec<f64>,
+    inv_dx: Vec<f64>,
     /// Radial guide tables, row-major M × (K + 1) with K = [`Radial::radial_k`]: entry (i, k) is
     /// the largest j ≤ N − 2 with U(i, j) ≤ (k/K)·U(i, N−1), the segment of meridian i's own radial
     /// CDF at r_B² = k/K. They bracket the forward map's radial search.
-    pub(super) radial_guide: Vec<u32>,
+    radial_guide: Vec<u32>,
     /// K = ⌈N/2⌉ cells per radial guide table.
-    pub(super) radial_k: usize,
+    radial_k: usize,
+}
+
+/// The read-only view of [`Radial`]'s tables, the one door through which code outside this file
+/// (the vector kernels of `mapping::simd`, the blended maps) reads them: a layout change touches
+/// this file only. Fields as in [`Radial`].
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct RadialView<'a> {
+    /// N, the number of parallels.
+    pub(crate) n: usize,
+    /// Parallel radii x_j, N entries.
+    pub(crate) x: &'a [f64],
+    /// Nodal disk densities, row-major M × N.
+    pub(crate) d: &'a [f64],
+    /// Cumulative radial masses U(i, j), row-major M × N.
+    pub(crate) u: &'a [f64],
+    /// U(i, N−1), M entries.
+    pub(crate) total: &'a [f64],
+    /// Guide table of the parallel search.
+    pub(crate) radius_guide: &'a [u32],
+    /// K / x_{N−1} for the parallel guide table.
+    pub(crate) radius_scale: f64,
+    /// 1 / (x_{j+1} − x_j), N − 1 entries.
+    pub(crate) inv_dx: &'a [f64],
+    /// Radial guide tables, row-major M × (K + 1).
+    pub(crate) radial_guide: &'a [u32],
+    /// K, cells per radial guide table.
+    pub(crate) radial_k: usize,
+}
+
+impl Radial {
+    /// The read-only view of the tables ([`RadialView`]).
+    #[inline]
+    pub(crate) fn view(&self) -> RadialView<'_> {
+        RadialView {
+            n: self.n,
+            x: &self.x,
+            d: &self.d,
+            u: &self.u,
+            total: &self.total,
+            radius_guide: &self.radius_guide,
+            radius_scale: self.radius_scale,
+            inv_dx: &self.inv_dx,
+            radial_guide: &self.radial_guide,
+            radial_k: self.radial_k,
+        }
+    }
 }
 
 impl Radial {

@@ -37,7 +37,7 @@
 //! bound that was.
 
 use super::bound::{segment_ratio_range, MARGIN};
-use super::core::parallel_radii;
+use super::hds::parallel_radii;
 use super::lift::parallel_radius;
 use super::radial::segment_mass;
 use crate::diagram::{cell_weights, Diagram};

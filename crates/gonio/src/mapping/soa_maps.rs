@@ -8,8 +8,9 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::batch::{check_len, core_density, core_invert, core_sample, SoaSampler, CHUNK};
-use super::simd::{Backend, BatchFloat, Lane};
+use super::simd::{Backend, BatchFloat, Elem};
 use super::sphere::CoresRef;
+use super::split::{Side, SplitRule};
 use super::{HemisphereMap, SphereMap};
 
 impl SoaSampler for HemisphereMap {
@@ -70,13 +71,6 @@ impl SoaSampler for HemisphereMap {
     }
 }
 
-/// Whether a direction with these z and the presence of an upper map is served by the lower map
-/// (`sphere::lower_side`).
-#[inline]
-fn lower_side<T: Lane>(z: T, has_upper: bool) -> bool {
-    z < T::ZERO || (z == T::ZERO && !has_upper)
-}
-
 impl SoaSampler for SphereMap {
     fn sample_soa_with<T: BatchFloat>(
         &self,
@@ -113,9 +107,8 @@ impl SoaSampler for SphereMap {
             CoresRef::Split {
                 upper: Some(up),
                 lower: Some(lo),
-                p_lower,
+                rule,
             } => {
-                let pl = T::from_f64(p_lower);
                 let mut start = 0;
                 while start < u.len() {
                     let cnt = (u.len() - start).min(CHUNK);
@@ -127,11 +120,8 @@ impl SoaSampler for SphereMap {
                     let mut bv = [[T::ZERO; CHUNK]; 2];
                     for k in 0..cnt {
                         let (uu, vv) = (u[start + k], v[start + k]);
-                        let (side, w) = if uu < pl {
-                            (0, (uu / pl).min(T::ONE))
-                        } else {
-                            (1, ((uu - pl) / (T::ONE - pl)).clamp(T::ZERO, T::ONE))
-                        };
+                        let (side, w) = rule.split_u(uu);
+                        let side = side as usize;
                         let at = nn[side];
                         idx[side][at] = k as u16;
                         bu[side][at] = w;
@@ -189,10 +179,9 @@ impl SoaSampler for SphereMap {
         let s = T::from_f64(self.inv_2t());
         match self.cores() {
             CoresRef::Lambert(c) => core_density(backend, c, dir, pdf),
-            CoresRef::Split { upper, lower, .. } => {
-                let has_upper = upper.is_some();
-                split_by_side(dir, has_upper, |side, d, pos| {
-                    let core = if side == 0 { lower } else { upper };
+            CoresRef::Split { upper, lower, rule } => {
+                split_by_side(dir, rule, |side, d, pos| {
+                    let core = CoresRef::side(upper, lower, side);
                     let mut o = [T::ZERO; CHUNK];
                     let o = &mut o[..pos.len()];
                     match core {
@@ -219,15 +208,9 @@ impl SoaSampler for SphereMap {
         );
         match self.cores() {
             CoresRef::Lambert(c) => core_invert(backend, c, dir, [&mut *u, &mut *v]),
-            CoresRef::Split {
-                upper,
-                lower,
-                p_lower,
-            } => {
-                let has_upper = upper.is_some();
-                let pl = T::from_f64(p_lower);
-                split_by_side(dir, has_upper, |side, d, pos| {
-                    let core = if side == 0 { lower } else { upper };
+            CoresRef::Split { upper, lower, rule } => {
+                split_by_side(dir, rule, |side, d, pos| {
+                    let core = CoresRef::side(upper, lower, side);
                     let (mut ou, mut ov) = ([T::ZERO; CHUNK], [T::ZERO; CHUNK]);
                     let (ou, ov) = (&mut ou[..pos.len()], &mut ov[..pos.len()]);
                     match core {
@@ -241,18 +224,9 @@ impl SoaSampler for SphereMap {
                         // No preimage stays NaN (`min` below would turn NaN into 1).
                         u[k] = if !ou[q].is_finite() {
                             T::NAN
-                        } else if side == 0 {
-                            // As the scalar inverse: rounding must not carry a lower-map point
-                            // across the seam u = P_lower (in the lane's precision), which the
-                            // sample path would send to the upper map's rim.
-                            let w = ou[q] * pl;
-                            if has_upper && w >= pl && pl > T::ZERO {
-                                pl.next_below()
-                            } else {
-                                w
-                            }
                         } else {
-                            (pl + ou[q] * (T::ONE - pl)).min(T::ONE)
+                            // As the scalar inverse, in the element type's precision.
+                            rule.join_u(side, ou[q])
                         };
                         v[k] = ov[q];
                     }
@@ -273,12 +247,12 @@ impl SoaSampler for SphereMap {
     }
 }
 
-/// Splits directions into chunks and each chunk by hemisphere; calls `f(side, dirs, positions)`
-/// with side 0 (lower, the direction mirrored to z ≥ 0) or 1 (upper).
-fn split_by_side<T: Lane>(
+/// Splits directions into chunks and each chunk by hemisphere ([`SplitRule::side_of`]); calls
+/// `f(side, dirs, positions)` with the lower side's directions mirrored to z ≥ 0.
+fn split_by_side<T: Elem>(
     dir: [&[T]; 3],
-    has_upper: bool,
-    mut f: impl FnMut(usize, [&[T]; 3], &[usize]),
+    rule: SplitRule,
+    mut f: impl FnMut(Side, [&[T]; 3], &[usize]),
 ) {
     let len = dir[0].len();
     let mut start = 0;
@@ -289,7 +263,7 @@ fn split_by_side<T: Lane>(
         let mut nn = [0usize; 2];
         for k in start..start + cnt {
             let z = dir[2][k];
-            let side = if lower_side(z, has_upper) { 0 } else { 1 };
+            let side = rule.side_of(z) as usize;
             let at = nn[side];
             pos[side][at] = k;
             b[side][0][at] = dir[0][k];
@@ -297,11 +271,11 @@ fn split_by_side<T: Lane>(
             b[side][2][at] = if side == 0 { -z } else { z };
             nn[side] += 1;
         }
-        for side in 0..2 {
+        for (side, which) in [(0, Side::Lower), (1, Side::Upper)] {
             let cn = nn[side];
             if cn > 0 {
                 let d = [&b[side][0][..cn], &b[side][1][..cn], &b[side][2][..cn]];
-                f(side, d, &pos[side][..cn]);
+                f(which, d, &pos[side][..cn]);
             }
         }
         start += cnt;

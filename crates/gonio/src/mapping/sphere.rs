@@ -14,8 +14,9 @@
 //! the pdf is the node value times one constant.
 
 use super::complete::{complete, hemisphere_part, with_horizon_node, Completion};
-use super::core::HdsCore;
+use super::hds::HdsCore;
 use super::refine::{refine, valid_tolerance, RefineLimits, Refinement};
+use super::split::{mirror, Side, SplitRule};
 use crate::diagram::{Diagram, DiagramError};
 use crate::sampler::{spherical, Domain, InvertError, Point2, Sample, Sampler, Vec3};
 use std::f64::consts::{FRAC_PI_2, PI};
@@ -54,21 +55,30 @@ enum Layout {
     Lambert(Box<HdsCore>),
 }
 
-/// The point of the square of a point `w` of the upper map in a split layout whose lower map
-/// takes u < `p_lower`.
-#[inline]
-fn from_upper(p_lower: f64, w: Point2) -> Point2 {
-    [(p_lower + w[0] * (1.0 - p_lower)).min(1.0), w[1]]
-}
-
-/// Borrowed view of a [`SphereMap`]'s maps, for the batch paths.
+/// Borrowed view of a [`SphereMap`]'s maps, for its scalar and batch paths alike: a split layout
+/// is its maps and its [`SplitRule`].
 pub(crate) enum CoresRef<'a> {
     Split {
         upper: Option<&'a HdsCore>,
         lower: Option<&'a HdsCore>,
-        p_lower: f64,
+        rule: SplitRule,
     },
     Lambert(&'a HdsCore),
+}
+
+impl<'a> CoresRef<'a> {
+    /// The map of a split layout's side (`None` where the layout has none there).
+    #[inline]
+    pub(crate) fn side(
+        upper: Option<&'a HdsCore>,
+        lower: Option<&'a HdsCore>,
+        side: Side,
+    ) -> Option<&'a HdsCore> {
+        match side {
+            Side::Lower => lower,
+            Side::Upper => upper,
+        }
+    }
 }
 
 /// The HDS map from the unit square onto the whole sphere. Directions are in the diagram's frame
@@ -124,16 +134,6 @@ pub struct SphereMap {
 fn measured(d: &Diagram) -> (f64, f64) {
     let t = d.theta();
     (t[0], t[t.len() - 1])
-}
-
-fn mirror(d: Vec3) -> Vec3 {
-    [d[0], d[1], -d[2]]
-}
-
-/// Whether direction `d` is served by the lower map of a split layout: z < 0, or z = ±0 (the
-/// horizon, which both maps share with equal values there) when there is no upper map.
-fn lower_side(d: Vec3, has_upper: bool) -> bool {
-    d[2] < 0.0 || (d[2] == 0.0 && !has_upper)
 }
 
 impl SphereMap {
@@ -386,22 +386,15 @@ impl SphereMap {
     /// hemisphere map that serves `u` in the split layout (with `square` the original point and the
     /// direction as sampled), or of the single Lambert map.
     pub fn stages(&self, u: Point2) -> super::Stages {
-        let (core, w, is_lower) = match &self.layout {
-            Layout::Split {
-                upper,
-                lower,
-                p_lower,
-            } => {
-                if u[0] < *p_lower {
-                    (lower, [(u[0] / p_lower).min(1.0), u[1]], true)
-                } else {
-                    let w = ((u[0] - p_lower) / (1.0 - p_lower)).clamp(0.0, 1.0);
-                    (upper, [w, u[1]], false)
+        let (core, w, is_lower) = match self.cores() {
+            CoresRef::Split { upper, lower, rule } => {
+                let (side, w) = rule.split_u(u[0]);
+                match CoresRef::side(upper, lower, side) {
+                    Some(c) => (c, [w, u[1]], side == Side::Lower),
+                    None => unreachable!("a split layout has a map on every side it samples"),
                 }
             }
-            Layout::Upper(up) => (up, u, false),
-            Layout::Lower(l) => (l, u, true),
-            Layout::Lambert(c) => return c.stages(u),
+            CoresRef::Lambert(c) => return c.stages(u),
         };
         let mut st = core.stages(w);
         st.square = u;
@@ -412,7 +405,8 @@ impl SphereMap {
         st
     }
 
-    /// The maps of the layout (for the batch paths).
+    /// The maps of the layout and, for a split one, its rule.
+    #[inline]
     pub(crate) fn cores(&self) -> CoresRef<'_> {
         match &self.layout {
             Layout::Split {
@@ -422,17 +416,17 @@ impl SphereMap {
             } => CoresRef::Split {
                 upper: Some(upper),
                 lower: Some(lower),
-                p_lower: *p_lower,
+                rule: SplitRule::both(*p_lower),
             },
             Layout::Upper(c) => CoresRef::Split {
                 upper: Some(c),
                 lower: None,
-                p_lower: 0.0,
+                rule: SplitRule::upper_only(),
             },
             Layout::Lower(c) => CoresRef::Split {
                 upper: None,
                 lower: Some(c),
-                p_lower: 1.0,
+                rule: SplitRule::lower_only(),
             },
             Layout::Lambert(c) => CoresRef::Lambert(c),
         }
@@ -537,15 +531,13 @@ impl SphereMap {
     /// hemisphere of a split layout); `None` where no map does (the side without light).
     #[inline]
     fn serving(&self, d: Vec3) -> Option<(&HdsCore, Vec3)> {
-        match &self.layout {
-            Layout::Split { upper, lower, .. } => Some(if lower_side(d, true) {
-                (lower, mirror(d))
-            } else {
-                (upper, d)
-            }),
-            Layout::Upper(c) => (!lower_side(d, true)).then_some((c, d)),
-            Layout::Lower(c) => lower_side(d, false).then(|| (c, mirror(d))),
-            Layout::Lambert(c) => Some((c, d)),
+        match self.cores() {
+            CoresRef::Split { upper, lower, rule } => {
+                let side = rule.side_of(d[2]);
+                let dir = if side == Side::Lower { mirror(d) } else { d };
+                CoresRef::side(upper, lower, side).map(|c| (c, dir))
+            }
+            CoresRef::Lambert(c) => Some((c, d)),
         }
     }
 }
@@ -559,26 +551,26 @@ impl Sampler for SphereMap {
     }
     #[inline]
     fn sample(&self, u: Point2) -> Sample {
-        let (direction, d) = match &self.layout {
-            Layout::Split {
-                upper,
-                lower,
-                p_lower,
-            } => {
-                if u[0] < *p_lower {
-                    let (dir, d) = lower.sample([(u[0] / p_lower).min(1.0), u[1]]);
-                    (mirror(dir), d)
-                } else {
-                    let w = ((u[0] - p_lower) / (1.0 - p_lower)).clamp(0.0, 1.0);
-                    upper.sample([w, u[1]])
+        let (direction, d) = match self.cores() {
+            CoresRef::Split { upper, lower, rule } => {
+                let (side, w) = rule.split_u(u[0]);
+                match CoresRef::side(upper, lower, side) {
+                    Some(c) => {
+                        let (dir, d) = c.sample([w, u[1]]);
+                        (
+                            if side == Side::Lower {
+                                mirror(dir)
+                            } else {
+                                dir
+                            },
+                            d,
+                        )
+                    }
+                    // Refused at build time (zero power).
+                    None => ([0.0, 0.0, 1.0], 0.0),
                 }
             }
-            Layout::Upper(up) => up.sample(u),
-            Layout::Lower(l) => {
-                let (dir, d) = l.sample(u);
-                (mirror(dir), d)
-            }
-            Layout::Lambert(c) => c.sample(u),
+            CoresRef::Lambert(c) => c.sample(u),
         };
         Sample {
             direction,
@@ -601,40 +593,19 @@ impl Sampler for SphereMap {
         if self.pdf(d) == 0.0 {
             return Err(InvertError::ZeroDensity);
         }
-        match &self.layout {
-            Layout::Split {
-                upper,
-                lower,
-                p_lower,
-            } => {
-                if lower_side(d, true) {
-                    let w = lower.invert(mirror(d));
-                    let mut u0 = w[0] * p_lower;
-                    if u0 >= *p_lower {
-                        // Rounding must not carry a lower-map point across the seam u = P_lower,
-                        // which `sample` would send to the upper map (the rim of the other side).
-                        u0 = super::complete::next_down(*p_lower);
+        match self.cores() {
+            CoresRef::Split { upper, lower, rule } => {
+                let side = rule.side_of(d[2]);
+                match CoresRef::side(upper, lower, side) {
+                    Some(c) => {
+                        let w = c.invert(if side == Side::Lower { mirror(d) } else { d });
+                        Ok([rule.join_u(side, w[0]), w[1]])
                     }
-                    Ok([u0, w[1]])
-                } else {
-                    Ok(from_upper(*p_lower, upper.invert(d)))
+                    // No light on the other side: no preimage there.
+                    None => Err(InvertError::ZeroDensity),
                 }
             }
-            // No light on the other side: no preimage there.
-            Layout::Upper(up) => {
-                if lower_side(d, true) {
-                    return Err(InvertError::ZeroDensity);
-                }
-                Ok(from_upper(0.0, up.invert(d)))
-            }
-            // The whole square is the lower map's: u = w (P_lower = 1).
-            Layout::Lower(l) => {
-                if !lower_side(d, false) {
-                    return Err(InvertError::ZeroDensity);
-                }
-                Ok(l.invert(mirror(d)))
-            }
-            Layout::Lambert(c) => Ok(c.invert(d)),
+            CoresRef::Lambert(c) => Ok(c.invert(d)),
         }
     }
     fn target_pdf(&self, d: Vec3) -> f64 {

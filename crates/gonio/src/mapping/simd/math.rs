@@ -13,7 +13,6 @@
 //! |---|---|---|
 //! | [`sin_cos`] | \|x\| ≤ 2²⁰ (the batch paths use [0, 2π]) | 2 ulp of the result, or 2⁻⁵³ absolute near a zero of the function |
 //! | [`atan2`] | every finite (y, x), signed zeros | 2 ulp |
-//! | [`sin_cos_f32`], [`atan2_f32`] | as their f64 versions | 1 ulp of f32 |
 //! | square root | everything | 0 ulp (the IEEE instruction) |
 //!
 //! `acos` is not needed by the batch paths: `pdf` and `invert` use only the azimuth and the disk
@@ -184,20 +183,6 @@ pub fn atan2(y: f64, x: f64) -> f64 {
     }
 }
 
-/// [`sin_cos`] for f32 arguments, evaluated in f64 and rounded once: within 1 ulp of f32 (the
-/// rounding's ½ ulp plus far less from the f64 evaluation).
-#[inline(always)]
-pub fn sin_cos_f32(x: f32) -> (f32, f32) {
-    let (s, c) = sin_cos(x as f64);
-    (s as f32, c as f32)
-}
-
-/// [`atan2`] for f32 arguments, evaluated in f64 and rounded once: within 1 ulp of f32.
-#[inline(always)]
-pub fn atan2_f32(y: f32, x: f32) -> f32 {
-    atan2(y as f64, x as f64) as f32
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -216,14 +201,6 @@ mod tests {
             2f64.powf(e - 52.0).max(f64::from_bits(1))
         };
         (got - want).abs() / ulp
-    }
-
-    fn ulps32(got: f32, want: f32) -> f64 {
-        if got == want {
-            return 0.0;
-        }
-        let e = (want.abs() as f64).log2().floor();
-        ((got - want).abs() as f64) / 2f64.powf(e - 23.0).max(f32::from_bits(1) as f64)
     }
 
     /// sin/cos error: ulps of the result, except near a zero of the function, where an absolute
@@ -317,25 +294,5 @@ mod tests {
             }
         }
         assert!(worst <= 2.0, "atan2 worst error {worst} ulp");
-    }
-
-    #[test]
-    fn f32_versions_within_1_ulp() {
-        let mut rng = Xoshiro256PlusPlus::seed_from_u64(13);
-        let mut worst = 0.0f64;
-        for _ in 0..1_000_000 {
-            let x: f32 = rng.gen_range(-1000.0..1000.0);
-            let (s, c) = sin_cos_f32(x);
-            let (ws, wc) = ((x as f64).sin() as f32, (x as f64).cos() as f32);
-            if ws.abs() > 1e-6 {
-                worst = worst.max(ulps32(s, ws));
-            }
-            if wc.abs() > 1e-6 {
-                worst = worst.max(ulps32(c, wc));
-            }
-            let (y, xx): (f32, f32) = (rng.gen_range(-2.0..2.0), rng.gen_range(-2.0..2.0));
-            worst = worst.max(ulps32(atan2_f32(y, xx), (y as f64).atan2(xx as f64) as f32));
-        }
-        assert!(worst <= 1.0, "f32 worst error {worst} ulp");
     }
 }

@@ -1,41 +1,100 @@
-//! The explicit SIMD kernels of the f64 batch paths, written once over a small vocabulary of vector
-//! operations (`splat`, `add`, `gather`, `sel`, …) that each instruction-set module defines for its
-//! own vector and mask types ([`super::avx2`]: four `__m256d` per value; [`super::avx512`]: two
-//! `__m512d`) and then instantiates with [`explicit_kernels!`]. See [`super::avx2`] for the design,
-//! the exactness argument and the measurements.
+//! The vector kernels of the HDS map (forward map, pdf, inverse), written once over a small
+//! vocabulary of vector operations (`splat`, `add`, `gather`, `sel`, …) that each backend defines
+//! for its own value, index and mask types and then instantiates with [`vector_kernels!`]:
+//! [`super::portable`] (arrays of eight lanes, the baseline instruction set), [`super::avx2`]
+//! (four `__m256d` per value) and [`super::avx512`] (two or four `__m512d`). The macro stamps the
+//! backend's `#[target_feature]` attribute on the entry points and small helpers; the bodies are
+//! the same tokens for every backend. See [`super::avx2`] for the design, the exactness argument
+//! and the measurements.
+//!
+//! Each stage of the map exists twice in the crate: its scalar reference in the stage module
+//! (`concentric`, `angular`, `radial`, `lift`) and its vector form here, in the same operation
+//! order (so the f64 results are the scalar ones bit for bit except through sin/cos and atan2).
+
+// Lane loops index several arrays by the same lane number on purpose (they vectorise).
+#![allow(clippy::needless_range_loop)]
+
+/// The scalar search's settling steps after a guided descent (entered only when round-off left
+/// `i` outside its bracket): the largest i ≤ `last` with a_i ≤ x, from a nearby start.
+#[inline(always)]
+pub(crate) fn settle_guided(a: &[f64], mut i: usize, x: f64, last: usize) -> usize {
+    while i > 0 && a[i] > x {
+        i -= 1;
+    }
+    while i < last && a[i + 1] <= x {
+        i += 1;
+    }
+    i
+}
+
+/// The scalar path's three settling loops of the radial search at the descent's answer `j`
+/// (each entered only when its condition holds, rarely): Ũ_j and Ũ_{j+1} (`ut`) are read once in
+/// the usual case. Returns the segment j and Ũ_j.
+#[inline(always)]
+pub(crate) fn settle_radial(
+    mut j: usize,
+    n: usize,
+    w: f64,
+    ut: impl Fn(usize) -> f64,
+) -> (usize, f64) {
+    let (mut uj, mut uj1) = (ut(j), ut(j + 1));
+    if j > 0 && uj > w {
+        while j > 0 && ut(j) > w {
+            j -= 1;
+        }
+        (uj, uj1) = (ut(j), ut(j + 1));
+    }
+    if j + 2 < n && uj1 <= w {
+        while j + 2 < n && ut(j + 1) <= w {
+            j += 1;
+        }
+        (uj, uj1) = (ut(j), ut(j + 1));
+    }
+    // The square's edge before an unlit zone at the end of the map (as Radial::forward).
+    if j > 0 && uj1 <= uj {
+        while j > 0 && ut(j + 1) <= ut(j) {
+            j -= 1;
+        }
+        uj = ut(j);
+    }
+    (j, uj)
+}
 
 /// Defines, in the calling module, the forward, pdf and inverse kernels over the module's vector
-/// vocabulary, their entry points compiled with `#[target_feature(enable = $feat)]`.
-macro_rules! explicit_kernels {
-    ($feat:literal) => {
+/// vocabulary, their entry points compiled with `#[target_feature(enable = $feat)]` when a feature
+/// string is given (none for the portable backend).
+macro_rules! vector_kernels {
+    ($($feat:literal)?) => {
         /// `a.max(b)` as Rust computes it on x86 (`maxnum`): `b` where `b > a` or `a` is NaN, else `a`.
         #[inline]
-        #[target_feature(enable = $feat)]
+        $(#[target_feature(enable = $feat)])?
         fn fmax(a: F, b: F) -> F {
             sel(or(gt(b, a), isnan(a)), b, a)
         }
         /// `a.min(b)` as Rust computes it on x86 (`minnum`): `b` where `b < a` or `a` is NaN, else `a`.
         #[inline]
-        #[target_feature(enable = $feat)]
+        $(#[target_feature(enable = $feat)])?
         fn fmin(a: F, b: F) -> F {
             sel(or(lt(b, a), isnan(a)), b, a)
         }
         /// `Lane::clamp` (NaN passes through).
         #[inline]
-        #[target_feature(enable = $feat)]
+        $(#[target_feature(enable = $feat)])?
         fn clamp(x: F, lo: F, hi: F) -> F {
             let x = sel(lt(x, lo), lo, x);
             sel(gt(x, hi), hi, x)
         }
         /// Lanes with |a| < ∞ (not NaN, not ±∞).
         #[inline]
-        #[target_feature(enable = $feat)]
+        $(#[target_feature(enable = $feat)])?
         fn is_finite(a: F) -> M {
             lt(abs(a), splat(f64::INFINITY))
         }
 
-        /// The lanes' `descend`: per lane the largest j in [lo, hi] with `probe(j)` ≤ `w` (lo when none
-        /// is), by the same bit-by-bit steps.
+        /// Per lane the largest j in [lo, hi] with `probe(j)` ≤ `w` (lo when none is; the caller
+        /// settles that case), for a probe non-decreasing in j. Branch-free: the offset from lo is
+        /// built bit by bit from the highest bit of the block's widest bracket down, the same steps
+        /// for every lane.
         #[inline(always)]
         unsafe fn descend(lo: I, hi: I, w: F, probe: impl Fn(I) -> F) -> I {
             let span = ilanes(imax(isub(hi, lo), izero()))
@@ -56,7 +115,7 @@ macro_rules! explicit_kernels {
             base
         }
 
-        /// The lanes' `guided_block`: per lane the largest i ≤ `last` with a_i ≤ x (0 if none) for
+        /// `mapping::guided_search` for a block: per lane the largest i ≤ `last` with a_i ≤ x (0 if none) for
         /// non-decreasing `a`, from the guide table's bracket, then the settling steps (per lane, only
         /// where the vector check finds one needed).
         #[inline(always)]
@@ -81,7 +140,7 @@ macro_rules! explicit_kernels {
             }
             let (mut f, xs) = (ilanes(found), flanes(x));
             for l in 0..BLOCK {
-                f[l] = crate::mapping::core::lanes::settle_guided(a, f[l], xs[l], last);
+                f[l] = crate::mapping::simd::kernels::settle_guided(a, f[l], xs[l], last);
             }
             ifrom(f)
         }
@@ -146,7 +205,7 @@ macro_rules! explicit_kernels {
             sel(sign_negative(y), neg(a), a)
         }
 
-        /// `concentric::disk_to_square` as the lanes write it (selects).
+        /// `concentric::disk_to_square`, branch-free (selects).
         #[inline(always)]
         unsafe fn disk_to_square(r: F, phi: F) -> (F, F) {
             let (z0, one, half) = (zero(), splat(1.0), splat(0.5));
@@ -177,7 +236,7 @@ macro_rules! explicit_kernels {
 
         /// `radial::partial_mass`, same operation order.
         #[inline]
-        #[target_feature(enable = $feat)]
+        $(#[target_feature(enable = $feat)])?
         fn partial_mass(x0: F, d0: F, k: F, tau: F) -> F {
             let two = splat(2.0);
             mul(
@@ -192,7 +251,8 @@ macro_rules! explicit_kernels {
             )
         }
 
-        /// The lanes' `solve_radius_block` (Halley safeguarded by bisection, masked per lane).
+        /// `radial::solve_radius` on a block: every lane runs the scalar iteration (Halley safeguarded
+        /// by bisection, the same stopping rules), masked once it has stopped.
         #[inline(always)]
         unsafe fn solve_radius(x0: F, x1: F, d0: F, d1: F, m: F) -> F {
             let (z, one, two, half) = (zero(), splat(1.0), splat(2.0), splat(0.5));
@@ -278,11 +338,11 @@ macro_rules! explicit_kernels {
             sel(iterated, add(x0, tau), res)
         }
 
-        /// The forward map on one block: directions and the disk density D (as
-        /// `lanes::sample_block`), in four stages whose costs `docs/PERFORMANCE.md` reports.
+        /// The forward map on one block: directions and the disk density D (`HdsCore::sample`), in
+        /// four stages whose costs `docs/PERFORMANCE.md` reports.
         #[inline]
-        #[target_feature(enable = $feat)]
-        fn sample_block(c: &HdsCore, u: F, v: F) -> [F; 4] {
+        $(#[target_feature(enable = $feat)])?
+        fn sample_block(c: &TablesView<'_>, u: F, v: F) -> [F; 4] {
             let (rb, pb, wi) = sample_stage_disk(c, u, v);
             let (phic, eps, a_off, b_off, j, uj, w) = sample_stage_search(c, rb, pb, wi);
             let seg = sample_stage_solve(c, eps, a_off, b_off, j, uj, w);
@@ -292,8 +352,8 @@ macro_rules! explicit_kernels {
         /// Forward stage 1: M_B (concentric::square_to_disk, branch-free) and the wedge search.
         /// Returns r_B, φ_B and the wedge index.
         #[inline]
-        #[target_feature(enable = $feat)]
-        fn sample_stage_disk(c: &HdsCore, u: F, v: F) -> (F, F, I) {
+        $(#[target_feature(enable = $feat)])?
+        fn sample_stage_disk(c: &TablesView<'_>, u: F, v: F) -> (F, F, I) {
             let ang = &c.angular;
             let (z, one, two) = (zero(), splat(1.0), splat(2.0));
             let a = sub(mul(two, u), one);
@@ -319,8 +379,8 @@ macro_rules! explicit_kernels {
         /// the blended CDF of the wedge's two meridians. Returns φ_C, ε, the two meridians' table
         /// offsets, the segment j, its blended cumulative mass Ũ_j and the target mass w.
         #[inline]
-        #[target_feature(enable = $feat)]
-        fn sample_stage_search(c: &HdsCore, rb: F, pb: F, wi: I) -> (F, F, I, I, I, F, F) {
+        $(#[target_feature(enable = $feat)])?
+        fn sample_stage_search(c: &TablesView<'_>, rb: F, pb: F, wi: I) -> (F, F, I, I, I, F, F) {
             let (ang, rad) = (&c.angular, &c.radial);
             let n = rad.n;
             let (z, one, two, half) = (zero(), splat(1.0), splat(2.0), splat(0.5));
@@ -372,7 +432,7 @@ macro_rules! explicit_kernels {
             let mut j = unsafe { descend(lo, hi, w, |j| blend(&rad.u, j)) };
             let mut uj = blend(&rad.u, j);
             let uj1 = blend(&rad.u, iadd(j, i1));
-            // The lanes' settling loops, redone per lane where any of their conditions holds.
+            // The scalar search's settling loops, redone per lane where any of their conditions holds.
             let zi = izero();
             let jpos = igt(j, zi);
             let settle = or(
@@ -389,7 +449,7 @@ macro_rules! explicit_kernels {
                     let (e, wl) = (es[l], ws[l]);
                     let (ua, ub) = (&rad.u[ais[l]..ais[l] + n], &rad.u[bis[l]..bis[l] + n]);
                     let ut = |j: usize| (1.0 - e) * ua[j] + e * ub[j];
-                    (js[l], ujo[l]) = crate::mapping::core::lanes::settle_radial(js[l], n, wl, ut);
+                    (js[l], ujo[l]) = crate::mapping::simd::kernels::settle_radial(js[l], n, wl, ut);
                 }
                 j = ifrom(js);
                 uj = fload(&ujo);
@@ -400,9 +460,9 @@ macro_rules! explicit_kernels {
         /// Forward stage 3: the radial solve on segment j. Returns the disk radius, x_j, 1/(x_{j+1} −
         /// x_j) and the blended segment-end densities d_j, d_{j+1}.
         #[inline]
-        #[target_feature(enable = $feat)]
+        $(#[target_feature(enable = $feat)])?
         fn sample_stage_solve(
-            c: &HdsCore,
+            c: &TablesView<'_>,
             eps: F,
             a_off: I,
             b_off: I,
@@ -432,8 +492,8 @@ macro_rules! explicit_kernels {
         /// Forward stage 4: the density at the radius and M_E (lift::disk_to_sphere). Returns the
         /// direction and the disk density D at it.
         #[inline]
-        #[target_feature(enable = $feat)]
-        fn sample_stage_lift(c: &HdsCore, phic: F, seg: [F; 5]) -> [F; 4] {
+        $(#[target_feature(enable = $feat)])?
+        fn sample_stage_lift(c: &TablesView<'_>, phic: F, seg: [F; 5]) -> [F; 4] {
             let [xr, x0, inv_dx, d0, d1] = seg;
             let rad = &c.radial;
             let n = rad.n;
@@ -460,7 +520,7 @@ macro_rules! explicit_kernels {
             [ox, oy, oz, od]
         }
 
-        /// The disk radius and the azimuth of a block of directions (the lanes' `radius_azimuth`).
+        /// The disk radius and the azimuth of a block of directions (`lift::sphere_to_disk_radius` and `lift::sphere_to_disk_azimuth`).
         #[inline(always)]
         unsafe fn radius_azimuth(x: F, y: F, z: F) -> (F, F) {
             let (z0, one, two) = (zero(), splat(1.0), splat(2.0));
@@ -477,9 +537,9 @@ macro_rules! explicit_kernels {
             (xr, sel(pole, z0, phi))
         }
 
-        /// Sector, next meridian and ε of a block of azimuths (the lanes' `sectors`).
+        /// Sector, next meridian and ε of a block of azimuths (`Angular::sector`).
         #[inline(always)]
-        unsafe fn sectors(c: &HdsCore, p: F) -> (I, I, F) {
+        unsafe fn sectors(c: &TablesView<'_>, p: F) -> (I, I, F) {
             let ang = &c.angular;
             let m = ang.m;
             let i = if ang.inv_uniform_beta > 0.0 {
@@ -508,10 +568,10 @@ macro_rules! explicit_kernels {
             (i, i1, eps)
         }
 
-        /// The disk density D at a block of directions (the lanes' `density_block`).
+        /// The disk density D at a block of directions (`HdsCore::density`).
         #[inline]
-        #[target_feature(enable = $feat)]
-        fn density_block(c: &HdsCore, x: F, y: F, z: F) -> F {
+        $(#[target_feature(enable = $feat)])?
+        fn density_block(c: &TablesView<'_>, x: F, y: F, z: F) -> F {
             let rad = &c.radial;
             let n = rad.n;
             let (z0, one) = (zero(), splat(1.0));
@@ -535,10 +595,10 @@ macro_rules! explicit_kernels {
             sel(gt(xr, edge), z0, d)
         }
 
-        /// The inverse map on a block of directions (the lanes' `invert_block`).
+        /// The inverse map on a block of directions (`HdsCore::invert`).
         #[inline]
-        #[target_feature(enable = $feat)]
-        fn invert_block(c: &HdsCore, x: F, y: F, z: F) -> (F, F) {
+        $(#[target_feature(enable = $feat)])?
+        fn invert_block(c: &TablesView<'_>, x: F, y: F, z: F) -> (F, F) {
             let (ang, rad) = (&c.angular, &c.radial);
             let n = rad.n;
             let (z0, one, half) = (zero(), splat(1.0), splat(0.5));
@@ -596,8 +656,10 @@ macro_rules! explicit_kernels {
         }
 
         /// [`density_block`] over slices.
-        #[target_feature(enable = $feat)]
-        pub(crate) fn density_slices(c: &HdsCore, dir: [&[f64]; 3], out: &mut [f64]) {
+        $(#[target_feature(enable = $feat)])?
+        pub(crate) fn density_slices(core: &HdsCore, dir: [&[f64]; 3], out: &mut [f64]) {
+            let tables = core.view();
+            let c = &tables;
             let len = out.len();
             assert!(dir.iter().all(|c| c.len() == len));
             let mut start = 0;
@@ -611,8 +673,10 @@ macro_rules! explicit_kernels {
         }
 
         /// [`invert_block`] over slices.
-        #[target_feature(enable = $feat)]
-        pub(crate) fn invert_slices(c: &HdsCore, dir: [&[f64]; 3], out: [&mut [f64]; 2]) {
+        $(#[target_feature(enable = $feat)])?
+        pub(crate) fn invert_slices(core: &HdsCore, dir: [&[f64]; 3], out: [&mut [f64]; 2]) {
+            let tables = core.view();
+            let c = &tables;
             let [u, v] = out;
             let len = u.len();
             assert!(v.len() == len && dir.iter().all(|c| c.len() == len));
@@ -632,8 +696,10 @@ macro_rules! explicit_kernels {
 
         /// [`sample_block`] over slices of any (equal) length; directions to `x, y, z`, the disk
         /// density D to `d`.
-        #[target_feature(enable = $feat)]
-        pub(crate) fn sample_slices(c: &HdsCore, u: &[f64], v: &[f64], out: [&mut [f64]; 4]) {
+        $(#[target_feature(enable = $feat)])?
+        pub(crate) fn sample_slices(core: &HdsCore, u: &[f64], v: &[f64], out: [&mut [f64]; 4]) {
+            let tables = core.view();
+            let c = &tables;
             let [x, y, z, d] = out;
             let len = u.len();
             assert!(v.len() == len && x.len() == len && y.len() == len);
@@ -656,4 +722,4 @@ macro_rules! explicit_kernels {
         }
     };
 }
-pub(super) use explicit_kernels;
+pub(super) use vector_kernels;

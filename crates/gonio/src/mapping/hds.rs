@@ -5,22 +5,24 @@
 //! [0, θ_{N−1}], whose disk has radius x_{N−1} = √2 sin(θ_{N−1}/2). The public samplers in this
 //! module complete a user's diagram first (ALGORITHM §10 A15) and then build a core.
 
-use super::angular::Angular;
+use super::angular::{Angular, AngularView};
 use super::bound::density_ratio_range;
 use super::concentric::{disk_to_square, square_to_disk};
 use super::lift::{disk_to_sphere, parallel_radius, sphere_to_disk_azimuth, sphere_to_disk_radius};
-use super::radial::Radial;
+use super::radial::{Radial, RadialView};
 use crate::diagram::{Diagram, DiagramError};
 use crate::sampler::Vec3;
 use std::f64::consts::PI;
 
-#[cfg(target_arch = "x86_64")]
-pub(crate) mod avx2;
-#[cfg(target_arch = "x86_64")]
-pub(crate) mod avx512;
-#[cfg(target_arch = "x86_64")]
-mod kernels;
-mod lanes;
+/// The read-only view of one map's tables through which the vector kernels read them (see
+/// [`AngularView`], [`RadialView`]).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct TablesView<'a> {
+    /// M_C's tables.
+    pub(crate) angular: AngularView<'a>,
+    /// M_D's tables.
+    pub(crate) radial: RadialView<'a>,
+}
 
 /// One HDS map (ALGORITHM §4): the tables of its two table-driven stages, M_C ([`Angular`]) and
 /// M_D ([`Radial`]), plus the completed diagram it was built from. M_B and M_E need no tables.
@@ -46,11 +48,12 @@ impl HdsCore {
     #[cfg(target_arch = "x86_64")]
     pub(crate) fn explicit_indexable(&self) -> bool {
         let lim = 1usize << 31;
-        self.radial.u.len() < lim
-            && self.radial.radial_guide.len() < lim
-            && self.angular.wedge_guide.len() < lim
-            && self.angular.m < lim
-            && self.radial.n < lim
+        let (a, r) = (self.angular.view(), self.radial.view());
+        r.u.len() < lim
+            && r.radial_guide.len() < lim
+            && a.wedge_guide.len() < lim
+            && a.m < lim
+            && r.n < lim
     }
 
     /// Builds the tables from a completed diagram (θ_0 = 0, φ_0 = 0, N ≥ 2), values normalised
@@ -110,6 +113,15 @@ impl HdsCore {
     /// The tables of M_C and M_D (for the blended maps of [`super::blend`]).
     pub(crate) fn tables(&self) -> (&Angular, &Radial) {
         (&self.angular, &self.radial)
+    }
+
+    /// The read-only view of the tables that the vector kernels read.
+    #[inline]
+    pub(crate) fn view(&self) -> TablesView<'_> {
+        TablesView {
+            angular: self.angular.view(),
+            radial: self.radial.view(),
+        }
     }
 
     /// T = ∫_disk D dA.

@@ -1,10 +1,10 @@
-//! The explicit f64 kernels ([`super::kernels`]) on AVX-512 (F and DQ): eight f64 lanes per
+//! The AVX-512 backend: the vocabulary of [`super::kernels`] on AVX-512 (F and DQ): eight f64 lanes per
 //! `__m512d`, K independent vectors per block (K = 2 for the forward map in [`k2`], K = 4 for the
 //! pdf and the inverse in [`k4`]), comparisons into `__mmask8` mask registers, 8-lane gathers. The same operations in the same order as the AVX2 vocabulary
 //! ([`super::avx2`], whose documentation gives the design and the exactness argument), so the
 //! results are the same bits on every backend (tested in `tests/batch.rs`).
 
-use super::HdsCore;
+use crate::mapping::hds::{HdsCore, TablesView};
 use crate::mapping::simd::math::{
     ATAN_K8_HI, ATAN_K8_LO, ATAN_TAYLOR, COS_TAYLOR, PIO2_1, PIO2_2, PIO2_3, PIO2_LO, PI_LO,
     ROUND_MAGIC, SIN_TAYLOR, TWO_OVER_PI,
@@ -327,7 +327,7 @@ macro_rules! avx512_kernels {
             o
         }
 
-        crate::mapping::core::kernels::explicit_kernels!("avx512f,avx512dq");
+        crate::mapping::simd::kernels::vector_kernels!("avx512f,avx512dq");
     };
 }
 

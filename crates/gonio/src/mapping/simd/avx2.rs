@@ -1,21 +1,19 @@
-//! Explicit AVX2 kernels of the f64 batch paths (forward map, pdf, inverse) on blocks of
-//! [`BLOCK`] points (K = 4 independent `__m256d` chains of four lanes), with the table searches as
-//! vector descents over AVX2 gathers. This module defines the AVX2 vector vocabulary; the kernels
-//! themselves are written once in [`super::kernels`] and instantiated here and, for AVX-512, in
-//! [`super::avx512`]. The design notes below hold for both.
+//! The AVX2 + FMA backend: the vocabulary of [`super::kernels`] over K = 4 independent `__m256d`
+//! chains of four lanes per block of [`BLOCK`] points, with the table searches as vector descents
+//! over AVX2 gathers. The kernels themselves are written once in [`super::kernels`] and
+//! instantiated here, in [`super::portable`] and, for AVX-512, in [`super::avx512`]. The design
+//! notes below hold for every backend.
 //!
-//! The generic lane kernels ([`super::lanes`]) keep the table searches per-lane scalar loops, and
-//! profiling showed that those loops, the per-lane table reads and their address arithmetic made up
-//! more than half of the f64 forward map's instructions (`docs/PERFORMANCE.md`). Here every stage
-//! runs on whole vectors: the guide-table lookups and the descents of the wedge and radial searches
-//! read the tables with `vgatherqpd`, the searches' rare settling steps (an answer that round-off
-//! left outside its bracket) are detected on the vector and redone per lane only where needed.
+//! Every stage runs on whole vectors: the guide-table lookups and the descents of the wedge and
+//! radial searches read the tables with `vgatherqpd`, the searches' rare settling steps (an answer
+//! that round-off left outside its bracket) are detected on the vector and redone per lane only
+//! where needed. (Compiled per-lane search loops, the design before, made up more than half of the
+//! forward map's instructions: `docs/PERFORMANCE.md`.)
 //!
-//! **Bit for bit the lanes' results.** Every operation is the one the lane kernel performs, in its
-//! order, with the same IEEE-rounded instructions (no fused multiply–add); `f64::min`/`max` are
-//! spelled out with their NaN rules ([`fmin`], [`fmax`]), and the lanes' `sin_cos` is ported
-//! operation by operation ([`sin_cos`]). The batch tests compare this backend with the portable
-//! one bit for bit.
+//! **Bit for bit on every backend.** Every word is an IEEE-rounded instruction with the semantics of
+//! its portable spelling (no fused multiply–add); `f64::min`/`max` are spelled out with their NaN
+//! rules (`fmin`, `fmax`), and `math::sin_cos`/`atan2` are written operation by operation. The
+//! batch tests compare this backend with the portable one bit for bit.
 //!
 //! **Inlining.** The small helpers are safe `#[target_feature]` functions, which the compiler
 //! inlines by itself; the stages used by more than one kernel (searches, `atan2`, the radial solve)
@@ -26,9 +24,9 @@
 //!
 //! **Memory safety.** Every gather index is clamped into its table ([`gather`]), so that no input
 //! (NaN, infinities, points outside the square) can make a gather read outside a table; the clamp
-//! never changes an index the lane kernel would use, since those are in bounds by construction.
+//! never changes an index the scalar path would use, since those are in bounds by construction.
 
-use super::HdsCore;
+use crate::mapping::hds::{HdsCore, TablesView};
 use crate::mapping::simd::math::{
     ATAN_K8_HI, ATAN_K8_LO, ATAN_TAYLOR, COS_TAYLOR, PIO2_1, PIO2_2, PIO2_3, PIO2_LO, PI_LO,
     ROUND_MAGIC, SIN_TAYLOR, TWO_OVER_PI,
@@ -322,4 +320,4 @@ fn sign_negative(a: F) -> F {
     o
 }
 
-super::kernels::explicit_kernels!("avx2,fma");
+super::kernels::vector_kernels!("avx2,fma");

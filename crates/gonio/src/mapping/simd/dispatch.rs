@@ -1,0 +1,179 @@
+//! The choice of backend for one batch call on one HDS map, and the f32 calls' widening to the
+//! f64 kernels (rounded once). Everything above this file (the maps' [`crate::mapping::batch`]
+//! impls) sees three functions: [`core_sample`], [`core_density`], [`core_invert`].
+
+use super::{portable, Backend, Elem};
+use crate::mapping::hds::HdsCore;
+
+/// Points per chunk when an f32 call runs through the f64 kernels.
+const F32_CHUNK: usize = 256;
+
+/// The `f64` slice a `T` slice is, when `T` is f64 (the batch paths run f64 kernels only).
+fn as_f64<T: Elem>(s: &[T]) -> Option<&[f64]> {
+    (std::any::TypeId::of::<T>() == std::any::TypeId::of::<f64>())
+        // SAFETY: T is f64 (checked just above): same layout, same length.
+        .then(|| unsafe { std::slice::from_raw_parts(s.as_ptr().cast::<f64>(), s.len()) })
+}
+
+/// [`as_f64`] for a mutable slice.
+fn as_f64_mut<T: Elem>(s: &mut [T]) -> Option<&mut [f64]> {
+    (std::any::TypeId::of::<T>() == std::any::TypeId::of::<f64>())
+        // SAFETY: T is f64 (checked just above): same layout, same length, borrowed uniquely.
+        .then(|| unsafe { std::slice::from_raw_parts_mut(s.as_mut_ptr().cast::<f64>(), s.len()) })
+}
+
+/// `T` values widened into the first `cnt` entries of an f64 buffer.
+fn widen<T: Elem>(src: &[T], buf: &mut [f64; F32_CHUNK]) {
+    for (b, &x) in buf.iter_mut().zip(src) {
+        *b = x.to_f64();
+    }
+}
+
+/// f32 directions widened to f64 are unit vectors only to within f32 rounding (~1e-7); the f64
+/// kernels expect them unit to within f64 rounding (a horizon direction rounded to f32 can lie
+/// "beyond the map's edge" by 1e-7 otherwise). Renormalises the first `cnt` widened directions
+/// (those of positive finite length; others pass unchanged).
+fn renormalise(d: &mut [[f64; F32_CHUNK]; 3], cnt: usize) {
+    for k in 0..cnt {
+        let n = (d[0][k] * d[0][k] + d[1][k] * d[1][k] + d[2][k] * d[2][k]).sqrt();
+        // One division per direction (the f32 results do not see the last bits of the scale).
+        let s = if n > 0.0 && n.is_finite() {
+            1.0 / n
+        } else {
+            1.0
+        };
+        for c in d.iter_mut() {
+            c[k] *= s;
+        }
+    }
+}
+
+/// f64 values rounded into `T`.
+fn narrow<T: Elem>(src: &[f64], dst: &mut [T]) {
+    for (d, &x) in dst.iter_mut().zip(src) {
+        *d = T::from_f64(x);
+    }
+}
+
+/// The backend that runs an f64 call: `b` if the CPU has it (else the fastest below it), and the
+/// portable one for a map too large for the explicit kernels' 32-bit index conversions.
+fn backend_for(b: Backend, c: &HdsCore) -> Backend {
+    let b = b.usable();
+    #[cfg(target_arch = "x86_64")]
+    if b != Backend::Portable && !c.explicit_indexable() {
+        return Backend::Portable;
+    }
+    let _ = c;
+    b
+}
+
+/// The forward map of `c` on slices: directions to `out[0..3]`, the disk density D to `out[3]`.
+pub(crate) fn core_sample<T: Elem>(b: Backend, c: &HdsCore, u: &[T], v: &[T], out: [&mut [T]; 4]) {
+    let (Some(u), Some(v)) = (as_f64(u), as_f64(v)) else {
+        let mut o = out;
+        let (mut bu, mut bv) = ([0.0; F32_CHUNK], [0.0; F32_CHUNK]);
+        let mut bo = [[0.0; F32_CHUNK]; 4];
+        let mut start = 0;
+        while start < u.len() {
+            let cnt = (u.len() - start).min(F32_CHUNK);
+            widen(&u[start..start + cnt], &mut bu);
+            widen(&v[start..start + cnt], &mut bv);
+            let [bx, by, bz, bd] = &mut bo;
+            core_sample::<f64>(
+                b,
+                c,
+                &bu[..cnt],
+                &bv[..cnt],
+                [
+                    &mut bx[..cnt],
+                    &mut by[..cnt],
+                    &mut bz[..cnt],
+                    &mut bd[..cnt],
+                ],
+            );
+            for (col, bcol) in o.iter_mut().zip(&bo) {
+                narrow(&bcol[..cnt], &mut col[start..start + cnt]);
+            }
+            start += cnt;
+        }
+        return;
+    };
+    let out = out.map(|o| as_f64_mut(o).expect("T is f64"));
+    match backend_for(b, c) {
+        // SAFETY (both): `backend_for` returns a backend only when the CPU has its instruction
+        // set (`Backend::usable`).
+        #[cfg(target_arch = "x86_64")]
+        Backend::Avx512 => unsafe { super::avx512::k2::sample_slices(c, u, v, out) },
+        #[cfg(target_arch = "x86_64")]
+        Backend::Avx2Fma => unsafe { super::avx2::sample_slices(c, u, v, out) },
+        _ => portable::sample_slices(c, u, v, out),
+    }
+}
+
+/// The disk density D of `c` at each direction; the caller handles directions outside the map's
+/// hemisphere.
+pub(crate) fn core_density<T: Elem>(b: Backend, c: &HdsCore, dir: [&[T]; 3], out: &mut [T]) {
+    let (Some(x), Some(y), Some(z)) = (as_f64(dir[0]), as_f64(dir[1]), as_f64(dir[2])) else {
+        let mut bd = [[0.0; F32_CHUNK]; 3];
+        let mut bo = [0.0; F32_CHUNK];
+        let mut start = 0;
+        while start < out.len() {
+            let cnt = (out.len() - start).min(F32_CHUNK);
+            for (k, b) in bd.iter_mut().enumerate() {
+                widen(&dir[k][start..start + cnt], b);
+            }
+            renormalise(&mut bd, cnt);
+            let [x, y, z] = &bd;
+            core_density::<f64>(b, c, [&x[..cnt], &y[..cnt], &z[..cnt]], &mut bo[..cnt]);
+            narrow(&bo[..cnt], &mut out[start..start + cnt]);
+            start += cnt;
+        }
+        return;
+    };
+    let out = as_f64_mut(out).expect("T is f64");
+    match backend_for(b, c) {
+        // SAFETY (both): as in `core_sample`.
+        #[cfg(target_arch = "x86_64")]
+        Backend::Avx512 => unsafe { super::avx512::k4::density_slices(c, [x, y, z], out) },
+        #[cfg(target_arch = "x86_64")]
+        Backend::Avx2Fma => unsafe { super::avx2::density_slices(c, [x, y, z], out) },
+        _ => portable::density_slices(c, [x, y, z], out),
+    }
+}
+
+/// The inverse map of `c` at each direction (NaN handling is the caller's).
+pub(crate) fn core_invert<T: Elem>(b: Backend, c: &HdsCore, dir: [&[T]; 3], out: [&mut [T]; 2]) {
+    let (Some(x), Some(y), Some(z)) = (as_f64(dir[0]), as_f64(dir[1]), as_f64(dir[2])) else {
+        let [u, v] = out;
+        let mut bd = [[0.0; F32_CHUNK]; 3];
+        let (mut bu, mut bv) = ([0.0; F32_CHUNK], [0.0; F32_CHUNK]);
+        let mut start = 0;
+        while start < u.len() {
+            let cnt = (u.len() - start).min(F32_CHUNK);
+            for (k, b) in bd.iter_mut().enumerate() {
+                widen(&dir[k][start..start + cnt], b);
+            }
+            renormalise(&mut bd, cnt);
+            let [x, y, z] = &bd;
+            core_invert::<f64>(
+                b,
+                c,
+                [&x[..cnt], &y[..cnt], &z[..cnt]],
+                [&mut bu[..cnt], &mut bv[..cnt]],
+            );
+            narrow(&bu[..cnt], &mut u[start..start + cnt]);
+            narrow(&bv[..cnt], &mut v[start..start + cnt]);
+            start += cnt;
+        }
+        return;
+    };
+    let out = out.map(|o| as_f64_mut(o).expect("T is f64"));
+    match backend_for(b, c) {
+        // SAFETY (both): as in `core_sample`.
+        #[cfg(target_arch = "x86_64")]
+        Backend::Avx512 => unsafe { super::avx512::k4::invert_slices(c, [x, y, z], out) },
+        #[cfg(target_arch = "x86_64")]
+        Backend::Avx2Fma => unsafe { super::avx2::invert_slices(c, [x, y, z], out) },
+        _ => portable::invert_slices(c, [x, y, z], out),
+    }
+}
