@@ -450,22 +450,12 @@ impl Diagram {
     /// one meridian the value does not depend on φ. Outside [θ_0, θ_{N−1}] the value is 0 (a
     /// direction the diagram does not cover carries no power).
     pub fn interpolate(&self, theta: f64, phi: f64) -> f64 {
-        let n = self.theta.len();
-        let (t0, t1) = (self.theta[0], self.theta[n - 1]);
-        if !(theta >= t0 && theta <= t1) {
-            return 0.0;
-        }
-        let (j, t) = if n == 1 {
-            (0, 0.0)
-        } else {
-            let j = segment(&self.theta, theta);
-            let t = (theta - self.theta[j]) / (self.theta[j + 1] - self.theta[j]);
-            (j, t.clamp(0.0, 1.0))
-        };
-        let (i0, i1, e) = self.meridian_weights(phi);
-        let jn = (j + 1).min(n - 1);
-        let row = |i: usize| (1.0 - t) * self.value(i, j) + t * self.value(i, jn);
-        (1.0 - e) * row(i0) + e * row(i1)
+        interpolate_grid(&self.theta, &self.phi, &self.values, theta, phi)
+    }
+
+    /// The grid and the values, taken apart (θ, φ, row-major values) without a copy.
+    pub(crate) fn into_parts(self) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+        (self.theta, self.phi, self.values)
     }
 
     /// Sector widths β_i = φ_{i+1} − φ_i in radians, the last one wrapping to φ_0 + 2π
@@ -562,22 +552,56 @@ impl Diagram {
     /// The two meridians that bracket azimuth `phi` (radians) and the weight of the second:
     /// `(i0, i1, e)` with value = (1−e)·row(i0) + e·row(i1), wrapping around 2π.
     pub fn meridian_weights(&self, phi: f64) -> (usize, usize, f64) {
-        let m = self.phi.len();
-        let p = phi.rem_euclid(TAU);
-        if m == 1 {
-            return (0, 0, 0.0);
-        }
-        let (first, last) = (self.phi[0], self.phi[m - 1]);
-        if p >= last || p < first {
-            // Wrap sector from the last meridian to the first one (+2π).
-            let width = first + TAU - last;
-            let off = if p >= last { p - last } else { p + TAU - last };
-            return (m - 1, 0, (off / width).clamp(0.0, 1.0));
-        }
-        let i = segment(&self.phi, p);
-        let e = (p - self.phi[i]) / (self.phi[i + 1] - self.phi[i]);
-        (i, i + 1, e.clamp(0.0, 1.0))
+        meridian_weights(&self.phi, phi)
     }
+}
+
+/// [`Diagram::meridian_weights`] on the meridians `phis` of a valid diagram.
+fn meridian_weights(phis: &[f64], phi: f64) -> (usize, usize, f64) {
+    let m = phis.len();
+    let p = phi.rem_euclid(TAU);
+    if m == 1 {
+        return (0, 0, 0.0);
+    }
+    let (first, last) = (phis[0], phis[m - 1]);
+    if p >= last || p < first {
+        // Wrap sector from the last meridian to the first one (+2π).
+        let width = first + TAU - last;
+        let off = if p >= last { p - last } else { p + TAU - last };
+        return (m - 1, 0, (off / width).clamp(0.0, 1.0));
+    }
+    let i = segment(phis, p);
+    let e = (p - phis[i]) / (phis[i + 1] - phis[i]);
+    (i, i + 1, e.clamp(0.0, 1.0))
+}
+
+/// [`Diagram::interpolate`] on the parts of a valid diagram (`values` row-major, one row of
+/// `thetas.len()` values per meridian of `phis`): for the maps that keep the grid and the values
+/// apart.
+pub(crate) fn interpolate_grid(
+    thetas: &[f64],
+    phis: &[f64],
+    values: &[f64],
+    theta: f64,
+    phi: f64,
+) -> f64 {
+    let n = thetas.len();
+    let (t0, t1) = (thetas[0], thetas[n - 1]);
+    if !(theta >= t0 && theta <= t1) {
+        return 0.0;
+    }
+    let (j, t) = if n == 1 {
+        (0, 0.0)
+    } else {
+        let j = segment(thetas, theta);
+        let t = (theta - thetas[j]) / (thetas[j + 1] - thetas[j]);
+        (j, t.clamp(0.0, 1.0))
+    };
+    let (i0, i1, e) = meridian_weights(phis, phi);
+    let jn = (j + 1).min(n - 1);
+    let value = |i: usize, j: usize| values[i * n + j];
+    let row = |i: usize| (1.0 - t) * value(i, j) + t * value(i, jn);
+    (1.0 - e) * row(i0) + e * row(i1)
 }
 
 /// (∫(1−t) sin θ dθ, ∫ t sin θ dθ) over [a, b] with t = (θ − a)/(b − a): the weights of the two
