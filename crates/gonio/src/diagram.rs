@@ -263,13 +263,12 @@ impl Diagram {
                 theta_deg: theta[0].to_degrees(),
             });
         }
-        // Branch-free passes over blocks (they vectorise); the first bad value is then located.
-        let valid = |v: &f64| v.is_finite() & (*v >= 0.0);
-        if !values
-            .chunks(256)
-            .all(|c| c.iter().fold(true, |ok, v| ok & valid(v)))
-        {
-            let k = values.iter().position(|v| !valid(v)).unwrap_or(0);
+        // finite and ≥ 0 ⇔ 0 ≤ v ≤ MAX (NaN fails both): a branch-free count (it vectorises);
+        // the first bad value is then located.
+        let invalid = |v: f64| !((v >= 0.0) & (v <= f64::MAX));
+        let bad: usize = values.iter().map(|&v| usize::from(invalid(v))).sum();
+        if bad > 0 {
+            let k = values.iter().position(|&v| invalid(v)).unwrap_or(0);
             return Err(DiagramError::BadValue {
                 meridian: k / n,
                 parallel: k % n,
@@ -493,12 +492,13 @@ impl Diagram {
         // The sum Σ_j Σ_i ½β_i (P_{i,j} w0_j + P_{i,j+1} w1_j), P_{i,j} = v_{i,j}/max + v_{i+1,j}/max
         // (meridians wrapping), in this order: each parallel's pair sums are made once and used by
         // the cells on both sides of it.
-        let pairs = |j: usize, out: &mut Vec<f64>| {
+        let mut scaled = Vec::with_capacity(m);
+        let mut pairs = |j: usize, out: &mut Vec<f64>| {
+            scaled.clear();
+            scaled.extend(self.values[j..].iter().step_by(n).map(|v| v / max));
             out.clear();
-            out.extend((0..m).map(|i| {
-                let i1 = if i + 1 == m { 0 } else { i + 1 };
-                self.value(i, j) / max + self.value(i1, j) / max
-            }));
+            out.extend(scaled.windows(2).map(|w| w[0] + w[1]));
+            out.push(scaled[m - 1] + scaled[0]);
         };
         let (mut below, mut above) = (Vec::with_capacity(m), Vec::with_capacity(m));
         if n >= 2 {
