@@ -42,7 +42,7 @@ pub fn load_envmap(name: &str) -> anyhow::Result<Loaded> {
     Ok(Loaded {
         name: name.to_string(),
         kind: InputKind::EnvMap,
-        diagram: env.diagram().clone(),
+        diagram: env.diagram(),
         photometry: None,
         envmap: Some(Box::new(env)),
     })

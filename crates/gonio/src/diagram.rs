@@ -263,23 +263,24 @@ impl Diagram {
                 theta_deg: theta[0].to_degrees(),
             });
         }
-        let mut any_positive = false;
-        for (k, &v) in values.iter().enumerate() {
-            if !(v.is_finite() && v >= 0.0) {
-                return Err(DiagramError::BadValue {
-                    meridian: k / n,
-                    parallel: k % n,
-                    value: v,
-                });
-            }
-            any_positive |= v > 0.0;
+        // finite and ≥ 0 ⇔ 0 ≤ v ≤ MAX (NaN fails both): a branch-free count (it vectorises);
+        // the first bad value is then located.
+        let invalid = |v: f64| !((v >= 0.0) & (v <= f64::MAX));
+        let bad: usize = values.iter().map(|&v| usize::from(invalid(v))).sum();
+        if bad > 0 {
+            let k = values.iter().position(|&v| invalid(v)).unwrap_or(0);
+            return Err(DiagramError::BadValue {
+                meridian: k / n,
+                parallel: k % n,
+                value: values[k],
+            });
         }
-        if !any_positive {
+        let Some(first_positive) = values.iter().position(|&v| v > 0.0) else {
             return Err(DiagramError::ZeroPower);
-        }
+        };
         let d = Self { theta, phi, values };
         // Light on nodes only between parallels closer than an ulp cannot integrate to anything.
-        if !(d.normalised_integral() > 0.0) {
+        if !d.positive_integral(first_positive / n, first_positive % n) {
             return Err(DiagramError::UnresolvedLight);
         }
         Ok(d)
@@ -428,7 +429,17 @@ impl Diagram {
     }
     /// The largest value.
     pub fn max_value(&self) -> f64 {
-        self.values.iter().fold(0.0, |a, &b| a.max(b))
+        // Values are finite and ≥ 0 (checked by `new`), so a plain comparison is `f64::max` and
+        // the maximum does not depend on the order: four running maxima (they vectorise).
+        let mut lanes = [0.0f64; 4];
+        let mut blocks = self.values.chunks_exact(4);
+        for b in &mut blocks {
+            for (l, &v) in lanes.iter_mut().zip(b) {
+                *l = if v > *l { v } else { *l };
+            }
+        }
+        let tail = blocks.remainder().iter().fold(0.0f64, |a, &b| a.max(b));
+        lanes.iter().fold(tail, |a, &b| a.max(b))
     }
 
     /// The diagram interpolated **bilinearly in (θ, φ)** at polar angle `theta` and azimuth `phi`
@@ -438,22 +449,12 @@ impl Diagram {
     /// one meridian the value does not depend on φ. Outside [θ_0, θ_{N−1}] the value is 0 (a
     /// direction the diagram does not cover carries no power).
     pub fn interpolate(&self, theta: f64, phi: f64) -> f64 {
-        let n = self.theta.len();
-        let (t0, t1) = (self.theta[0], self.theta[n - 1]);
-        if !(theta >= t0 && theta <= t1) {
-            return 0.0;
-        }
-        let (j, t) = if n == 1 {
-            (0, 0.0)
-        } else {
-            let j = segment(&self.theta, theta);
-            let t = (theta - self.theta[j]) / (self.theta[j + 1] - self.theta[j]);
-            (j, t.clamp(0.0, 1.0))
-        };
-        let (i0, i1, e) = self.meridian_weights(phi);
-        let jn = (j + 1).min(n - 1);
-        let row = |i: usize| (1.0 - t) * self.value(i, j) + t * self.value(i, jn);
-        (1.0 - e) * row(i0) + e * row(i1)
+        interpolate_grid(&self.theta, &self.phi, &self.values, theta, phi)
+    }
+
+    /// The grid and the values, taken apart (θ, φ, row-major values) without a copy.
+    pub(crate) fn into_parts(self) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+        (self.theta, self.phi, self.values)
     }
 
     /// Sector widths β_i = φ_{i+1} − φ_i in radians, the last one wrapping to φ_0 + 2π
@@ -486,41 +487,121 @@ impl Diagram {
     /// every valid diagram, whatever the scale of its values (1e-320 … `f64::MAX`).
     pub fn normalised_integral(&self) -> f64 {
         let max = self.max_value();
-        let scale = |v: f64| v / max;
         let (n, m) = (self.theta.len(), self.phi.len());
         let beta = self.sector_widths();
+        // The sum Σ_j Σ_i ½β_i (P_{i,j} w0_j + P_{i,j+1} w1_j), P_{i,j} = v_{i,j}/max + v_{i+1,j}/max
+        // (meridians wrapping), in this order: each parallel's pair sums are made once and used by
+        // the cells on both sides of it.
+        let mut scaled = Vec::with_capacity(m);
+        let mut pairs = |j: usize, out: &mut Vec<f64>| {
+            scaled.clear();
+            scaled.extend(self.values[j..].iter().step_by(n).map(|v| v / max));
+            out.clear();
+            out.extend(scaled.windows(2).map(|w| w[0] + w[1]));
+            out.push(scaled[m - 1] + scaled[0]);
+        };
+        let (mut below, mut above) = (Vec::with_capacity(m), Vec::with_capacity(m));
+        if n >= 2 {
+            pairs(0, &mut below);
+        }
         let mut total = 0.0;
         for j in 0..n.saturating_sub(1) {
             let (w0, w1) = cell_weights(self.theta[j], self.theta[j + 1]);
-            for (i, b) in beta.iter().enumerate() {
-                let i1 = (i + 1) % m;
-                let a = scale(self.value(i, j)) + scale(self.value(i1, j));
-                let c = scale(self.value(i, j + 1)) + scale(self.value(i1, j + 1));
+            pairs(j + 1, &mut above);
+            for ((b, a), c) in beta.iter().zip(&below).zip(&above) {
                 total += 0.5 * b * (a * w0 + c * w1);
             }
+            std::mem::swap(&mut below, &mut above);
         }
         total
+    }
+
+    /// Whether [`Diagram::normalised_integral`] is > 0, usually without the whole sum: when no
+    /// cell weight is negative every term of the sum is ≥ 0, and then one positive term of a
+    /// cell next to the positive node (`i`, `j`) makes the sum positive (a floating-point sum of
+    /// terms ≥ 0 is at least its largest term). Otherwise the sum itself decides.
+    fn positive_integral(&self, i: usize, j: usize) -> bool {
+        let (n, m) = (self.theta.len(), self.phi.len());
+        let weights: Vec<(f64, f64)> = (0..n - 1)
+            .map(|k| cell_weights(self.theta[k], self.theta[k + 1]))
+            .collect();
+        if weights.iter().all(|&(w0, w1)| w0 >= 0.0 && w1 >= 0.0) {
+            let max = self.max_value();
+            let beta = self.sector_widths();
+            // The term of the cell between meridians k, k + 1 and parallels l, l + 1, computed as
+            // in `normalised_integral`.
+            let term = |k: usize, l: usize| {
+                let k1 = if k + 1 == m { 0 } else { k + 1 };
+                let a = self.value(k, l) / max + self.value(k1, l) / max;
+                let c = self.value(k, l + 1) / max + self.value(k1, l + 1) / max;
+                let (w0, w1) = weights[l];
+                0.5 * beta[k] * (a * w0 + c * w1)
+            };
+            let sectors = [i, if i == 0 { m - 1 } else { i - 1 }];
+            let cells = [j.min(n - 2), j.saturating_sub(1)];
+            if sectors
+                .iter()
+                .any(|&k| cells.iter().any(|&l| term(k, l) > 0.0))
+            {
+                return true;
+            }
+        }
+        self.normalised_integral() > 0.0
     }
 
     /// The two meridians that bracket azimuth `phi` (radians) and the weight of the second:
     /// `(i0, i1, e)` with value = (1−e)·row(i0) + e·row(i1), wrapping around 2π.
     pub fn meridian_weights(&self, phi: f64) -> (usize, usize, f64) {
-        let m = self.phi.len();
-        let p = phi.rem_euclid(TAU);
-        if m == 1 {
-            return (0, 0, 0.0);
-        }
-        let (first, last) = (self.phi[0], self.phi[m - 1]);
-        if p >= last || p < first {
-            // Wrap sector from the last meridian to the first one (+2π).
-            let width = first + TAU - last;
-            let off = if p >= last { p - last } else { p + TAU - last };
-            return (m - 1, 0, (off / width).clamp(0.0, 1.0));
-        }
-        let i = segment(&self.phi, p);
-        let e = (p - self.phi[i]) / (self.phi[i + 1] - self.phi[i]);
-        (i, i + 1, e.clamp(0.0, 1.0))
+        meridian_weights(&self.phi, phi)
     }
+}
+
+/// [`Diagram::meridian_weights`] on the meridians `phis` of a valid diagram.
+fn meridian_weights(phis: &[f64], phi: f64) -> (usize, usize, f64) {
+    let m = phis.len();
+    let p = phi.rem_euclid(TAU);
+    if m == 1 {
+        return (0, 0, 0.0);
+    }
+    let (first, last) = (phis[0], phis[m - 1]);
+    if p >= last || p < first {
+        // Wrap sector from the last meridian to the first one (+2π).
+        let width = first + TAU - last;
+        let off = if p >= last { p - last } else { p + TAU - last };
+        return (m - 1, 0, (off / width).clamp(0.0, 1.0));
+    }
+    let i = segment(phis, p);
+    let e = (p - phis[i]) / (phis[i + 1] - phis[i]);
+    (i, i + 1, e.clamp(0.0, 1.0))
+}
+
+/// [`Diagram::interpolate`] on the parts of a valid diagram (`values` row-major, one row of
+/// `thetas.len()` values per meridian of `phis`): for the maps that keep the grid and the values
+/// apart.
+pub(crate) fn interpolate_grid(
+    thetas: &[f64],
+    phis: &[f64],
+    values: &[f64],
+    theta: f64,
+    phi: f64,
+) -> f64 {
+    let n = thetas.len();
+    let (t0, t1) = (thetas[0], thetas[n - 1]);
+    if !(theta >= t0 && theta <= t1) {
+        return 0.0;
+    }
+    let (j, t) = if n == 1 {
+        (0, 0.0)
+    } else {
+        let j = segment(thetas, theta);
+        let t = (theta - thetas[j]) / (thetas[j + 1] - thetas[j]);
+        (j, t.clamp(0.0, 1.0))
+    };
+    let (i0, i1, e) = meridian_weights(phis, phi);
+    let jn = (j + 1).min(n - 1);
+    let value = |i: usize, j: usize| values[i * n + j];
+    let row = |i: usize| (1.0 - t) * value(i, j) + t * value(i, jn);
+    (1.0 - e) * row(i0) + e * row(i1)
 }
 
 /// (∫(1−t) sin θ dθ, ∫ t sin θ dθ) over [a, b] with t = (θ − a)/(b − a): the weights of the two

@@ -147,7 +147,6 @@ pub struct EnvironmentMap {
     image: Image,
     /// Mean RGB of the first and last rows (the poles' colour for bilinear lookups).
     pole_rgb: [[f32; 3]; 2],
-    diagram: Diagram,
     map: SphereMap,
     options: EnvOptions,
     warnings: Vec<String>,
@@ -205,78 +204,17 @@ impl EnvironmentMap {
     /// outside 0..3 or custom weights of the wrong length or with negative or non-finite values;
     /// [`EnvMapError::Diagram`] if the map cannot be built.
     pub fn with_options(image: Image, options: EnvOptions) -> Result<Self, EnvMapError> {
-        let (w, h) = (image.width(), image.height());
+        let h = image.height();
         let mut warnings = image.warnings().to_vec();
-        let rgb = image.rgb();
-        let weight_name;
-        let mut weights: Vec<f64> = match &options.weight {
-            Weight::Luminance => {
-                weight_name = "luminance".to_string();
-                rgb.chunks_exact(3)
-                    .map(|p| f64::from(luminance([p[0], p[1], p[2]])))
-                    .collect()
-            }
-            Weight::Channel(c) => {
-                if *c > 2 {
-                    return Err(EnvMapError::BadOption(format!(
-                        "channel {c} does not exist (0 = R, 1 = G, 2 = B)"
-                    )));
-                }
-                weight_name = ["red", "green", "blue"][*c].to_string();
-                rgb.chunks_exact(3).map(|p| f64::from(p[*c])).collect()
-            }
-            Weight::Custom(v) => {
-                weight_name = "custom weight".to_string();
-                if v.len() != w * h {
-                    return Err(EnvMapError::BadOption(format!(
-                        "{} custom weights for an image of {w} × {h} pixels",
-                        v.len()
-                    )));
-                }
-                if let Some(k) = v.iter().position(|x| !(x.is_finite() && *x >= 0.0)) {
-                    return Err(EnvMapError::BadOption(format!(
-                        "custom weight of pixel (x {}, y {}) is {} (must be finite and ≥ 0)",
-                        k % w,
-                        k / w,
-                        v[k]
-                    )));
-                }
-                v.iter().map(|&x| f64::from(x)).collect()
-            }
-        };
-        let negative = weights.iter().filter(|&&x| x < 0.0).count();
-        if negative > 0 {
-            warnings.push(format!(
-                "{negative} pixels have a negative {weight_name}; they are weighted as 0 (their radiance is kept)"
-            ));
-            for x in &mut weights {
-                *x = x.max(0.0);
-            }
-        }
-        if weights.iter().all(|&x| x == 0.0) {
-            return Err(EnvMapError::Black {
-                weight: weight_name,
-            });
-        }
-        if options.mis_compensation {
-            let mean = solid_angle_mean(&weights, w, h);
-            let comp: Vec<f64> = weights.iter().map(|&x| (x - mean).max(0.0)).collect();
-            if comp.iter().any(|&x| x > 0.0) {
-                weights = comp;
-            } else {
-                warnings.push(
-                    "MIS compensation left no pixel above the mean (a constant map): the plain weight is used".into(),
-                );
-            }
-        }
-        let diagram = build_diagram(&weights, w, h)?;
-        drop(weights);
+        let diagram = weight_diagram(&image, &options, &mut warnings)?;
         let map = SphereMap::new(&diagram)?;
+        // The diagram is not kept: the map's tables hold its values (divided by their largest),
+        // and `diagram()` rebuilds it from the image.
+        drop(diagram);
         let pole_rgb = [row_mean_rgb(&image, 0), row_mean_rgb(&image, h - 1)];
         Ok(Self {
             image,
             pole_rgb,
-            diagram,
             map,
             options,
             warnings,
@@ -289,9 +227,11 @@ impl EnvironmentMap {
     }
 
     /// The diagram the map samples (W meridians × (H + 2) parallels; see the module
-    /// documentation).
-    pub fn diagram(&self) -> &Diagram {
-        &self.diagram
+    /// documentation), **rebuilt** from the image and the options on each call (the map does not
+    /// keep it, to save 8 bytes per pixel; the values are the same as at build time).
+    pub fn diagram(&self) -> Diagram {
+        weight_diagram(&self.image, &self.options, &mut Vec::new())
+            .expect("the diagram was built from the same image and options before")
     }
 
     /// The HDS sphere map.
@@ -309,10 +249,16 @@ impl EnvironmentMap {
         &self.warnings
     }
 
-    /// Bytes held beyond the image: the diagram and the map's tables.
+    /// Bytes held beyond the image: the map's tables ([`Sampler::memory_bytes`] of
+    /// [`EnvironmentMap::map`]), the grid angles its hemisphere maps keep beside them, the
+    /// caller's weights when [`Weight::Custom`] and the struct itself (the warnings' text
+    /// excluded).
     pub fn memory_bytes_beyond_image(&self) -> usize {
-        let d = &self.diagram;
-        8 * (d.values().len() + d.theta().len() + d.phi().len()) + self.map.memory_bytes()
+        let custom = match &self.options.weight {
+            Weight::Custom(v) => 4 * v.len(),
+            _ => 0,
+        };
+        self.map.memory_bytes() + self.map.grid_bytes() + custom + std::mem::size_of::<Self>()
     }
 
     /// Maps a point of the unit square to a direction, its exact density and the radiance there.
@@ -398,6 +344,79 @@ impl EnvironmentMap {
     pub fn power(&self) -> f64 {
         self.map.target_power()
     }
+}
+
+/// The diagram of the image's weights under `options` (see the module documentation), with
+/// the warnings of negative weights and of a compensation that left nothing.
+fn weight_diagram(
+    image: &Image,
+    options: &EnvOptions,
+    warnings: &mut Vec<String>,
+) -> Result<Diagram, EnvMapError> {
+    let (w, h) = (image.width(), image.height());
+    let rgb = image.rgb();
+    let weight_name;
+    let mut weights: Vec<f64> = match &options.weight {
+        Weight::Luminance => {
+            weight_name = "luminance".to_string();
+            rgb.chunks_exact(3)
+                .map(|p| f64::from(luminance([p[0], p[1], p[2]])))
+                .collect()
+        }
+        Weight::Channel(c) => {
+            if *c > 2 {
+                return Err(EnvMapError::BadOption(format!(
+                    "channel {c} does not exist (0 = R, 1 = G, 2 = B)"
+                )));
+            }
+            weight_name = ["red", "green", "blue"][*c].to_string();
+            rgb.chunks_exact(3).map(|p| f64::from(p[*c])).collect()
+        }
+        Weight::Custom(v) => {
+            weight_name = "custom weight".to_string();
+            if v.len() != w * h {
+                return Err(EnvMapError::BadOption(format!(
+                    "{} custom weights for an image of {w} × {h} pixels",
+                    v.len()
+                )));
+            }
+            if let Some(k) = v.iter().position(|x| !(x.is_finite() && *x >= 0.0)) {
+                return Err(EnvMapError::BadOption(format!(
+                    "custom weight of pixel (x {}, y {}) is {} (must be finite and ≥ 0)",
+                    k % w,
+                    k / w,
+                    v[k]
+                )));
+            }
+            v.iter().map(|&x| f64::from(x)).collect()
+        }
+    };
+    let negative = weights.iter().filter(|&&x| x < 0.0).count();
+    if negative > 0 {
+        warnings.push(format!(
+            "{negative} pixels have a negative {weight_name}; they are weighted as 0 (their radiance is kept)"
+        ));
+        for x in &mut weights {
+            *x = x.max(0.0);
+        }
+    }
+    if weights.iter().all(|&x| x == 0.0) {
+        return Err(EnvMapError::Black {
+            weight: weight_name,
+        });
+    }
+    if options.mis_compensation {
+        let mean = solid_angle_mean(&weights, w, h);
+        let comp: Vec<f64> = weights.iter().map(|&x| (x - mean).max(0.0)).collect();
+        if comp.iter().any(|&x| x > 0.0) {
+            weights = comp;
+        } else {
+            warnings.push(
+                "MIS compensation left no pixel above the mean (a constant map): the plain weight is used".into(),
+            );
+        }
+    }
+    Ok(build_diagram(&weights, w, h)?)
 }
 
 /// The solid-angle mean of per-pixel weights over the sphere: Σ w·ΔΩ / 4π, ΔΩ of row r

@@ -62,7 +62,7 @@ impl LatLongPiecewiseConstant {
                 f[r * w + c] = d.values()[i * n + r + 1] * st;
             }
         }
-        let target = Target::new(d, Domain::Sphere)?;
+        let target = Target::new(&d, Domain::Sphere)?;
         let mut conditional = vec![0.0; h * (w + 1)];
         let mut conditional_last = vec![0u32; h];
         let mut rows = vec![0.0; h];
@@ -187,7 +187,7 @@ impl EnvironmentMap {
                 .sqrt()
                 .round() as usize
         });
-        PiecewiseConstant::with_resolution(self.diagram(), Domain::Sphere, r.max(1))
+        PiecewiseConstant::with_resolution(&self.diagram(), Domain::Sphere, r.max(1))
     }
 
     /// The lat-long piecewise-constant peer ([`LatLongPiecewiseConstant::new`]).

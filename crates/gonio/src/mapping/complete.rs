@@ -194,11 +194,11 @@ pub(crate) fn complete(
     let mut new_theta = Vec::with_capacity(new_n);
     new_theta.extend_from_slice(&head);
     new_theta.extend_from_slice(theta);
-    let row = |i: usize| -> Vec<f64> {
-        let mut r = Vec::with_capacity(new_n);
-        r.extend(head.iter().map(|_| 0.0));
-        r.extend((0..n).map(|j| diagram.value(i, j) / scale));
-        r
+    // Meridian i of the completed grid: the head's zeros, then the data divided by `scale`.
+    let row = |i: usize| {
+        diagram.values()[i * n..(i + 1) * n]
+            .iter()
+            .map(|v| v / scale)
     };
     let phi = diagram.phi();
     let mut new_phi = Vec::with_capacity(new_m);
@@ -206,12 +206,13 @@ pub(crate) fn complete(
     if phi[0] > 0.0 {
         // Linear interpolation across the wrap sector [φ_{M−1}, φ_0 + 2π] at 2π.
         let e = (TAU - phi[m - 1]) / (phi[0] + TAU - phi[m - 1]);
-        let (a, b) = (row(m - 1), row(0));
         new_phi.push(0.0);
-        values.extend(a.iter().zip(&b).map(|(a, b)| (1.0 - e) * a + e * b));
+        values.extend(head.iter().map(|_| (1.0 - e) * 0.0 + e * 0.0));
+        values.extend(row(m - 1).zip(row(0)).map(|(a, b)| (1.0 - e) * a + e * b));
     }
     for (i, &p) in phi.iter().enumerate() {
         new_phi.push(p);
+        values.extend(head.iter().map(|_| 0.0));
         values.extend(row(i));
     }
     Ok(Completed {
@@ -262,10 +263,20 @@ pub(crate) fn hemisphere_part(diagram: &Diagram, upper: bool) -> Option<Diagram>
             }
         })
         .collect();
-    let m = diagram.n_meridians();
-    let values: Vec<f64> = (0..m)
-        .flat_map(|i| order.iter().map(move |&j| diagram.value(i, j)))
-        .collect();
+    // θ is increasing, so the kept parallels are one run of each meridian's row (read backwards
+    // for the lower part).
+    let n = theta.len();
+    let (first, count) = (order[0].min(order[order.len() - 1]), order.len());
+    debug_assert!(order.iter().all(|&j| (first..first + count).contains(&j)));
+    let mut values = Vec::with_capacity(diagram.n_meridians() * count);
+    for row in diagram.values().chunks_exact(n) {
+        let run = &row[first..first + count];
+        if upper {
+            values.extend_from_slice(run);
+        } else {
+            values.extend(run.iter().rev());
+        }
+    }
     Diagram::new(new_theta, diagram.phi().to_vec(), values).ok()
 }
 
@@ -291,13 +302,10 @@ pub(crate) fn with_horizon_node(diagram: &Diagram) -> Result<Diagram, DiagramErr
     let mut new_theta = theta.to_vec();
     new_theta.insert(j, half);
     let mut values = Vec::with_capacity(m * (n + 1));
-    for i in 0..m {
-        for k in 0..n {
-            if k == j {
-                values.push((1.0 - t) * diagram.value(i, j - 1) + t * diagram.value(i, j));
-            }
-            values.push(diagram.value(i, k));
-        }
+    for row in diagram.values().chunks_exact(n) {
+        values.extend_from_slice(&row[..j]);
+        values.push((1.0 - t) * row[j - 1] + t * row[j]);
+        values.extend_from_slice(&row[j..]);
     }
     Diagram::new(new_theta, diagram.phi().to_vec(), values)
 }

@@ -34,12 +34,38 @@ pub(crate) struct HdsCore {
     radial: Radial,
     /// T = ∫_disk D dA (§4.3), in diagram units × disk area.
     total: f64,
-    /// The completed diagram; the target density is its (θ, φ)-bilinear interpolant.
-    diagram: Diagram,
+    /// The completed diagram, kept by the maps that hand it out ([`crate::HemisphereMap::diagram`]);
+    /// only its grid for the sphere maps, whose target reads the same values from `radial.d`
+    /// (one copy of the nodal values instead of two).
+    diagram: KeptDiagram,
     /// ∫ target dω over the domain (diagram units × sr).
     target_total: f64,
     /// Guaranteed range of D/B over directions where B > 0 (B: the (θ, φ)-bilinear interpolant).
     db_range: (f64, f64),
+}
+
+/// What an [`HdsCore`] keeps of its completed diagram.
+#[derive(Debug, Clone)]
+enum KeptDiagram {
+    /// The whole diagram (its values are a copy of `radial.d`).
+    Diagram(Diagram),
+    /// Only the grid: parallels θ_j (N entries) and meridians φ_i (M entries), radians.
+    Grid { theta: Vec<f64>, phi: Vec<f64> },
+}
+
+impl KeptDiagram {
+    fn theta(&self) -> &[f64] {
+        match self {
+            KeptDiagram::Diagram(d) => d.theta(),
+            KeptDiagram::Grid { theta, .. } => theta,
+        }
+    }
+    fn phi(&self) -> &[f64] {
+        match self {
+            KeptDiagram::Diagram(d) => d.phi(),
+            KeptDiagram::Grid { phi, .. } => phi,
+        }
+    }
 }
 
 impl HdsCore {
@@ -71,20 +97,51 @@ impl HdsCore {
         diagram: Diagram,
         db_range: (f64, f64),
     ) -> Result<Self, DiagramError> {
+        Self::assemble(diagram, db_range, true)
+    }
+
+    /// As [`HdsCore::build`], without keeping the completed diagram ([`HdsCore::diagram`] is not
+    /// available; the target is read from the tables): the sphere maps' cores.
+    pub(crate) fn build_lean(diagram: Diagram) -> Result<Self, DiagramError> {
+        let x = parallel_radii(diagram.theta());
+        let db_range = density_ratio_range(&diagram, &x);
+        Self::assemble(diagram, db_range, false)
+    }
+
+    /// As [`HdsCore::build_with_range`], without keeping the completed diagram (see
+    /// [`HdsCore::build_lean`]).
+    pub(crate) fn build_lean_with_range(
+        diagram: Diagram,
+        db_range: (f64, f64),
+    ) -> Result<Self, DiagramError> {
+        Self::assemble(diagram, db_range, false)
+    }
+
+    /// The tables of `diagram`; `keep`: whether the core keeps the diagram itself too.
+    fn assemble(diagram: Diagram, db_range: (f64, f64), keep: bool) -> Result<Self, DiagramError> {
         let n = diagram.n_parallels();
         debug_assert!(n >= 2 && diagram.theta()[0] == 0.0 && diagram.phi()[0] == 0.0);
         let x = parallel_radii(diagram.theta());
-        let radial = Radial::build(x, diagram.values().to_vec());
-        let (angular, total) = Angular::build(diagram.phi(), |i| radial.meridian_mass(i));
+        let target_total = diagram.integral();
+        let (kept, values) = if keep {
+            let v = diagram.values().to_vec();
+            (KeptDiagram::Diagram(diagram), v)
+        } else {
+            let (theta, phi, v) = diagram.into_parts();
+            (KeptDiagram::Grid { theta, phi }, v)
+        };
+        // The nodal densities are the diagram's values themselves (moved, not copied, when the
+        // diagram is not kept).
+        let radial = Radial::build(x, values);
+        let (angular, total) = Angular::build(kept.phi(), |i| radial.meridian_mass(i));
         if !(total > 0.0 && total.is_finite()) {
             return Err(DiagramError::UnresolvedLight);
         }
-        let target_total = diagram.integral();
         Ok(HdsCore {
             angular,
             radial,
             total,
-            diagram,
+            diagram: kept,
             target_total,
             db_range,
         })
@@ -132,9 +189,36 @@ impl HdsCore {
     pub(crate) fn target_total(&self) -> f64 {
         self.target_total
     }
-    /// The completed diagram.
+    /// The completed diagram, for a core that keeps it ([`HdsCore::build`],
+    /// [`HdsCore::build_with_range`]: the hemisphere maps).
     pub(crate) fn diagram(&self) -> &Diagram {
-        &self.diagram
+        match &self.diagram {
+            KeptDiagram::Diagram(d) => d,
+            KeptDiagram::Grid { .. } => {
+                unreachable!(
+                    "only the hemisphere maps' cores hand out their diagram, and they keep it"
+                )
+            }
+        }
+    }
+    /// The completed diagram interpolated bilinearly in (θ, φ) ([`Diagram::interpolate`], from
+    /// the same values): the target density, in the completed diagram's units.
+    pub(crate) fn target_value(&self, theta: f64, phi: f64) -> f64 {
+        let (t, p) = (self.diagram.theta(), self.diagram.phi());
+        crate::diagram::interpolate_grid(t, p, &self.radial.d, theta, phi)
+    }
+    /// Number of parallels N of the completed grid.
+    pub(crate) fn n_parallels(&self) -> usize {
+        self.diagram.theta().len()
+    }
+    /// Bytes held beside the tables for the completed diagram: its grid's angles (θ, φ), and its
+    /// values when the core keeps the whole diagram.
+    pub(crate) fn diagram_bytes(&self) -> usize {
+        let grid = 8 * (self.diagram.theta().len() + self.diagram.phi().len());
+        match &self.diagram {
+            KeptDiagram::Diagram(d) => grid + 8 * d.values().len(),
+            KeptDiagram::Grid { .. } => grid,
+        }
     }
     /// Guaranteed (min, max) of D/B over directions where the target is positive.
     pub(crate) fn db_range(&self) -> (f64, f64) {

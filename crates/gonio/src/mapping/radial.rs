@@ -285,9 +285,15 @@ impl Radial {
         let mut radial_guide = Vec::with_capacity(m * (radial_k + 1));
         for i in 0..m {
             let row = &u[i * n..(i + 1) * n];
+            // The count of entries ≤ level (`partition_point` on the non-decreasing row), found by
+            // one walk up the row as the levels rise.
+            let mut count = 0;
             for k in 0..=radial_k {
                 let level = k as f64 / radial_k as f64 * row[n - 1];
-                let j = row.partition_point(|&v| v <= level).max(1) - 1;
+                while count < n && row[count] <= level {
+                    count += 1;
+                }
+                let j = count.max(1) - 1;
                 radial_guide.push(j.min(n - 2) as u32);
             }
         }

@@ -233,7 +233,7 @@ impl SphereMap {
             None => {
                 for c in completed {
                     cores.push(match c {
-                        Some(d) => keep(HdsCore::build(d))?,
+                        Some(d) => keep(HdsCore::build_lean(d))?,
                         None => None,
                     });
                 }
@@ -248,7 +248,7 @@ impl SphereMap {
                     cores.push(match c {
                         Some(_) => {
                             let (d, range) = refined.next().expect("one refined diagram per part");
-                            keep(HdsCore::build_with_range(d, range))?
+                            keep(HdsCore::build_lean_with_range(d, range))?
                         }
                         None => None,
                     });
@@ -325,7 +325,7 @@ impl SphereMap {
                 reached,
                 stop: if reached { None } else { stop },
                 parallels_before,
-                parallels_after: map.map_cores().map(|c| c.diagram().n_parallels()).sum(),
+                parallels_after: map.map_cores().map(|c| c.n_parallels()).sum(),
                 meridians_added: 0,
                 memory_before,
                 memory_after: map.memory_bytes(),
@@ -333,6 +333,13 @@ impl SphereMap {
             });
         }
         Ok(map)
+    }
+
+    /// Bytes of the completed grids' angles the maps keep beside their tables (counted by
+    /// [`crate::envmap::EnvironmentMap::memory_bytes_beyond_image`], not by
+    /// [`Sampler::memory_bytes`], which counts the tables).
+    pub(crate) fn grid_bytes(&self) -> usize {
+        self.map_cores().map(|c| c.diagram_bytes()).sum()
     }
 
     /// The hemisphere maps (split layout) or the one Lambert map.
@@ -524,7 +531,7 @@ impl SphereMap {
             None => return 0.0,
         };
         let (t, p) = spherical(dir);
-        core.diagram().interpolate(t, p)
+        core.target_value(t, p)
     }
 
     /// The map that serves direction `d` and the direction in its frame (mirrored for the lower

@@ -1,0 +1,53 @@
+//! Build time and memory of a 2048 × 1024 environment map on one thread (docs/ENVMAPS.md,
+//! "Build and memory"), alone, for profiling:
+//!
+//! `cargo run --release -p gonio --example envmap_build -- [BUILDS]` (default 5 builds), or under
+//! `valgrind --tool=callgrind target/release/examples/envmap_build 1` for instruction counts.
+
+use gonio::envmap::EnvironmentMap;
+use gonio::image::Image;
+use std::time::Instant;
+
+/// The random 2048 × 1024 image of the `envmaps` example (xorshift, values in [0, 4)).
+fn random_image(w: usize, h: usize) -> Image {
+    let mut rgb = Vec::with_capacity(w * h * 3);
+    let mut x = 0x9e3779b97f4a7c15u64;
+    for _ in 0..w * h * 3 {
+        x ^= x << 13;
+        x ^= x >> 7;
+        x ^= x << 17;
+        rgb.push((x >> 40) as f32 / (1u64 << 24) as f32 * 4.0);
+    }
+    Image::new(w, h, rgb).unwrap()
+}
+
+fn main() {
+    let builds: usize = std::env::args()
+        .nth(1)
+        .map(|a| a.parse().expect("BUILDS must be a count"))
+        .unwrap_or(5)
+        .max(1);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap();
+    let (w, h) = (2048usize, 1024usize);
+    let big = random_image(w, h);
+    let mut times = Vec::new();
+    let mut mem = 0;
+    for _ in 0..builds {
+        let img = big.clone();
+        let t = Instant::now();
+        let env = pool.install(|| EnvironmentMap::new(img).unwrap());
+        times.push(t.elapsed().as_secs_f64() * 1e3);
+        mem = env.memory_bytes_beyond_image();
+    }
+    times.sort_by(f64::total_cmp);
+    println!(
+        "build {w}x{h} on one thread, {builds} builds: median {:.1} ms (min {:.1}, max {:.1}); memory beyond the image {mem} bytes = {:.2} bytes/pixel",
+        times[builds / 2],
+        times[0],
+        times[builds - 1],
+        mem as f64 / (w * h) as f64
+    );
+}
