@@ -205,7 +205,7 @@ impl HdsCore {
     /// the same values): the target density, in the completed diagram's units.
     pub(crate) fn target_value(&self, theta: f64, phi: f64) -> f64 {
         let (t, p) = (self.diagram.theta(), self.diagram.phi());
-        crate::diagram::interpolate_grid(t, p, &self.radial.d, theta, phi)
+        crate::diagram::interpolate_grid(t, p, self.radial.view().d, theta, phi)
     }
     /// Number of parallels N of the completed grid.
     pub(crate) fn n_parallels(&self) -> usize {
