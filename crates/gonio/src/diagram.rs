@@ -265,7 +265,7 @@ impl Diagram {
         }
         // finite and ≥ 0 ⇔ 0 ≤ v ≤ MAX (NaN fails both): a branch-free count (it vectorises);
         // the first bad value is then located.
-        let invalid = |v: f64| !((v >= 0.0) & (v <= f64::MAX));
+        let invalid = |v: f64| !(0.0..=f64::MAX).contains(&v);
         let bad: usize = values.iter().map(|&v| usize::from(invalid(v))).sum();
         if bad > 0 {
             let k = values.iter().position(|&v| invalid(v)).unwrap_or(0);
