@@ -95,80 +95,70 @@ fn bench_table(c: &mut Criterion, name: &str, t: &TabulatedBrdf) {
         .warm_up_time(Duration::from_millis(300))
         .measurement_time(Duration::from_secs(2))
         .throughput(Throughput::Elements(BATCH as u64));
-
     let methods: [&dyn BrdfMethod; 2] = [&hds, &cos];
     for m in methods {
-        let dirs: Vec<Vec3> = pts.iter().map(|&u| m.sample(wi, u).direction).collect();
-        g.bench_function(BenchmarkId::new("sample", m.name()), |b| {
-            b.iter(|| {
-                pts.iter()
-                    .map(|&u| m.sample(black_box(wi), black_box(u)).pdf)
-                    .sum::<f64>()
-            })
-        });
-        g.bench_function(BenchmarkId::new("pdf", m.name()), |b| {
-            b.iter(|| {
-                dirs.iter()
-                    .map(|&w| m.pdf(black_box(wi), black_box(w)))
-                    .sum::<f64>()
-            })
-        });
-        g.bench_function(BenchmarkId::new("invert", m.name()), |b| {
-            b.iter(|| {
-                dirs.iter()
-                    .filter_map(|&w| m.invert(black_box(wi), black_box(w)))
-                    .map(|u| u[0])
-                    .sum::<f64>()
-            })
-        });
+        calls(
+            &mut g,
+            &pts,
+            m.name(),
+            |u| {
+                let s = m.sample(black_box(wi), u);
+                (s.direction, s.pdf)
+            },
+            |w| m.pdf(black_box(wi), w),
+            |w| m.invert(black_box(wi), w),
+        );
     }
     // The blended map alone and the light map, in the slices' frame.
-    let bdirs: Vec<Vec3> = pts.iter().map(|&u| blended.sample(u).direction).collect();
-    let ldirs: Vec<Vec3> = pts.iter().map(|&u| light.sample(u).direction).collect();
-    g.bench_function(BenchmarkId::new("sample", "hds-map"), |b| {
-        b.iter(|| {
-            pts.iter()
-                .map(|&u| blended.sample(black_box(u)).pdf)
-                .sum::<f64>()
-        })
-    });
-    g.bench_function(BenchmarkId::new("pdf", "hds-map"), |b| {
-        b.iter(|| {
-            bdirs
-                .iter()
-                .map(|&w| blended.pdf(black_box(w)))
-                .sum::<f64>()
-        })
-    });
-    g.bench_function(BenchmarkId::new("invert", "hds-map"), |b| {
-        b.iter(|| {
-            bdirs
-                .iter()
-                .filter_map(|&w| blended.invert(black_box(w)))
-                .map(|u| u[0])
-                .sum::<f64>()
-        })
-    });
-    g.bench_function(BenchmarkId::new("sample", "light-map"), |b| {
-        b.iter(|| {
-            pts.iter()
-                .map(|&u| light.sample(black_box(u)).pdf)
-                .sum::<f64>()
-        })
-    });
-    g.bench_function(BenchmarkId::new("pdf", "light-map"), |b| {
-        b.iter(|| ldirs.iter().map(|&w| light.pdf(black_box(w))).sum::<f64>())
-    });
-    g.bench_function(BenchmarkId::new("invert", "light-map"), |b| {
-        b.iter(|| {
-            ldirs
-                .iter()
-                .filter_map(|&w| light.invert(black_box(w)).ok())
-                .map(|u| u[0])
-                .sum::<f64>()
-        })
-    });
+    calls(
+        &mut g,
+        &pts,
+        "hds-map",
+        |u| {
+            let s = blended.sample(u);
+            (s.direction, s.pdf)
+        },
+        |w| blended.pdf(w),
+        |w| blended.invert(w),
+    );
+    calls(
+        &mut g,
+        &pts,
+        "light-map",
+        |u| {
+            let s = light.sample(u);
+            (s.direction, s.pdf)
+        },
+        |w| light.pdf(w),
+        |w| light.invert(w).ok(),
+    );
     g.finish();
+}
+
+/// Benchmarks `sample` over `pts`, then `pdf` and `invert` at the directions it produced.
+fn calls(
+    g: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
+    pts: &[Point2],
+    name: &str,
+    sample: impl Fn(Point2) -> (Vec3, f64),
+    pdf: impl Fn(Vec3) -> f64,
+    invert: impl Fn(Vec3) -> Option<Point2>,
+) {
+    let dirs: Vec<Vec3> = pts.iter().map(|&u| sample(u).0).collect();
+    g.bench_function(BenchmarkId::new("sample", name), |b| {
+        b.iter(|| pts.iter().map(|&u| sample(black_box(u)).1).sum::<f64>())
+    });
+    g.bench_function(BenchmarkId::new("pdf", name), |b| {
+        b.iter(|| dirs.iter().map(|&w| pdf(black_box(w))).sum::<f64>())
+    });
+    g.bench_function(BenchmarkId::new("invert", name), |b| {
+        b.iter(|| {
+            dirs.iter()
+                .filter_map(|&w| invert(black_box(w)))
+                .map(|u| u[0])
+                .sum::<f64>()
+        })
+    });
 }
 
 fn brdf(c: &mut Criterion) {

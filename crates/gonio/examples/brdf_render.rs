@@ -68,10 +68,10 @@ struct Hit {
 }
 
 impl Hit {
-    fn to_world(&self, d: Vec3) -> Vec3 {
+    fn world(&self, d: Vec3) -> Vec3 {
         [0, 1, 2].map(|k| d[0] * self.t[k] + d[1] * self.b[k] + d[2] * self.n[k])
     }
-    fn to_local(&self, d: Vec3) -> Vec3 {
+    fn local(&self, d: Vec3) -> Vec3 {
         [dot(d, self.t), dot(d, self.b), dot(d, self.n)]
     }
 }
@@ -106,7 +106,7 @@ fn hits() -> Vec<Hit> {
                 n,
                 wi: [0.0; 3],
             };
-            h.wi = h.to_local(view);
+            h.wi = h.local(view);
             out.push(h);
         }
     }
@@ -124,7 +124,7 @@ fn shade_one(m: &dyn BrdfMethod, env: &EnvironmentMap, h: &Hit, u: Point2) -> [f
     if s.weight == [0.0; 3] {
         return [0.0; 3];
     }
-    let l = radiance(env, h.to_world(s.direction));
+    let l = radiance(env, h.world(s.direction));
     [s.weight[0] * l[0], s.weight[1] * l[1], s.weight[2] * l[2]]
 }
 
@@ -172,7 +172,7 @@ fn reference(
         for _ in 0..n {
             // Light sample.
             let e = env.sample([rng.gen(), rng.gen()]);
-            let lo = h.to_local(e.direction);
+            let lo = h.local(e.direction);
             if lo[2] > 0.0 && e.pdf > 0.0 {
                 let f = brdf.eval(h.wi, lo);
                 let den = e.pdf + hds.pdf(h.wi, lo);
@@ -183,7 +183,7 @@ fn reference(
             // BRDF sample.
             let s = hds.sample(h.wi, [rng.gen(), rng.gen()]);
             if s.pdf > 0.0 && s.direction[2] > 0.0 {
-                let d = h.to_world(s.direction);
+                let d = h.world(s.direction);
                 let f = brdf.eval(h.wi, s.direction);
                 let den = s.pdf + env.pdf(d);
                 let l = radiance(env, d);
