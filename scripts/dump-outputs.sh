@@ -10,7 +10,12 @@ bin=${1:?usage: dump-outputs.sh GONIO_BINARY OUT_DIR [CORPUS_DIR]}
 out=${2:?usage: dump-outputs.sh GONIO_BINARY OUT_DIR [CORPUS_DIR]}
 corpus=${3:-/work/shared/data/photometry}
 mkdir -p "$out"
-dirs="$out/dirs.csv"
+bin=$(cd "$(dirname "$bin")" && pwd)/$(basename "$bin")
+corpus=$(cd "$corpus" && pwd)
+cd "$out" || exit 1
+out=.
+# Relative, so that warnings naming it are the same whatever OUT_DIR is.
+dirs=dirs.csv
 {
   echo "x,y,z"
   for t in 0 15 45 89.5 90 90.5 135 179 180; do
@@ -30,4 +35,4 @@ for f in "${inputs[@]}"; do
   done
   "$bin" info "$f" 2>&1 | sed -E 's/[0-9.]+ ?(ms|µs|s)\b/T\1/g' >"$out/$tag.info"; echo "rc=${PIPESTATUS[0]}" >>"$out/$tag.info"
 done
-echo "$(ls "$out" | wc -l) files in $out"
+echo "$(ls | wc -l) files in $(pwd)"
