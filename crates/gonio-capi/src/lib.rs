@@ -27,8 +27,9 @@
 //!   in lumens for photometric files (candela × sr).
 #![warn(missing_docs)]
 
+use gonio::input::{InputKind, LoadError};
 use gonio::mapping::SphereLayout;
-use gonio::photometry::{self, DirTiltResolver, FileFormat, NoTiltFiles, Photometry};
+use gonio::photometry::{DirTiltResolver, NoTiltFiles, Photometry};
 use gonio::sampler::{BuildOptions, Method, Sample, Vec3};
 use gonio::{Diagram, Domain, InvertError, Sampler};
 use std::cell::RefCell;
@@ -314,20 +315,12 @@ fn path_of(raw: &CStr) -> Result<PathBuf, Failure> {
 // ---------------------------------------------------------------------------------------------
 // Reading.
 
-/// The formats as the CLI names them in messages.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Kind {
-    Ies,
-    Eulumdat,
-    Json,
-}
-
-fn kind_of(format: GonioFormat) -> Result<Option<Kind>, Failure> {
+fn kind_of(format: GonioFormat) -> Result<Option<InputKind>, Failure> {
     match format {
         GONIO_FORMAT_AUTO => Ok(None),
-        GONIO_FORMAT_IES => Ok(Some(Kind::Ies)),
-        GONIO_FORMAT_EULUMDAT => Ok(Some(Kind::Eulumdat)),
-        GONIO_FORMAT_JSON => Ok(Some(Kind::Json)),
+        GONIO_FORMAT_IES => Ok(Some(InputKind::Ies)),
+        GONIO_FORMAT_EULUMDAT => Ok(Some(InputKind::Eulumdat)),
+        GONIO_FORMAT_JSON => Ok(Some(InputKind::Json)),
         other => Err(Failure::invalid(format!(
             "unknown format {other}; expected GONIO_FORMAT_AUTO, _IES, _EULUMDAT or _JSON"
         ))),
@@ -335,15 +328,15 @@ fn kind_of(format: GonioFormat) -> Result<Option<Kind>, Failure> {
 }
 
 /// The format of a path by its extension, with the CLI's message when there is none.
-fn kind_of_path(name: &str) -> Result<Kind, Failure> {
+fn kind_of_path(name: &str) -> Result<InputKind, Failure> {
+    if let Some(kind) = InputKind::from_extension(name) {
+        return Ok(kind);
+    }
     let ext = Path::new(name)
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
-    match ext.as_deref() {
-        Some("json") => Ok(Kind::Json),
-        Some("ies") => Ok(Kind::Ies),
-        Some("ldt") => Ok(Kind::Eulumdat),
+    match ext {
         Some(e) => Err(Failure::invalid(format!(
             "{name}: unknown input format `.{e}`; expected .json, .ies or .ldt"
         ))),
@@ -415,58 +408,29 @@ fn read_bounded(path: &Path, name: &str) -> Result<Vec<u8>, Failure> {
 fn parse(
     name: &str,
     bytes: &[u8],
-    kind: Kind,
+    kind: InputKind,
     tilt_dir: Option<PathBuf>,
 ) -> Result<GonioDiagram, Failure> {
-    let (diagram, photometry) = match kind {
-        Kind::Json => {
-            let text = std::str::from_utf8(bytes).map_err(|e| {
-                Failure::new(
-                    GONIO_ERR_PARSE,
-                    format!("{name}: the file is not UTF-8 text ({e})"),
-                )
-            })?;
-            let d = Diagram::from_json_str(text).map_err(|e| {
-                let msg = match e {
-                    gonio::Error::Json {
-                        line,
-                        column,
-                        message,
-                    } => {
-                        let m = match message.rfind(" at line ") {
-                            Some(k) => &message[..k],
-                            None => &message,
-                        };
-                        located(name, line, column, m)
-                    }
-                    other => format!("{name}: invalid diagram: {other}"),
-                };
-                Failure::new(GONIO_ERR_PARSE, msg)
-            })?;
-            (d, None)
-        }
-        Kind::Ies | Kind::Eulumdat => {
-            let format = if kind == Kind::Ies {
-                FileFormat::Ies
-            } else {
-                FileFormat::Eulumdat
-            };
-            let read = match tilt_dir {
-                Some(dir) => photometry::read(bytes, format, &DirTiltResolver::new(dir)),
-                None => photometry::read(bytes, format, &NoTiltFiles),
-            };
-            let p = read.map_err(|e| {
-                Failure::new(GONIO_ERR_PARSE, located(name, e.line, e.column, &e.message))
-            })?;
-            let d = p.to_diagram().map_err(|e| {
-                Failure::new(
-                    GONIO_ERR_PARSE,
-                    format!("{name}: cannot expand the distribution: {e}"),
-                )
-            })?;
-            (d, Some(p))
-        }
-    };
+    let loaded = match tilt_dir {
+        Some(dir) => gonio::input::load(bytes, kind, &DirTiltResolver::new(dir)),
+        None => gonio::input::load(bytes, kind, &NoTiltFiles),
+    }
+    .map_err(|e| {
+        let msg = match e {
+            LoadError::Json {
+                line,
+                column,
+                message,
+            } => located(name, line, column, &message),
+            LoadError::Parse(e) => located(name, e.line, e.column, &e.message),
+            LoadError::Expand { error, .. } => {
+                format!("{name}: cannot expand the distribution: {error}")
+            }
+            other => format!("{name}: {other}"),
+        };
+        Failure::new(GONIO_ERR_PARSE, msg)
+    })?;
+    let (diagram, photometry) = (loaded.diagram, loaded.photometry.map(|p| *p));
     let warnings = photometry
         .iter()
         .flat_map(|p| &p.warnings)

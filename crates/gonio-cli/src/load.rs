@@ -43,40 +43,8 @@ impl fmt::Display for LocatedError {
 
 impl std::error::Error for LocatedError {}
 
-/// The kind of input that was loaded.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum InputKind {
-    /// The built-in example luminaire (candela, whole sphere).
-    Example,
-    /// A native JSON diagram (units as given).
-    Json,
-    /// An IES LM-63 file (candela).
-    Ies,
-    /// An EULUMDAT file (candela after scaling).
-    Eulumdat,
-    /// An environment map: a lat-long `.hdr`, `.exr` or `.pfm` image (luminance, W·sr⁻¹·m⁻²
-    /// or the image's unit; see [`crate::envmap_in`]).
-    EnvMap,
-}
-
-impl InputKind {
-    /// Short lowercase name: `example`, `json`, `ies`, `ldt`.
-    pub fn name(self) -> &'static str {
-        match self {
-            InputKind::Example => "example",
-            InputKind::Json => "json",
-            InputKind::Ies => "ies",
-            InputKind::Eulumdat => "ldt",
-            InputKind::EnvMap => "envmap",
-        }
-    }
-
-    /// True for IES and EULUMDAT input (and the example, which is in candela too): the diagram's
-    /// values are candela and its power is luminous flux in lumens.
-    pub fn is_photometric(self) -> bool {
-        !matches!(self, InputKind::Json | InputKind::EnvMap)
-    }
-}
+/// The kind of input that was loaded: the library's one kind enum.
+pub use gonio::input::InputKind;
 
 /// An input, loaded and validated.
 #[derive(Debug, Clone)]
@@ -105,14 +73,14 @@ pub fn input_kind(name: &str) -> anyhow::Result<InputKind> {
     if name == EXAMPLE {
         return Ok(InputKind::Example);
     }
+    if let Some(kind) = InputKind::from_extension(name) {
+        return Ok(kind);
+    }
     let ext = Path::new(name)
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
     match ext.as_deref() {
-        Some("json") => Ok(InputKind::Json),
-        Some("ies") => Ok(InputKind::Ies),
-        Some("ldt") => Ok(InputKind::Eulumdat),
         Some("hdr" | "pic" | "exr" | "pfm") => Ok(InputKind::EnvMap),
         Some(e) => anyhow::bail!(
             "{name}: unknown input format `.{e}`; expected .json, .ies, .ldt or `{EXAMPLE}`"
@@ -123,32 +91,9 @@ pub fn input_kind(name: &str) -> anyhow::Result<InputKind> {
     }
 }
 
-/// The format the content of a file shows: JSON when its first non-blank character (after a
-/// UTF-8 byte-order mark) is `{`, else what [`gonio::photometry::FileFormat::detect`] says.
-pub fn detect_kind(bytes: &[u8]) -> Option<InputKind> {
-    let body = bytes.strip_prefix(b"\xef\xbb\xbf").unwrap_or(bytes);
-    if body.iter().find(|b| !b.is_ascii_whitespace()) == Some(&b'{') {
-        return Some(InputKind::Json);
-    }
-    match gonio::photometry::FileFormat::detect(bytes)? {
-        gonio::photometry::FileFormat::Ies => Some(InputKind::Ies),
-        gonio::photometry::FileFormat::Eulumdat => Some(InputKind::Eulumdat),
-    }
-}
-
-fn format_name(kind: InputKind) -> &'static str {
-    match kind {
-        InputKind::Example => "the example",
-        InputKind::Json => "JSON",
-        InputKind::Ies => "IES LM-63",
-        InputKind::Eulumdat => "EULUMDAT",
-        InputKind::EnvMap => "an environment map image",
-    }
-}
-
 /// Loads an input: a JSON diagram, an IES or a EULUMDAT file, or [`EXAMPLE`].
 ///
-/// The format comes from the content (see [`detect_kind`]), with the extension as a hint: when
+/// The format comes from the content (see [`InputKind::detect`]), with the extension as a hint: when
 /// the content is not recognised the extension decides, and when the two disagree the content
 /// wins and a warning says so on standard error.
 ///
@@ -169,13 +114,13 @@ pub fn load(name: &str) -> anyhow::Result<Loaded> {
     }
     let bytes = read_file(name)?;
     let hint = input_kind(name).ok();
-    let kind = match (detect_kind(&bytes), hint) {
+    let kind = match (InputKind::detect(&bytes), hint) {
         (Some(found), Some(ext)) if found != ext => {
             eprintln!(
                 "gonio: warning: {name}: the content is {}, not {} as the extension says; reading it as {}",
-                format_name(found),
-                format_name(ext),
-                format_name(found)
+                found.label(),
+                ext.label(),
+                found.label()
             );
             found
         }
@@ -191,22 +136,18 @@ pub fn load(name: &str) -> anyhow::Result<Loaded> {
             )));
         }
     };
-    let (diagram, photometry) = match kind {
-        InputKind::Example | InputKind::EnvMap => unreachable!("handled above"),
-        InputKind::Json => {
-            if let Some(what) = gonio::photometry::not_text(&bytes) {
-                anyhow::bail!("{name}: {what}; save it as UTF-8");
-            }
-            let body = bytes.strip_prefix(b"\xef\xbb\xbf").unwrap_or(&bytes);
-            let text = std::str::from_utf8(body)
-                .map_err(|e| anyhow::anyhow!("{name}: the file is not UTF-8 text ({e})"))?;
-            (diagram_from_json(name, text)?, None)
+    if kind == InputKind::Json {
+        if let Some(what) = gonio::photometry::not_text(&bytes) {
+            anyhow::bail!("{name}: {what}; save it as UTF-8");
         }
-        InputKind::Ies | InputKind::Eulumdat => {
-            let (p, d) = load_photometry(name, kind, &bytes)?;
-            (d, Some(Box::new(p)))
-        }
+    }
+    let dir: PathBuf = match Path::new(name).parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
     };
+    let loaded = gonio::input::load(&bytes, kind, &TiltFiles::new(dir))
+        .map_err(|e| load_error(name, &bytes, e))?;
+    let (diagram, photometry) = (loaded.diagram, loaded.photometry);
     Ok(Loaded {
         name: name.to_string(),
         kind,
@@ -221,10 +162,13 @@ fn read_file(name: &str) -> anyhow::Result<Vec<u8>> {
     read_regular(Path::new(name), name, MAX_INPUT_BYTES)
 }
 
-/// Parses the native JSON form, turning library errors into CLI errors that name the file.
-pub fn diagram_from_json(name: &str, text: &str) -> anyhow::Result<Diagram> {
-    Diagram::from_json_str(text).map_err(|e| match e {
-        gonio::Error::Json {
+/// A library [`gonio::input::LoadError`] as the CLI words it: syntax errors as a
+/// [`LocatedError`], every other error naming the file.
+fn load_error(name: &str, bytes: &[u8], e: gonio::input::LoadError) -> anyhow::Error {
+    use gonio::input::LoadError as E;
+    match e {
+        E::NotUtf8(e) => anyhow::anyhow!("{name}: the file is not UTF-8 text ({e})"),
+        E::Json {
             line,
             column,
             message,
@@ -232,10 +176,12 @@ pub fn diagram_from_json(name: &str, text: &str) -> anyhow::Result<Diagram> {
             file: name.to_string(),
             line,
             column,
-            message: tame(strip_serde_location(&message)),
+            message: tame(&message),
         }
         .into(),
-        gonio::Error::Diagram(d) => {
+        E::Diagram(d) => {
+            let text = std::str::from_utf8(bytes.strip_prefix(b"\xef\xbb\xbf").unwrap_or(bytes))
+                .unwrap_or_default();
             match json_path_of(&d).and_then(|path| json_position(text, &path)) {
                 Some((line, column)) => LocatedError {
                     file: name.to_string(),
@@ -247,7 +193,22 @@ pub fn diagram_from_json(name: &str, text: &str) -> anyhow::Result<Diagram> {
                 None => anyhow::anyhow!("{name}: invalid diagram: {d}"),
             }
         }
-    })
+        E::Parse(e) => LocatedError {
+            file: name.to_string(),
+            line: e.line,
+            column: e.column,
+            message: tame(&e.message),
+        }
+        .into(),
+        E::Expand { error, tilt_zero } => {
+            // Say why there is no light when the file's TILT factor is the reason.
+            let why = tilt_zero
+                .map(|w| format!(" (line {}: {})", w.line, w.message))
+                .unwrap_or_default();
+            anyhow::anyhow!("{name}: cannot expand the distribution: {error}{why}")
+        }
+        E::NotAFileFormat(k) => anyhow::anyhow!("{name}: {} is not a file format", k.label()),
+    }
 }
 
 /// One step of a path into a JSON document.
@@ -401,48 +362,6 @@ fn locate(b: &[u8], i: usize, path: &[JsonStep]) -> Option<usize> {
         }
         _ => None,
     }
-}
-
-/// serde_json messages end in " at line L column C", which the CLI prints in front instead.
-fn strip_serde_location(message: &str) -> &str {
-    match message.rfind(" at line ") {
-        Some(k) => &message[..k],
-        None => message,
-    }
-}
-
-fn load_photometry(
-    name: &str,
-    kind: InputKind,
-    bytes: &[u8],
-) -> anyhow::Result<(gonio::photometry::Photometry, Diagram)> {
-    use gonio::photometry::{read, FileFormat};
-    let format = if kind == InputKind::Ies {
-        FileFormat::Ies
-    } else {
-        FileFormat::Eulumdat
-    };
-    let dir: PathBuf = match Path::new(name).parent() {
-        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    let p = read(bytes, format, &TiltFiles::new(dir)).map_err(|e| LocatedError {
-        file: name.to_string(),
-        line: e.line,
-        column: e.column,
-        message: tame(&e.message),
-    })?;
-    let d = p.to_diagram().map_err(|e| {
-        // Say why there is no light when the file's TILT factor is the reason.
-        let why = p
-            .warnings
-            .iter()
-            .find(|w| w.message.starts_with("TILT factor at 0° is 0"))
-            .map(|w| format!(" (line {}: {})", w.line, w.message))
-            .unwrap_or_default();
-        anyhow::anyhow!("{name}: cannot expand the distribution: {e}{why}")
-    })?;
-    Ok((p, d))
 }
 
 /// The domain of every sampler built for `loaded`: photometric input (IES, EULUMDAT, the example)

@@ -3,7 +3,10 @@
 use crate::arrays;
 use crate::{DiagramError, InputError, ParseError};
 use gonio::decimal::degrees;
-use gonio::photometry::{self, DirTiltResolver, FileFormat, NoTiltFiles, Photometry, TiltResolver};
+use gonio::photometry::{
+    self, write_ies, write_ldt, DirTiltResolver, FileFormat, NoTiltFiles, Photometry, TiltResolver,
+    WriteMeta,
+};
 use gonio::sampler::{normalize, spherical};
 use gonio::{Diagram, Domain};
 use numpy::{PyArray1, PyArray2};
@@ -11,30 +14,9 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyList, PyString};
 use std::path::{Path, PathBuf};
 
-/// Where a diagram came from; photometric sources are in candela and always sampled on the sphere.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum Source {
-    Example,
-    Json,
-    Ies,
-    Ldt,
-    Arrays,
-}
-
-impl Source {
-    fn name(self) -> &'static str {
-        match self {
-            Source::Example => "example",
-            Source::Json => "json",
-            Source::Ies => "ies",
-            Source::Ldt => "ldt",
-            Source::Arrays => "arrays",
-        }
-    }
-    fn is_photometric(self) -> bool {
-        matches!(self, Source::Example | Source::Ies | Source::Ldt)
-    }
-}
+/// Where a diagram came from (the library's one kind enum); photometric sources are in candela
+/// and always sampled on the sphere.
+pub(crate) use gonio::input::InputKind as Source;
 
 /// A goniometric diagram: values on a (θ, φ) grid, from a file or from arrays.
 ///
@@ -108,18 +90,10 @@ pub(crate) fn parse_error(file: &str, line: usize, column: usize, message: &str)
     err
 }
 
-/// serde_json messages end in " at line L column C", which the location in front already says.
-fn strip_serde_location(message: &str) -> &str {
-    match message.rfind(" at line ") {
-        Some(k) => &message[..k],
-        None => message,
-    }
-}
-
 fn parse_format(format: &str) -> PyResult<Source> {
     match format.trim().to_ascii_lowercase().as_str() {
         "ies" => Ok(Source::Ies),
-        "ldt" | "eulumdat" => Ok(Source::Ldt),
+        "ldt" | "eulumdat" => Ok(Source::Eulumdat),
         "json" => Ok(Source::Json),
         _ => Err(InputError::new_err(format!(
             "unknown format `{format}`; expected \"ies\", \"ldt\" or \"json\""
@@ -129,46 +103,29 @@ fn parse_format(format: &str) -> PyResult<Source> {
 
 /// Reads `bytes` of `source` format; `name` is what messages call the input.
 fn load(bytes: &[u8], source: Source, name: &str, tilt: &dyn TiltResolver) -> PyResult<PyDiagram> {
-    match source {
-        Source::Json => {
-            let text = std::str::from_utf8(bytes).map_err(|e| {
-                parse_error(name, 0, 0, &format!("the file is not UTF-8 text ({e})"))
-            })?;
-            let diagram = Diagram::from_json_str(text).map_err(|e| match e {
-                gonio::Error::Json {
-                    line,
-                    column,
-                    message,
-                } => parse_error(name, line, column, strip_serde_location(&message)),
-                gonio::Error::Diagram(d) => DiagramError::new_err(format!("{name}: {d}")),
-            })?;
-            Ok(PyDiagram {
-                diagram,
-                source,
-                name: name.to_string(),
-                photometry: None,
-            })
+    use gonio::input::LoadError as E;
+    let loaded = gonio::input::load(bytes, source, tilt).map_err(|e| match e {
+        E::NotUtf8(e) => parse_error(name, 0, 0, &format!("the file is not UTF-8 text ({e})")),
+        E::Json {
+            line,
+            column,
+            message,
+        } => parse_error(name, line, column, &message),
+        E::Parse(e) => parse_error(name, e.line, e.column, &e.message),
+        E::Diagram(d) => DiagramError::new_err(format!("{name}: {d}")),
+        E::Expand { error, .. } => {
+            DiagramError::new_err(format!("{name}: cannot expand the distribution: {error}"))
         }
-        Source::Ies | Source::Ldt => {
-            let format = if source == Source::Ies {
-                FileFormat::Ies
-            } else {
-                FileFormat::Eulumdat
-            };
-            let p = photometry::read(bytes, format, tilt)
-                .map_err(|e| parse_error(name, e.line, e.column, &e.message))?;
-            let diagram = p.to_diagram().map_err(|e| {
-                DiagramError::new_err(format!("{name}: cannot expand the distribution: {e}"))
-            })?;
-            Ok(PyDiagram {
-                diagram,
-                source,
-                name: name.to_string(),
-                photometry: Some(Box::new(p)),
-            })
+        E::NotAFileFormat(k) => {
+            InputError::new_err(format!("{name}: {} is not a file format", k.label()))
         }
-        Source::Example | Source::Arrays => unreachable!("not a file format"),
-    }
+    })?;
+    Ok(PyDiagram {
+        diagram: loaded.diagram,
+        source,
+        name: name.to_string(),
+        photometry: loaded.photometry,
+    })
 }
 
 /// Reads a diagram from a file: `.ies` (IES LM-63), `.ldt` (EULUMDAT) or `.json` (gonio's native
@@ -188,16 +145,14 @@ pub(crate) fn read(py: Python<'_>, path: PathBuf, format: Option<&str>) -> PyRes
                 .extension()
                 .and_then(|e| e.to_str())
                 .map(str::to_ascii_lowercase);
-            match ext.as_deref() {
-                Some("ies") => Source::Ies,
-                Some("ldt") => Source::Ldt,
-                Some("json") => Source::Json,
-                Some(e) => {
+            match (Source::from_extension(&name), ext.as_deref()) {
+                (Some(kind), _) => kind,
+                (None, Some(e)) => {
                     return Err(InputError::new_err(format!(
                     "{name}: unknown input format `.{e}`; expected .json, .ies or .ldt (or pass format=)"
                 )))
                 }
-                None => {
+                (None, None) => {
                     return Err(InputError::new_err(format!(
                     "{name}: the file name has no extension; expected .json, .ies or .ldt (or pass format=)"
                 )))
@@ -454,7 +409,7 @@ impl PyDiagram {
     /// values must be candela for the photometric formats. `luminaire` names it in the header.
     #[pyo3(signature = (format, luminaire = None))]
     fn dumps(&self, format: &str, luminaire: Option<String>) -> PyResult<String> {
-        crate::misc::dumps(
+        dumps(
             &self.diagram,
             format,
             luminaire.unwrap_or_else(|| self.stem()),
@@ -465,8 +420,8 @@ impl PyDiagram {
     /// `format`; see `dumps`.
     #[pyo3(signature = (path, format = None))]
     fn write(&self, path: PathBuf, format: Option<&str>) -> PyResult<()> {
-        let fmt = crate::misc::out_format(&path, format)?;
-        let text = crate::misc::dumps(&self.diagram, &fmt, self.stem())?;
+        let fmt = out_format(&path, format)?;
+        let text = dumps(&self.diagram, &fmt, self.stem())?;
         std::fs::write(&path, text).map_err(|e| {
             pyo3::exceptions::PyOSError::new_err(format!("cannot write {}: {e}", path.display()))
         })
@@ -604,4 +559,44 @@ fn header_dict<'py>(py: Python<'py>, p: &Photometry) -> PyResult<Bound<'py, PyDi
         d.set_item("ldt", e)?;
     }
     Ok(d)
+}
+
+/// The output format named by `format` or by `path`'s extension.
+pub(crate) fn out_format(path: &Path, format: Option<&str>) -> PyResult<String> {
+    let name = path.display();
+    let f = match format {
+        Some(f) => f.to_ascii_lowercase(),
+        None => match path.extension().and_then(|e| e.to_str()) {
+            Some(e) => e.to_ascii_lowercase(),
+            None => {
+                return Err(InputError::new_err(format!(
+                    "{name}: the output name has no extension; expected .json, .ies or .ldt (or pass format=)"
+                )))
+            }
+        },
+    };
+    match f.as_str() {
+        "json" | "ies" | "ldt" => Ok(f),
+        e => Err(InputError::new_err(format!(
+            "{name}: unknown output format `{e}`; expected json, ies or ldt"
+        ))),
+    }
+}
+
+/// The text of `d` in `format` ("json", "ies", "ldt"), as `gonio convert` writes it.
+pub(crate) fn dumps(d: &Diagram, format: &str, luminaire: String) -> PyResult<String> {
+    let meta = WriteMeta {
+        luminaire,
+        ..WriteMeta::default()
+    };
+    match format.to_ascii_lowercase().as_str() {
+        "json" => serde_json::to_string_pretty(&d.to_json())
+            .map(|s| s + "\n")
+            .map_err(|e| InputError::new_err(e.to_string())),
+        "ies" => Ok(write_ies(d, &meta)),
+        "ldt" => Ok(write_ldt(d, &meta)),
+        e => Err(InputError::new_err(format!(
+            "unknown output format `{e}`; expected json, ies or ldt"
+        ))),
+    }
 }

@@ -1,17 +1,16 @@
 //! Sequences, the check battery, conversion and writing.
 
 use crate::arrays;
-use crate::diagram::PyDiagram;
+use crate::diagram::{dumps, out_format, PyDiagram};
 use crate::sampler::PySampler;
 use crate::{detached, InputError};
 use gonio::check::{cell_boundary_points, run_battery_with_progress, BatteryOptions};
-use gonio::photometry::{write_ies, write_ldt, WriteMeta};
 use gonio::sequence::{Sequence, SequenceKind};
 use gonio::Method;
-use gonio::{Diagram, Point2};
+use gonio::Point2;
 use numpy::PyArray2;
 use pyo3::prelude::*;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Largest number of points `sequence` makes in one call (2 GiB of float64).
@@ -145,46 +144,6 @@ fn interruptible<T: Send>(
             Ok(Err(p)) | Err(p) => Err(crate::panic_error(what, p)),
         }
     })
-}
-
-/// The output format named by `format` or by `path`'s extension.
-pub(crate) fn out_format(path: &Path, format: Option<&str>) -> PyResult<String> {
-    let name = path.display();
-    let f = match format {
-        Some(f) => f.to_ascii_lowercase(),
-        None => match path.extension().and_then(|e| e.to_str()) {
-            Some(e) => e.to_ascii_lowercase(),
-            None => {
-                return Err(InputError::new_err(format!(
-                    "{name}: the output name has no extension; expected .json, .ies or .ldt (or pass format=)"
-                )))
-            }
-        },
-    };
-    match f.as_str() {
-        "json" | "ies" | "ldt" => Ok(f),
-        e => Err(InputError::new_err(format!(
-            "{name}: unknown output format `{e}`; expected json, ies or ldt"
-        ))),
-    }
-}
-
-/// The text of `d` in `format` ("json", "ies", "ldt"), as `gonio convert` writes it.
-pub(crate) fn dumps(d: &Diagram, format: &str, luminaire: String) -> PyResult<String> {
-    let meta = WriteMeta {
-        luminaire,
-        ..WriteMeta::default()
-    };
-    match format.to_ascii_lowercase().as_str() {
-        "json" => serde_json::to_string_pretty(&d.to_json())
-            .map(|s| s + "\n")
-            .map_err(|e| InputError::new_err(e.to_string())),
-        "ies" => Ok(write_ies(d, &meta)),
-        "ldt" => Ok(write_ldt(d, &meta)),
-        e => Err(InputError::new_err(format!(
-            "unknown output format `{e}`; expected json, ies or ldt"
-        ))),
-    }
 }
 
 /// Converts a file as `gonio convert IN OUT` does: reads `src` (.json, .ies, .ldt) and writes

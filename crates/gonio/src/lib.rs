@@ -39,6 +39,7 @@ pub mod diagram;
 pub mod envmap;
 pub mod error;
 pub mod image;
+pub mod input;
 pub mod mapping;
 pub mod mesh;
 pub mod method;

@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# Dumps `gonio sample/pdf/invert/info` for every corpus file and `example` into a folder, so two
+# builds can be compared byte for byte (issue 24's invariant):
+#   scripts/dump-outputs.sh target/debug/gonio /tmp/before
+#   (change, rebuild)
+#   scripts/dump-outputs.sh target/debug/gonio /tmp/after && diff -r /tmp/before /tmp/after
+# `info`'s build-time line is masked (a wall-clock time differs run to run).
+set -u
+bin=${1:?usage: dump-outputs.sh GONIO_BINARY OUT_DIR [CORPUS_DIR]}
+out=${2:?usage: dump-outputs.sh GONIO_BINARY OUT_DIR [CORPUS_DIR]}
+corpus=${3:-/work/shared/data/photometry}
+mkdir -p "$out"
+bin=$(cd "$(dirname "$bin")" && pwd)/$(basename "$bin")
+corpus=$(cd "$corpus" && pwd)
+cd "$out" || exit 1
+out=.
+# Relative, so that warnings naming it are the same whatever OUT_DIR is.
+dirs=dirs.csv
+{
+  echo "x,y,z"
+  for t in 0 15 45 89.5 90 90.5 135 179 180; do
+    for p in 0 37 90 200 359; do
+      awk -v t="$t" -v p="$p" 'BEGIN { d = atan2(0, -1) / 180; printf "%.17g,%.17g,%.17g\n", sin(t*d)*cos(p*d), sin(t*d)*sin(p*d), cos(t*d) }'
+    done
+  done
+} >"$dirs"
+inputs=(example)
+while IFS= read -r f; do inputs+=("$f"); done < <(find "$corpus" -type f \( -iname '*.ies' -o -iname '*.ldt' -o -iname '*.json' \) | sort)
+for f in "${inputs[@]}"; do
+  tag=$(basename "$f" | sed 's/[^A-Za-z0-9._-]/_/g')
+  for m in hds piecewise-constant; do
+    "$bin" sample "$f" -n 200 --method "$m" >"$out/$tag.$m.sample" 2>"$out/$tag.$m.sample.err"; echo "rc=$?" >>"$out/$tag.$m.sample.err"
+    "$bin" pdf "$f" --directions "$dirs" --method "$m" >"$out/$tag.$m.pdf" 2>"$out/$tag.$m.pdf.err"; echo "rc=$?" >>"$out/$tag.$m.pdf.err"
+    "$bin" invert "$f" --directions "$dirs" --method "$m" >"$out/$tag.$m.invert" 2>"$out/$tag.$m.invert.err"; echo "rc=$?" >>"$out/$tag.$m.invert.err"
+  done
+  "$bin" info "$f" 2>&1 | sed -E 's/[0-9.]+ ?(ms|µs|s)\b/T\1/g' >"$out/$tag.info"; echo "rc=${PIPESTATUS[0]}" >>"$out/$tag.info"
+done
+echo "$(ls | wc -l) files in $(pwd)"
