@@ -34,7 +34,8 @@ Run (about 2-4 minutes on one core):
 (libLLVM >= 16 is looked up where Debian's libllvm19 puts it, or set DRJIT_LIBLLVM_PATH.)
 
 Options: ``--maps FILE...``, ``--reps``, ``--counts``, ``--ref-k`` (smaller values for a quick run;
-the pytest suite runs it on a tiny generated map).
+the pytest suite runs it on a tiny generated map); ``--speed-only`` (the checks and the speed table
+alone: ``--speed-only --repeats 7``).
 """
 
 import argparse
@@ -294,6 +295,8 @@ def run_map(path, variant, args, out_rows, speed_rows, check_rows):
                 cost[s.name] = (ts / n * 1e9, tp / n * 1e9)
         s.threads(1)
     t_eval = median_time(lambda: lookups["nearest"].eval(dirs), args.repeats) / n * 1e9
+    if args.speed_only:
+        return
 
     # 2. RMSE.
     view = normalize([0.3, -0.4, 1.0])
@@ -367,6 +370,8 @@ def main():
     ap.add_argument("--repeats", type=int, default=5)
     ap.add_argument("--variant", choices=["auto", "scalar_rgb"], default="auto",
                     help="Mitsuba variant: llvm_ad_rgb when libLLVM >= 16 is found (auto), or scalar_rgb")
+    ap.add_argument("--speed-only", action="store_true",
+                    help="only the frame checks and the speed table (part 1; no RMSE)")
     ap.add_argument("--csv", help="write every row here")
     ap.add_argument("--checks-json", help="write the frame and pdf checks here (for the smoke test)")
     args = ap.parse_args()
@@ -390,6 +395,8 @@ def main():
     print("\n| map | sampler | threads | ns per sample | ns per pdf |\n|---|---|---|---|---|")
     for r in speed:
         print(f"| {r[0]} | {r[1]} | {r[2]} | {r[3]:.0f} | {r[4]:.0f} |")
+    if args.speed_only:
+        return
     last = args.counts[-1]
     print(f"\n| map | radiance | surface | normal | estimator | points | rel. RMSE @{last}: gonio / Mitsuba "
           "| equal time: gonio / Mitsuba | slope: gonio / Mitsuba | rel. bias @%d: gonio / Mitsuba |" % last)

@@ -1338,7 +1338,10 @@ GonioStatus gonio_envmap_eval(const struct GonioEnvMap *map,
 
 /*
  Samples `n` points `uv[2n]` (u, v interleaved): unit directions into `dirs[3n]`, densities
- into `pdf[n]`, RGB radiance into `rgb[3n]`, element i as [`gonio_envmap_sample`] gives it. A
+ into `pdf[n]`, RGB radiance into `rgb[3n]`, through the sphere map's SIMD batch path
+ ([`gonio::envmap::EnvironmentMap::sample_batch_rgb`]): element i as [`gonio_envmap_sample`]
+ gives it up to the batch round-off (directions within 1e-15, densities within 1e-12
+ relative), its radiance exactly [`gonio_envmap_eval`] of its direction. A
  point outside the unit square (or NaN) stops the batch with
  `GONIO_ERR_INVALID_ARGUMENT` naming its index; every
  point is checked before any output is written, and every input is read before any output is

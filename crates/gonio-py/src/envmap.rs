@@ -4,6 +4,7 @@
 use crate::{arrays, detached, no_panic, GonioError, InputError};
 use gonio::envmap::{EnvOptions, EnvironmentMap, Lookup};
 use gonio::image::Image;
+use gonio::Sampler;
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 
@@ -95,16 +96,18 @@ impl PyEnvMap {
         }
         let env = &self.env;
         let (d, p, c) = detached(py, "EnvMap.sample", || {
-            let mut d = arrays::try_vec(3 * pts.len(), "directions")?;
-            let mut p = arrays::try_vec(pts.len(), "pdf")?;
-            let mut c = arrays::try_vec(3 * pts.len(), "rgb")?;
-            for &u in pts.iter() {
-                let s = env.sample(u);
-                d.extend_from_slice(&s.direction);
-                p.push(s.pdf);
-                c.extend(s.radiance.map(f64::from));
-            }
-            PyResult::Ok((d, p, c))
+            // The sphere map's SIMD batch path, then the radiance of each direction.
+            let n = pts.len();
+            let mut d: Vec<[f64; 3]> = arrays::try_vec(n, "directions")?;
+            d.resize(n, [0.0; 3]);
+            let mut p = arrays::try_vec(n, "pdf")?;
+            p.resize(n, 0.0);
+            let mut rgb: Vec<[f32; 3]> = arrays::try_vec(n, "rgb")?;
+            rgb.resize(n, [0.0; 3]);
+            env.sample_batch_rgb(&pts, &mut d, &mut p, &mut rgb);
+            let mut c = arrays::try_vec(3 * n, "rgb")?;
+            c.extend(rgb.iter().flat_map(|v| v.map(f64::from)));
+            PyResult::Ok((d.into_flattened(), p, c))
         })??;
         Ok((
             arrays::new_2d(py, &d, 3)?,
@@ -124,7 +127,8 @@ impl PyEnvMap {
         let env = &self.env;
         let p = detached(py, "EnvMap.pdf", || {
             let mut p = arrays::try_vec(ds.len(), "pdf")?;
-            p.extend(ds.iter().map(|&d| env.pdf(d)));
+            p.resize(ds.len(), 0.0);
+            env.pdf_batch(&ds, &mut p);
             PyResult::Ok(p)
         })??;
         arrays::new_1d(py, &p)
@@ -158,11 +162,11 @@ impl PyEnvMap {
         let ds = rows.as_slice();
         let env = &self.env;
         let u = detached(py, "EnvMap.invert", || {
+            let mut res = arrays::try_vec(ds.len(), "u")?;
+            res.resize(ds.len(), Ok([0.0; 2]));
+            env.invert_batch(&ds, &mut res);
             let mut u = arrays::try_vec(2 * ds.len(), "u")?;
-            u.extend(
-                ds.iter()
-                    .flat_map(|&d| env.invert(d).unwrap_or([f64::NAN; 2])),
-            );
+            u.extend(res.into_iter().flat_map(|r| r.unwrap_or([f64::NAN; 2])));
             PyResult::Ok(u)
         })??;
         arrays::new_2d(py, &u, 2)
