@@ -208,7 +208,7 @@ fn clamped(a: &[f64], x: f64) -> (usize, usize, f64) {
     if x >= a[n - 1] {
         return (n - 1, n - 1, 0.0);
     }
-    let j = a.partition_point(|&v| v <= x) - 1;
+    let j = interval(a, x, a[0], a[n - 1]);
     (j, j + 1, (x - a[j]) / (a[j + 1] - a[j]))
 }
 
@@ -224,8 +224,23 @@ fn periodic(a: &[f64], x: f64) -> (usize, usize, f64) {
         let xx = if x < a[0] { x + TAU } else { x };
         return (m - 1, 0, ((xx - lo) / (hi - lo)).clamp(0.0, 1.0));
     }
-    let i = a.partition_point(|&v| v <= x) - 1;
+    let i = interval(a, x, a[0], a[m - 1]);
     (i, i + 1, (x - a[i]) / (a[i + 1] - a[i]))
+}
+
+/// The index j with a[j] ≤ x < a[j + 1] on the increasing grid `a` (n ≥ 2) for
+/// a[0] ≤ x < a[n − 1] = `hi` (`lo` = a[0]): the largest node ≤ x, as a binary search finds it.
+/// The guess of a uniform grid is tried first (direct index, exact on uniform grids and on most
+/// cells of nearly uniform ones); a wrong guess falls back to the binary search.
+#[inline]
+fn interval(a: &[f64], x: f64, lo: f64, hi: f64) -> usize {
+    let n = a.len();
+    let g = ((x - lo) / (hi - lo) * (n - 1) as f64) as usize;
+    let g = g.min(n - 2);
+    if a[g] <= x && x < a[g + 1] {
+        return g;
+    }
+    a.partition_point(|&v| v <= x) - 1
 }
 
 /// Luminance weights of three channels (Rec. 709 / sRGB primaries), the scalar the sampler follows.

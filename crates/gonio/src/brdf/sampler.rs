@@ -73,6 +73,9 @@ pub struct BrdfSampler {
     brdf: TabulatedBrdf,
     /// Slice maps, index a·(number of φ_i) + b; `None` for a slice without reflectance.
     slices: Vec<Option<HemisphereMap>>,
+    /// Per slice (same index) its map's total T_k and κ_k, contiguous for the blend (0 for an
+    /// empty slice).
+    parts: Vec<[f64; 2]>,
     /// The outgoing grid of the slices (radians).
     theta_o: Vec<f64>,
     phi_o: Vec<f64>,
@@ -162,9 +165,17 @@ impl BrdfSampler {
                 slices.push(map);
             }
         }
+        let parts = slices
+            .iter()
+            .map(|m| match m {
+                Some(m) => [m.core().total(), m.core().tables().0.view().kappa],
+                None => [0.0; 2],
+            })
+            .collect();
         Ok(BrdfSampler {
             brdf,
             slices,
+            parts,
             theta_o,
             phi_o,
             resampled: !native,
@@ -248,10 +259,13 @@ impl BrdfSampler {
         }
         let first = self.slices[idx[0]].as_ref()?.core();
         let mut cores = [first; MAX_PARTS];
+        let mut totals = [0.0; MAX_PARTS];
+        let mut kappas = [0.0; MAX_PARTS];
         for k in 0..len {
             cores[k] = self.slices[idx[k]].as_ref()?.core();
+            [totals[k], kappas[k]] = self.parts[idx[k]];
         }
-        Some(BlendedMap::from_cores(cores, w, len))
+        Some(BlendedMap::from_parts(cores, w, totals, kappas, len))
     }
 
     /// The slice frame's azimuth for ω_i: the samples of the blend are turned by it.
@@ -268,7 +282,7 @@ impl BrdfSampler {
             Some(b) => {
                 let s = b.sample(u);
                 let d = rotate(s.direction, Self::frame(ti, pi));
-                let weight = self.weight(wi, d, s.pdf);
+                let weight = self.weight(ti, pi, d, s.pdf);
                 BrdfSample {
                     direction: d,
                     pdf: s.pdf,
@@ -286,11 +300,15 @@ impl BrdfSampler {
         }
     }
 
-    fn weight(&self, wi: Vec3, wo: Vec3, pdf: f64) -> [f64; 3] {
+    /// f_r(ω_i, ω_o)·cos θ_o / pdf for the incident angles `sample` already has (ω_i in the
+    /// upper hemisphere, so `ti` is θ_i unclamped): the same value as [`TabulatedBrdf::eval`]
+    /// without recomputing ω_i's angles.
+    fn weight(&self, ti: f64, pi: f64, wo: Vec3, pdf: f64) -> [f64; 3] {
         if !(pdf > 0.0) || !(wo[2] > 0.0) {
             return [0.0; 3];
         }
-        let f = self.brdf.eval(wi, wo);
+        let (to, po) = spherical(wo);
+        let f = self.brdf.eval_angles(ti, pi, to, po);
         let k = wo[2] / pdf;
         [f[0] * k, f[1] * k, f[2] * k]
     }

@@ -106,13 +106,32 @@ impl<'a> BlendedMap<'a> {
         w: [f64; MAX_PARTS],
         len: usize,
     ) -> Self {
+        let mut totals = [0.0; MAX_PARTS];
+        let mut kappas = [0.0; MAX_PARTS];
+        for k in 0..len {
+            totals[k] = cores[k].total();
+            kappas[k] = cores[k].tables().0.view().kappa;
+        }
+        Self::from_parts(cores, w, totals, kappas, len)
+    }
+
+    /// [`BlendedMap::from_cores`] with each core's total T_k and κ_k given by the caller (read
+    /// from a contiguous array instead of each core's tables); the same arithmetic, so the same
+    /// bits.
+    pub(crate) fn from_parts(
+        cores: [&'a HdsCore; MAX_PARTS],
+        w: [f64; MAX_PARTS],
+        totals: [f64; MAX_PARTS],
+        kappas: [f64; MAX_PARTS],
+        len: usize,
+    ) -> Self {
         let mut c = [0.0; MAX_PARTS];
         let (mut kappa, mut t) = (0.0, 0.0);
         for k in 0..len {
-            let total = cores[k].total();
+            let total = totals[k];
             c[k] = w[k] / total;
             t += c[k] * total;
-            kappa += w[k] * cores[k].tables().0.view().kappa;
+            kappa += w[k] * kappas[k];
         }
         BlendedMap {
             cores,
