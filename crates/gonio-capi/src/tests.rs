@@ -2,6 +2,8 @@
 //! against single points, and sharing a sampler between threads.
 
 use super::*;
+use gonio::Diagram;
+use std::ffi::CStr;
 use std::ptr::{null, null_mut};
 
 /// A type C IES file: 3 vertical angles, 1 plane (rotationally symmetric), a downlight.

@@ -2,6 +2,8 @@
 //! memory, methods without inverse, tiny numbers in messages.
 
 use super::*;
+use std::ffi::{CStr, CString};
+use std::path::PathBuf;
 use std::ptr::{null, null_mut};
 
 const IES: &str =
