@@ -90,14 +90,7 @@ pub unsafe extern "C" fn gonio_diagram_warning(
 ) -> GonioStatus {
     guard(|| {
         let d = r(diagram, "diagram")?;
-        check_out(text, "text")?;
-        let s = d.warnings.get(index).ok_or_else(|| {
-            Failure::invalid(format!(
-                "warning index {index} is out of range (the diagram has {} warnings)",
-                d.warnings.len()
-            ))
-        })?;
-        w(text, s.as_ptr(), "text")
+        write_warning(&d.warnings, index, "diagram", text)
     })
 }
 

@@ -344,14 +344,7 @@ pub unsafe extern "C" fn gonio_envmap_warning(
 ) -> GonioStatus {
     guard(|| {
         let m = r(map, "map")?;
-        check_out(text, "text")?;
-        let s = m.warnings.get(index).ok_or_else(|| {
-            Failure::invalid(format!(
-                "warning index {index} is out of range (the map has {} warnings)",
-                m.warnings.len()
-            ))
-        })?;
-        w(text, s.as_ptr(), "text")
+        super::write_warning(&m.warnings, index, "map", text)
     })
 }
 

@@ -256,6 +256,27 @@ pub(crate) fn check_out<T>(p: *mut T, what: &str) -> Result<(), Failure> {
     Ok(())
 }
 
+/// Writes warning number `index` of `warnings` to `text` (the string stays owned by the handle
+/// that holds the list); `owner` names that handle in the out-of-range message.
+///
+/// # Safety
+/// A non-NULL `text` must be valid for writing a pointer.
+pub(crate) unsafe fn write_warning(
+    warnings: &[CString],
+    index: usize,
+    owner: &str,
+    text: *mut *const c_char,
+) -> Result<(), Failure> {
+    check_out(text, "text")?;
+    let s = warnings.get(index).ok_or_else(|| {
+        Failure::invalid(format!(
+            "warning index {index} is out of range (the {owner} has {} warnings)",
+            warnings.len()
+        ))
+    })?;
+    w(text, s.as_ptr(), "text")
+}
+
 /// A C string argument as UTF-8.
 ///
 /// # Safety
