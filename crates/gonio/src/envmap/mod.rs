@@ -542,6 +542,24 @@ impl Sampler for EnvironmentMap {
     fn invert_batch(&self, dirs: &[Vec3], out: &mut [Result<Point2, InvertError>]) {
         self.map.invert_batch(dirs, out)
     }
+    fn sample_batch_soa(&self, u: &[f64], v: &[f64], dir: [&mut [f64]; 3], pdf: &mut [f64]) {
+        self.map.sample_batch_soa(u, v, dir, pdf)
+    }
+    fn pdf_batch_soa(&self, dir: [&[f64]; 3], pdf: &mut [f64]) {
+        self.map.pdf_batch_soa(dir, pdf)
+    }
+    fn invert_batch_soa(&self, dir: [&[f64]; 3], uv: [&mut [f64]; 2]) {
+        self.map.invert_batch_soa(dir, uv)
+    }
+    fn sample_batch_soa_f32(&self, u: &[f32], v: &[f32], dir: [&mut [f32]; 3], pdf: &mut [f32]) {
+        self.map.sample_batch_soa_f32(u, v, dir, pdf)
+    }
+    fn pdf_batch_soa_f32(&self, dir: [&[f32]; 3], pdf: &mut [f32]) {
+        self.map.pdf_batch_soa_f32(dir, pdf)
+    }
+    fn invert_batch_soa_f32(&self, dir: [&[f32]; 3], uv: [&mut [f32]; 2]) {
+        self.map.invert_batch_soa_f32(dir, uv)
+    }
 }
 
 #[cfg(test)]

@@ -349,4 +349,5 @@ impl Sampler for HemisphereMap {
     fn invert_batch(&self, dirs: &[Vec3], out: &mut [Result<Point2, InvertError>]) {
         super::batch::invert_batch_aos(self, dirs, out)
     }
+    super::batch::soa_sampler_methods!();
 }

@@ -5,8 +5,8 @@
 use super::{portable, Backend, Elem};
 use crate::mapping::hds::{HdsCore, TablesView};
 
-/// Points per chunk when an f32 call runs through the f64 kernels.
-const F32_CHUNK: usize = 256;
+// Points per chunk when an f32 call runs through the f64 kernels.
+use crate::batch::CHUNK as F32_CHUNK;
 
 /// The `f64` slice a `T` slice is, when `T` is f64 (the batch paths run f64 kernels only).
 fn as_f64<T: Elem>(s: &[T]) -> Option<&[f64]> {
@@ -29,23 +29,11 @@ fn widen<T: Elem>(src: &[T], buf: &mut [f64; F32_CHUNK]) {
     }
 }
 
-/// f32 directions widened to f64 are unit vectors only to within f32 rounding (~1e-7); the f64
-/// kernels expect them unit to within f64 rounding (a horizon direction rounded to f32 can lie
-/// "beyond the map's edge" by 1e-7 otherwise). Renormalises the first `cnt` widened directions
-/// (those of positive finite length; others pass unchanged).
+/// Renormalises the first `cnt` widened f32 directions in f64 ([`crate::batch::renormalise`]: the
+/// one rule of every f32 batch call).
 fn renormalise(d: &mut [[f64; F32_CHUNK]; 3], cnt: usize) {
-    for k in 0..cnt {
-        let n = (d[0][k] * d[0][k] + d[1][k] * d[1][k] + d[2][k] * d[2][k]).sqrt();
-        // One division per direction (the f32 results do not see the last bits of the scale).
-        let s = if n > 0.0 && n.is_finite() {
-            1.0 / n
-        } else {
-            1.0
-        };
-        for c in d.iter_mut() {
-            c[k] *= s;
-        }
-    }
+    let [x, y, z] = d;
+    crate::batch::renormalise([&mut x[..], &mut y[..], &mut z[..]], cnt);
 }
 
 /// f64 values rounded into `T`.
