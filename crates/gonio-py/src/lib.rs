@@ -21,12 +21,14 @@ use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 
 mod arrays;
+mod batch;
 mod brdf;
 mod diagram;
 mod envmap;
 mod mesh;
 mod misc;
 mod sampler;
+mod types;
 
 create_exception!(
     gonio,
@@ -111,7 +113,7 @@ fn _gonio(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("BuildError", py.get_type::<BuildError>())?;
     m.add("InputError", py.get_type::<InputError>())?;
     m.add("InternalError", py.get_type::<InternalError>())?;
-    m.add_class::<diagram::PyDiagram>()?;
+    m.add_class::<types::PyDiagram>()?;
     m.add_class::<sampler::PySampler>()?;
     m.add_class::<envmap::PyEnvMap>()?;
     brdf::register(m)?;
