@@ -3,7 +3,7 @@
 //!
 //! The bindings add no second design: reading goes through [`gonio::photometry`] and
 //! [`gonio::Diagram`], samplers come from the library's factory, batches through
-//! [`gonio::Sampler::sample_batch`] on rayon threads with the GIL released, the battery through
+//! the [`gonio::Sampler`] structure-of-arrays batch calls on rayon threads with the GIL released, the battery through
 //! [`gonio::check`]. What the bindings add is the conversion between numpy arrays and the
 //! library's types, and the mapping of every library error to a Python exception:
 //!
