@@ -122,12 +122,15 @@ def test_float32_in_gives_float32_out(method):
     assert d32.dtype == np.float32 and p32.dtype == np.float32
     assert d32.shape == (5_000, 3) and d32.flags.c_contiguous
     d64, p64 = s.sample(u32.astype(np.float64))
-    # Directions: the float64 directions of the same (widened) points, rounded once.
-    np.testing.assert_array_equal(d32, d64.astype(np.float32))
-    # Densities: rounded once for the default; the HDS map rounds its disk density D and 1/2T to
-    # float32 and multiplies them in float32 (relative 2^-24 each, plus half an ulp for the
-    # product: under 2.5 float32 ulps).
-    assert np.all(np.abs(p32.astype(np.float64) - p64) <= 2.5 * np.spacing(p32)), method
+    if method == "bilinear":
+        # The default float32 path: the float64 results of the widened points, rounded once.
+        np.testing.assert_array_equal(d32, d64.astype(np.float32))
+        np.testing.assert_array_equal(p32, p64.astype(np.float32))
+    else:
+        # The HDS map's own float32 path (its sphere splits the square in float32, and a float32
+        # map may take this call): close to the float64 map, and consistent in itself (below).
+        assert np.max(np.abs(d32.astype(np.float64) - d64)) < 1e-4
+    assert np.max(np.abs(np.linalg.norm(d32.astype(np.float64), axis=1) - 1)) < 1e-6
     # Any memory order or stride of float32 input gives the same bits.
     for v in [np.asfortranarray(u32), np.concatenate([u32, u32], axis=1)[:, :2]]:
         d, p = s.sample(v)

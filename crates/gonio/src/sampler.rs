@@ -350,11 +350,11 @@ pub trait Sampler: Send + Sync {
     /// [`Sampler::sample_batch_soa`] in float32: the sampler's float32 map where it has one,
     /// else the f64 map rounded once.
     ///
-    /// The default (and, for now, the HDS maps) widens [`CHUNK`] points at a time to f64, runs
-    /// the f64 map and rounds every result once to f32. (The HDS maps go through
-    /// [`crate::mapping::batch::SoaSampler`] in f32, which rounds the density D before scaling it
-    /// by 1/2T in f32; a float32 map with its own exact density will take this one override
-    /// point.)
+    /// The default widens [`CHUNK`] points at a time to f64, runs the f64 SoA call and rounds
+    /// every result once to f32. The HDS maps go through [`crate::mapping::batch::SoaSampler`]
+    /// in f32 (the f64 kernels on the widened points, but the sphere's split of the square in
+    /// f32 and the density D rounded before its scale 1/2T); a float32 map with its own exact
+    /// density takes this one override point.
     ///
     /// # Panics
     /// If the slices differ in length.
