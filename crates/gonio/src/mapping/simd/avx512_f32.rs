@@ -1,5 +1,5 @@
 //! The AVX-512 backend in f32: the vocabulary of [`super::kernels`] on AVX-512 (F and DQ):
-//! sixteen f32 lanes per `__m512`, K independent vectors per block, 32-bit indices (`__m512i`),
+//! sixteen f32 lanes per `__m512`, K = 4 independent vectors per block, 32-bit indices (`__m512i`),
 //! comparisons into `__mmask16` mask registers, 16-lane gathers. The same words, with the same
 //! semantics, as [`super::portable32`] and [`super::avx2_f32`], so the f32 results are the same
 //! bits on every backend.
@@ -332,8 +332,12 @@ macro_rules! avx512_f32_kernels {
     };
 }
 
-/// The f32 kernels with K = 2 vectors per block (32 points).
-pub(crate) mod k2 {
+/// The f32 kernels with K = 4 vectors per block (64 points): measured faster than K = 1 and
+/// K = 2 on all three kernels (`gonio bench --soa`, one thread, 19 × 36 and 181 × 361,
+/// alternating processes of one build that chose K at run time: forward 0.52–0.65 of the f64
+/// forward's time against 0.64–0.75 for K = 2 and 0.76–0.85 for K = 1; pdf 11.8–20.3 ns against
+/// 27–42 and 38–44; docs/PERFORMANCE.md).
+pub(crate) mod k4 {
     use super::*;
-    avx512_f32_kernels!(2);
+    avx512_f32_kernels!(4);
 }

@@ -10,7 +10,7 @@
 //! | `avx512.rs` | the f64 vocabulary over `__m512d` (AVX-512 F + DQ, detected at run time), instantiated twice (two vectors per block for the forward map, four for pdf and inverse) |
 //! | `portable32.rs` | the f32 vocabulary over arrays of sixteen lanes, 32-bit indices (the float32 map's fallback) |
 //! | `avx2_f32.rs` | the f32 vocabulary over two `__m256` per value, 32-bit indices and gathers |
-//! | `avx512_f32.rs` | the f32 vocabulary over two `__m512` per value, 32-bit indices and gathers |
+//! | `avx512_f32.rs` | the f32 vocabulary over four `__m512` per value, 32-bit indices and gathers |
 //! | `dispatch.rs` | backend choice per call, the f32 calls' widening to the f64 kernels (the f64 maps' f32 batches), and the kernels over a table view in f32 or f64 ([`crate::mapping::Float32Map`] and its exact reference) |
 //!
 //! **Why this and not `wide`/`pulp`/`multiversion`.** The kernels need gathers and vector
