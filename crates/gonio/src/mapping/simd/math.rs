@@ -183,6 +183,30 @@ pub fn atan2(y: f64, x: f64) -> f64 {
     }
 }
 
+/// Polar angle θ (from +z) and azimuth φ ∈ [0, 2π) (from +x toward +y) of a unit direction,
+/// branch-free: θ = [`atan2`](√(x² + y²), z), φ = [`atan2`](y, x) (+ 2π when negative, 0 where it
+/// rounds to 2π), φ = 0 where x = y = 0 (either sign of zero). The batch kernels compute the same
+/// operations on their lanes, so a batch of angles equals this function bit for bit. Compared
+/// with [`crate::sampler::spherical`] (libm's `hypot` and `atan2`): within a few ulps.
+#[inline(always)]
+pub fn angles(d: [f64; 3]) -> (f64, f64) {
+    let [x, y, z] = d;
+    let theta = atan2((x * x + y * y).sqrt(), z);
+    let phi = atan2(y, x);
+    let phi = if phi < 0.0 {
+        phi + std::f64::consts::TAU
+    } else {
+        phi
+    };
+    let phi = if phi >= std::f64::consts::TAU {
+        0.0
+    } else {
+        phi
+    };
+    let phi = if x == 0.0 && y == 0.0 { 0.0 } else { phi };
+    (theta, phi)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
