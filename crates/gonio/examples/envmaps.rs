@@ -183,6 +183,50 @@ fn estimate(
     sum / n as f64
 }
 
+/// Median of 5 timings (after one warm-up) of `f` over `n` items, in ns per item.
+fn ns_per(n: usize, mut f: impl FnMut()) -> f64 {
+    f();
+    let mut t: Vec<f64> = (0..5)
+        .map(|_| {
+            let s = Instant::now();
+            f();
+            s.elapsed().as_secs_f64() * 1e9 / n as f64
+        })
+        .collect();
+    t.sort_by(f64::total_cmp);
+    t[2]
+}
+
+/// One thread's cost per point of each part of light sampling on 2¹⁸ iid points: the HDS map's
+/// SIMD batch (`sample_batch_split`), the scalar `sample`, the batch and the scalar radiance
+/// lookups (nearest), `sample_batch_rgb` (both together), `pdf_batch`, and the peers' batch calls.
+fn speed(name: &str, env: &EnvironmentMap, ll: &dyn Sampler, pb: &dyn Sampler) {
+    let n = 1 << 18;
+    let mut u = vec![[0.0; 2]; n];
+    Random::new(7).fill(0, &mut u);
+    let (mut d, mut p, mut c) = (vec![[0.0; 3]; n], vec![0.0; n], vec![[0.0f32; 3]; n]);
+    let t_batch = ns_per(n, || env.sample_batch_split(&u, &mut d, &mut p));
+    let t_scalar = ns_per(n, || {
+        for k in 0..n {
+            let s = Sampler::sample(env, u[k]);
+            (d[k], p[k]) = (s.direction, s.pdf);
+        }
+    });
+    let t_eval_batch = ns_per(n, || env.eval_batch(&d, &mut c));
+    let t_eval = ns_per(n, || {
+        for k in 0..n {
+            c[k] = env.eval(d[k]);
+        }
+    });
+    let t_rgb = ns_per(n, || env.sample_batch_rgb(&u, &mut d, &mut p, &mut c));
+    let t_pdf = ns_per(n, || env.pdf_batch(&d, &mut p));
+    let t_ll = ns_per(n, || ll.sample_batch_split(&u, &mut d, &mut p));
+    let t_pb = ns_per(n, || pb.sample_batch_split(&u, &mut d, &mut p));
+    eprintln!(
+        "{name} speed (ns per point, one thread, 2^18 iid points, median of 5): HDS sample batch {t_batch:.0}, scalar {t_scalar:.0}; eval batch {t_eval_batch:.0}, scalar {t_eval:.0}; sample_batch_rgb {t_rgb:.0}; pdf batch {t_pdf:.0}; lat-long sample {t_ll:.0}; pbrt-v4 style sample {t_pb:.0}"
+    );
+}
+
 fn main() {
     // Build time and memory of a 2048 × 1024 map, one thread.
     let pool = rayon::ThreadPoolBuilder::new()
@@ -254,6 +298,7 @@ fn main() {
             "{name}: peers built in {t_ll:.0} ms (lat-long), {t_pb:.0} ms (pbrt-v4 style, {}^2)",
             pb.resolution()
         );
+        speed(&name, &env, &ll, &pb);
         let samplers: [(&str, &dyn Sampler); 3] =
             [("hds", &env), ("latlong-pc", &ll), ("pbrt-v4-pc", &pb)];
         for (ni, &n) in normals.iter().enumerate() {

@@ -171,7 +171,7 @@ pub fn column_phi(c: usize, w: usize) -> f64 {
 }
 
 /// The continuous column coordinate s ∈ [0, 1) of azimuth φ: s = ½ − φ/2π (mod 1).
-#[inline]
+#[inline(always)]
 pub fn phi_to_s(phi: f64) -> f64 {
     let r = 0.5 - phi / TAU;
     // For φ ∈ [0, 2π) (every azimuth the lookups pass), |r| < 1, where `rem_euclid(1.0)` is r,
@@ -346,12 +346,30 @@ impl EnvironmentMap {
                 [&b[0][..n], &b[1][..n], &b[2][..n]],
                 [&mut theta[..n], &mut phi[..n]],
             );
-            for k in 0..n {
-                rgb[k] = if ok[k] {
-                    self.lookup_angles(theta[k], phi[k], lookup)
-                } else {
-                    [0.0; 3]
-                };
+            if lookup == Lookup::Nearest {
+                // `lookup_angles`' nearest pixel, inlined (the same operations).
+                let (w, h) = (self.image.width(), self.image.height());
+                let px = self.image.rgb();
+                for k in 0..n {
+                    let s = phi_to_s(phi[k]);
+                    let t = theta[k] / PI;
+                    let x = ((s * w as f64) as usize).min(w - 1);
+                    let y = ((t * h as f64) as usize).min(h - 1);
+                    let i = 3 * (y * w + x);
+                    rgb[k] = if ok[k] {
+                        [px[i], px[i + 1], px[i + 2]]
+                    } else {
+                        [0.0; 3]
+                    };
+                }
+            } else {
+                for k in 0..n {
+                    rgb[k] = if ok[k] {
+                        self.lookup_angles(theta[k], phi[k], lookup)
+                    } else {
+                        [0.0; 3]
+                    };
+                }
             }
         }
     }
