@@ -152,8 +152,8 @@ fn estimate(
         b.bsdf_pdf.resize(n, 0.0);
         b.light_pdf.resize(n, 0.0);
         b.bsdf_rgb.resize(n, [0.0; 3]);
-        for k in 0..n {
-            (b.bsdf_dirs[k], b.bsdf_pdf[k]) = s.sample(pts2[k]);
+        for ((d, p), &u) in b.bsdf_dirs.iter_mut().zip(&mut b.bsdf_pdf).zip(pts2) {
+            (*d, *p) = s.sample(u);
         }
         light.pdf_batch(&b.bsdf_dirs, &mut b.light_pdf);
         env.eval_batch_with(&b.bsdf_dirs, lookup, &mut b.bsdf_rgb);

@@ -14,6 +14,7 @@
 //! | [`sin_cos`] | \|x\| ≤ 2²⁰ (the batch paths use [0, 2π]) | 2 ulp of the result, or 2⁻⁵³ absolute near a zero of the function |
 //! | [`atan2`] | every finite (y, x), signed zeros | 2 ulp |
 //! | square root | everything | 0 ulp (the IEEE instruction) |
+//! | [`angles`] (θ, φ of a direction, from [`atan2`] and a square root) | unit directions | within 2e-15 rad of [`crate::sampler::spherical`] (libm's `hypot` and `atan2`; `envmap` tests) |
 //!
 //! `acos` is not needed by the batch paths: `pdf` and `invert` use only the azimuth and the disk
 //! radius r = √((x² + y²)/(1 + z)), which needs a square root only.
