@@ -350,11 +350,10 @@ pub trait Sampler: Send + Sync {
     /// [`Sampler::sample_batch_soa`] in float32: the sampler's float32 map where it has one,
     /// else the f64 map rounded once.
     ///
-    /// The default widens [`CHUNK`] points at a time to f64, runs the f64 SoA call and rounds
-    /// every result once to f32. The HDS maps go through [`crate::mapping::batch::SoaSampler`]
-    /// in f32 (the f64 kernels on the widened points, but the sphere's split of the square in
-    /// f32 and the density D rounded before its scale 1/2T); a float32 map with its own exact
-    /// density takes this one override point.
+    /// The default widens [`CHUNK`] points at a time to f64, runs the f64 map and rounds every
+    /// result once to f32. The HDS maps override it with their float32 map
+    /// ([`crate::mapping::Float32Map`]: f32 tables and arithmetic, its own exact density; built
+    /// on the first call, [`crate::HemisphereMap::float32`]).
     ///
     /// # Panics
     /// If the slices differ in length.
@@ -392,8 +391,8 @@ pub trait Sampler: Send + Sync {
     ///
     /// The default widens [`CHUNK`] directions at a time to f64, scales each to unit length in
     /// f64 (an f32 unit vector is unit only to ~1e-7, which at the rim of a map would read as
-    /// beyond it), runs the f64 call and rounds each density once. The HDS maps go through
-    /// [`crate::mapping::batch::SoaSampler`] in f32 (the same widening).
+    /// beyond it), runs the f64 call and rounds each density once. The HDS maps run their
+    /// float32 map (which takes f32 directions as they are; its edge test has f32-sized slack).
     ///
     /// # Panics
     /// If the slices differ in length.
@@ -422,7 +421,7 @@ pub trait Sampler: Send + Sync {
     /// [`Sampler::invert_batch_soa`] in float32 (NaN where `invert` fails): the sampler's float32
     /// map where it has one, else the f64 map rounded once. The default widens and renormalises
     /// the directions as [`Sampler::pdf_batch_soa_f32`] does and rounds each coordinate once; the
-    /// HDS maps go through [`crate::mapping::batch::SoaSampler`] in f32.
+    /// HDS maps run their float32 map (NaN where its density is 0).
     ///
     /// # Panics
     /// If the slices differ in length.

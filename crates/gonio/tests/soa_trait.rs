@@ -1,13 +1,15 @@
 //! The structure-of-arrays batch calls of the `Sampler` trait (`sample_batch_soa`,
 //! `pdf_batch_soa`, `invert_batch_soa` and their `_f32` twins), reached through `&dyn Sampler`:
 //! the defaults equal the scalar methods bit for bit (f64) and the scalar methods widened and
-//! rounded once (f32); the HDS maps' overrides equal `SoaSampler` bit for bit; the parallel
+//! rounded once (f32); the HDS maps' overrides equal `SoaSampler` bit for bit (f64) and their
+//! float32 map's calls (`Float32Map`, f32); the parallel
 //! helpers equal the serial calls; unequal slices panic.
 
 // Columns of the structure-of-arrays outputs are indexed by component on purpose.
 #![allow(clippy::needless_range_loop)]
 
 use gonio::mapping::batch::SoaSampler;
+use gonio::mapping::Float32Map;
 use gonio::synthetic::{example_luminaire, random_hemisphere, Family};
 use gonio::{Diagram, Domain, HemisphereMap, Method, Sampler, SphereLayout, SphereMap};
 use rand::{Rng, SeedableRng};
@@ -197,7 +199,7 @@ fn defaults_equal_the_scalar_methods_bit_for_bit() {
 }
 
 /// `SoaSampler`'s six calls and the zero-density rule of the trait's inverse.
-fn check_hds<S: SoaSampler>(name: &str, map: &S, dynamic: &dyn Sampler) {
+fn check_hds<S: SoaSampler>(name: &str, map: &S, f32map: &Float32Map, dynamic: &dyn Sampler) {
     let (u, v) = points(3);
     let d = directions(4);
     let got = soa_of(dynamic, &u, &v, &d);
@@ -251,7 +253,7 @@ fn check_hds<S: SoaSampler>(name: &str, map: &S, dynamic: &dyn Sampler) {
     let d32r = [&d32[0][..], &d32[1][..], &d32[2][..]];
     let mut o: [Vec<f32>; 4] = std::array::from_fn(|_| vec![0.0; n]);
     let [x, y, z, p] = &mut o;
-    map.sample_soa(&u32_, &v32, [x, y, z], p);
+    f32map.sample_soa(&u32_, &v32, [x, y, z], p);
     for c in 0..4 {
         assert_eq!(
             bits32(&got.sample32[c]),
@@ -260,11 +262,11 @@ fn check_hds<S: SoaSampler>(name: &str, map: &S, dynamic: &dyn Sampler) {
         );
     }
     let mut pdf = vec![0.0f32; n];
-    map.pdf_soa(d32r, &mut pdf);
+    f32map.pdf_soa(d32r, &mut pdf);
     assert_eq!(bits32(&got.pdf32), bits32(&pdf), "{name} pdf32");
     let mut inv: [Vec<f32>; 2] = std::array::from_fn(|_| vec![0.0; n]);
     let [iu, iv] = &mut inv;
-    map.invert_soa(d32r, [iu, iv]);
+    f32map.invert_soa(d32r, [iu, iv]);
     for k in 0..n {
         let want = if pdf[k] == 0.0 {
             [f32::NAN; 2]
@@ -284,22 +286,27 @@ fn hds_overrides_equal_soa_sampler_bit_for_bit() {
     // Zero-heavy: many directions of density 0 inside the hemisphere too.
     let hemi = random_hemisphere(Family::ZeroHeavy, 9, 12, true, 4);
     let m = HemisphereMap::new(&hemi).unwrap();
-    check_hds("hemisphere zero-heavy", &m, &m);
+    check_hds("hemisphere zero-heavy", &m, m.float32().unwrap(), &m);
     let lobes = random_hemisphere(Family::Lobes, 19, 36, false, 1);
     let m = HemisphereMap::new(&lobes).unwrap();
-    check_hds("hemisphere lobes", &m, &m);
+    check_hds("hemisphere lobes", &m, m.float32().unwrap(), &m);
     // The factory's box reaches the same override.
     let b = Method::Hds.build(&lobes, Domain::Hemisphere).unwrap();
-    check_hds("hemisphere lobes (boxed)", &m, b.as_ref());
+    check_hds(
+        "hemisphere lobes (boxed)",
+        &m,
+        m.float32().unwrap(),
+        b.as_ref(),
+    );
     let lum = example_luminaire();
     let m = SphereMap::new(&lum).unwrap();
-    check_hds("sphere split", &m, &m);
+    check_hds("sphere split", &m, m.float32().unwrap(), &m);
     let m = SphereMap::with_layout(&lum, SphereLayout::Lambert).unwrap();
-    check_hds("sphere lambert", &m, &m);
+    check_hds("sphere lambert", &m, m.float32().unwrap(), &m);
     // A sphere whose upper half emits nothing (one side's map only).
     let down = Diagram::from_degrees(&[0.0, 90.0, 180.0], &[0.0], &[vec![0.0, 0.0, 2.0]]).unwrap();
     let m = SphereMap::new(&down).unwrap();
-    check_hds("sphere lower half only", &m, &m);
+    check_hds("sphere lower half only", &m, m.float32().unwrap(), &m);
 }
 
 #[test]

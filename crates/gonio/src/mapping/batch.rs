@@ -322,8 +322,8 @@ pub(crate) fn invert_soa_nonzero<S: SoaSampler, T: BatchFloat>(
 
 /// The six structure-of-arrays methods of [`Sampler`] for a map that implements [`SoaSampler`]
 /// (the HDS maps): each runs the map's vector kernels on the slices directly, with no transposes.
-/// The `_f32` ones are the single override point of the float32 path (for now
-/// [`SoaSampler`] in f32: the f64 kernels, rounded once).
+/// The `_f32` ones are the single override point of the float32 path: they run the map's
+/// [`crate::mapping::Float32Map`].
 macro_rules! soa_sampler_methods {
     () => {
         fn sample_batch_soa(&self, u: &[f64], v: &[f64], dir: [&mut [f64]; 3], pdf: &mut [f64]) {
@@ -335,8 +335,8 @@ macro_rules! soa_sampler_methods {
         fn invert_batch_soa(&self, dir: [&[f64]; 3], uv: [&mut [f64]; 2]) {
             $crate::mapping::batch::invert_soa_nonzero(self, dir, uv)
         }
-        // The float32 map's override point: the sampler's float32 map where it has one, else the
-        // f64 map rounded once (today: `SoaSampler` in f32).
+        // The float32 map's override point: the map's float32 map (`float32()`, built on the
+        // first call), else (a grid beyond its limits) the f64 map rounded once.
         fn sample_batch_soa_f32(
             &self,
             u: &[f32],
@@ -344,13 +344,22 @@ macro_rules! soa_sampler_methods {
             dir: [&mut [f32]; 3],
             pdf: &mut [f32],
         ) {
-            $crate::mapping::batch::SoaSampler::sample_soa(self, u, v, dir, pdf)
+            match self.float32() {
+                Some(f) => f.sample_soa(u, v, dir, pdf),
+                None => $crate::mapping::batch::SoaSampler::sample_soa(self, u, v, dir, pdf),
+            }
         }
         fn pdf_batch_soa_f32(&self, dir: [&[f32]; 3], pdf: &mut [f32]) {
-            $crate::mapping::batch::SoaSampler::pdf_soa(self, dir, pdf)
+            match self.float32() {
+                Some(f) => f.pdf_soa(dir, pdf),
+                None => $crate::mapping::batch::SoaSampler::pdf_soa(self, dir, pdf),
+            }
         }
         fn invert_batch_soa_f32(&self, dir: [&[f32]; 3], uv: [&mut [f32]; 2]) {
-            $crate::mapping::batch::invert_soa_nonzero(self, dir, uv)
+            match self.float32() {
+                Some(f) => f.invert_soa_nonzero(dir, uv),
+                None => $crate::mapping::batch::invert_soa_nonzero(self, dir, uv),
+            }
         }
     };
 }

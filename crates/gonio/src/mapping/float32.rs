@@ -646,6 +646,39 @@ impl Float32Map {
             .for_each(|(((u, v), x), (y, z))| self.invert_soa_with(b, [x, y, z], [u, v]));
     }
 
+    /// [`Float32Map::invert_soa`], then NaN in both coordinates wherever [`Float32Map::pdf_soa`]
+    /// is 0 (the rule of every sampler's `invert_batch_soa`, issue 25: no preimage where the
+    /// density is 0), on the detected backend, [`CHUNK`] directions at a time: the HDS maps'
+    /// [`crate::Sampler::invert_batch_soa_f32`].
+    ///
+    /// # Panics
+    /// If the slices differ in length.
+    pub fn invert_soa_nonzero(&self, dir: [&[f32]; 3], uv: [&mut [f32]; 2]) {
+        let [u, v] = uv;
+        let n = u.len();
+        check_len(
+            "invert_batch_soa_f32",
+            n,
+            &[v.len(), dir[0].len(), dir[1].len(), dir[2].len()],
+        );
+        let b = Backend::detect();
+        let mut p = [0f32; CHUNK];
+        for start in (0..n).step_by(CHUNK) {
+            let r = start..(start + CHUNK).min(n);
+            let m = r.len();
+            let d = [&dir[0][r.clone()], &dir[1][r.clone()], &dir[2][r.clone()]];
+            let (u, v) = (&mut u[r.clone()], &mut v[r]);
+            self.invert_soa_with(b, d, [&mut *u, &mut *v]);
+            self.pdf_soa_with(b, d, &mut p[..m]);
+            for ((u, v), &p) in u.iter_mut().zip(v.iter_mut()).zip(&p[..m]) {
+                if p == 0.0 {
+                    *u = f32::NAN;
+                    *v = f32::NAN;
+                }
+            }
+        }
+    }
+
     /// Bytes of the float32 map: its tables' contents (f32 entries and u32 guide entries) and
     /// the map itself.
     pub fn memory_bytes(&self) -> usize {
