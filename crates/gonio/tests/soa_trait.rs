@@ -397,5 +397,5 @@ fn the_environment_map_forwards_to_its_sphere_map() {
     let Some(gonio::MapRef::Sphere(map)) = env.hds_map() else {
         panic!("an environment map is a sphere map");
     };
-    check_hds("environment map", map, &env);
+    check_hds("environment map", map, map.float32().unwrap(), &env);
 }
