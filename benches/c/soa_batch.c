@@ -76,9 +76,12 @@ int main(int argc, char **argv) {
                           "invert_soa_f32"};
   for (int k = 0; k < 6; k++) printf("%-15s %7.2f ns per point\n", names[k], 1e9 * best[k] / n);
   /* A checksum so that nothing is optimised away and two builds can be compared. */
-  double sum = 0;
-  for (size_t i = 0; i < n; i++) sum += x[i] + p[i] + iu[i] + iv[i] + x32[i] + iu32[i];
-  printf("checksum %.17g\n", sum);
+  double sum = 0, sum32 = 0;
+  for (size_t i = 0; i < n; i++) {
+    sum += x[i] + y[i] + z[i] + p[i] + iu[i] + iv[i];
+    sum32 += (double)x32[i] + y32[i] + z32[i] + p32[i] + iu32[i] + iv32[i];
+  }
+  printf("checksum f64 %.17g f32 %.17g\n", sum, sum32);
   gonio_sampler_free(s);
   gonio_diagram_free(d);
   return 0;

@@ -6,7 +6,6 @@
 //! with respect to solid angle; points of the unit square are `[u, v]` with 0 ≤ u, v ≤ 1.
 
 use crate::batch::{check_len, CHUNK, PAR_CHUNK};
-pub use crate::method::{BuildError, BuildOptions, Method};
 use rayon::prelude::*;
 
 /// A unit direction `[x, y, z]`.

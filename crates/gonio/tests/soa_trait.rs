@@ -384,3 +384,18 @@ fn unequal_lengths_panic_in_the_hds_override() {
     let (mut u, mut v) = ([0.0f32; 2], [0.0f32; 1]);
     s.invert_batch_soa_f32([&[0.0; 2], &[0.0; 2], &[1.0; 2]], [&mut u, &mut v]);
 }
+
+#[test]
+fn the_environment_map_forwards_to_its_sphere_map() {
+    use gonio::envmap::EnvironmentMap;
+    use gonio::image::Image;
+    let (w, h) = (16, 8);
+    let rgb: Vec<f32> = (0..w * h * 3)
+        .map(|i| 0.1 + ((i * 37) % 11) as f32)
+        .collect();
+    let env = EnvironmentMap::new(Image::new(w, h, rgb).unwrap()).unwrap();
+    let Some(gonio::MapRef::Sphere(map)) = env.hds_map() else {
+        panic!("an environment map is a sphere map");
+    };
+    check_hds("environment map", map, map.float32().unwrap(), &env);
+}

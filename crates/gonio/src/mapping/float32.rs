@@ -48,10 +48,9 @@ use super::{HemisphereMap, SphereMap};
 use crate::diagram::segment;
 use rayon::prelude::*;
 
-/// Points per chunk of the split sphere's partition into hemispheres.
-const CHUNK: usize = 256;
-/// Points per rayon task in the parallel calls.
-const PAR_CHUNK: usize = 4096;
+// Points per chunk of the split sphere's partition into hemispheres, and per rayon task in the
+// parallel calls: the crate's batch sizes.
+use crate::batch::{CHUNK, PAR_CHUNK};
 /// The most meridians or parallels a float32 map takes: its guide tables (2M, 2N entries) must
 /// index exactly through f32 (below 2²⁴).
 pub const FLOAT32_MAX_NODES: usize = 1 << 22;

@@ -278,3 +278,17 @@ impl TablesElem for f32 {
         }
     }
 }
+
+/// Polar angle θ (to `out[0]`) and azimuth φ (to `out[1]`) of unit directions on backend `b` (the
+/// fastest below it if the CPU lacks it): [`super::math::angles`] per direction, bit for bit, on
+/// every backend.
+pub(crate) fn angles(b: Backend, dir: [&[f64]; 3], out: [&mut [f64]; 2]) {
+    match b.usable() {
+        // SAFETY (both): `usable` returns a backend only when the CPU has its instruction set.
+        #[cfg(target_arch = "x86_64")]
+        Backend::Avx512 => unsafe { super::avx512::k4::angles_slices(dir, out) },
+        #[cfg(target_arch = "x86_64")]
+        Backend::Avx2Fma => unsafe { super::avx2::angles_slices(dir, out) },
+        _ => portable::angles_slices(dir, out),
+    }
+}

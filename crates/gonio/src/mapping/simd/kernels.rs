@@ -705,6 +705,44 @@ macro_rules! vector_kernels {
             }
         }
 
+        /// Polar angle θ and azimuth φ of a block of directions, operation for operation as
+        /// [`crate::mapping::simd::math::angles`] (so bit-identical to it): θ = atan2(√(x² + y²), z),
+        /// φ = atan2(y, x) moved into [0, 2π), φ = 0 where x = y = 0.
+        // Used by the f64 instantiations only (the environment map's eval); unused in f32.
+        #[allow(dead_code)]
+        #[inline(always)]
+        unsafe fn angles_block(x: F, y: F, z: F) -> (F, F) {
+            let z0 = zero();
+            let rho = sqrt(add(mul(x, x), mul(y, y)));
+            let theta = unsafe { atan2(rho, z) };
+            let phi = unsafe { atan2(y, x) };
+            let phi = sel(lt(phi, z0), add(phi, splat(TAU)), phi);
+            let phi = sel(ge(phi, splat(TAU)), z0, phi);
+            let pole = and(eq(x, z0), eq(y, z0));
+            (theta, sel(pole, z0, phi))
+        }
+
+        /// [`angles_block`] over slices: θ to `out[0]`, φ to `out[1]`.
+        #[allow(dead_code)]
+        $(#[target_feature(enable = $feat)])?
+        pub(crate) fn angles_slices(dir: [&[E]; 3], out: [&mut [E]; 2]) {
+            let [t, p] = out;
+            let len = t.len();
+            assert!(p.len() == len && dir.iter().all(|c| c.len() == len));
+            let mut start = 0;
+            while start < len {
+                let cnt = (len - start).min(BLOCK);
+                let [x, y, z] = [(0, 0.0), (1, 0.0), (2, 1.0)]
+                    .map(|(k, pad)| unsafe { load_block(dir[k], start, cnt, pad) });
+                let (ot, op) = unsafe { angles_block(x, y, z) };
+                unsafe {
+                    store_block(t, start, cnt, ot);
+                    store_block(p, start, cnt, op);
+                }
+                start += cnt;
+            }
+        }
+
         /// [`sample_block`] over slices of any (equal) length; directions to `x, y, z`, the disk
         /// density D to `d`.
         $(#[target_feature(enable = $feat)])?

@@ -14,6 +14,7 @@
 //! | [`sin_cos`] | \|x\| ≤ 2²⁰ (the batch paths use [0, 2π]) | 2 ulp of the result, or 2⁻⁵³ absolute near a zero of the function |
 //! | [`atan2`] | every finite (y, x), signed zeros | 2 ulp |
 //! | square root | everything | 0 ulp (the IEEE instruction) |
+//! | [`angles`] (θ, φ of a direction, from [`atan2`] and a square root) | unit directions | within 2e-15 rad of [`crate::sampler::spherical`] (libm's `hypot` and `atan2`; `envmap` tests) |
 //!
 //! `acos` is not needed by the batch paths: `pdf` and `invert` use only the azimuth and the disk
 //! radius r = √((x² + y²)/(1 + z)), which needs a square root only.
@@ -284,6 +285,30 @@ impl Precision for f32 {
     /// 1 + 2⁻¹⁷ (128 u₃₂): a direction of the edge, rounded to f32, has a disk radius within a
     /// few u₃₂ of the edge's.
     const EDGE: f64 = 1.0 + 7.629_394_531_25e-6;
+}
+
+/// Polar angle θ (from +z) and azimuth φ ∈ [0, 2π) (from +x toward +y) of a unit direction,
+/// branch-free: θ = [`atan2`](√(x² + y²), z), φ = [`atan2`](y, x) (+ 2π when negative, 0 where it
+/// rounds to 2π), φ = 0 where x = y = 0 (either sign of zero). The batch kernels compute the same
+/// operations on their lanes, so a batch of angles equals this function bit for bit. Compared
+/// with [`crate::sampler::spherical`] (libm's `hypot` and `atan2`): within a few ulps.
+#[inline(always)]
+pub fn angles(d: [f64; 3]) -> (f64, f64) {
+    let [x, y, z] = d;
+    let theta = atan2((x * x + y * y).sqrt(), z);
+    let phi = atan2(y, x);
+    let phi = if phi < 0.0 {
+        phi + std::f64::consts::TAU
+    } else {
+        phi
+    };
+    let phi = if phi >= std::f64::consts::TAU {
+        0.0
+    } else {
+        phi
+    };
+    let phi = if x == 0.0 && y == 0.0 { 0.0 } else { phi };
+    (theta, phi)
 }
 
 #[cfg(test)]

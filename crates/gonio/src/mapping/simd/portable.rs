@@ -1,5 +1,6 @@
 //! The portable backend: the vocabulary of [`super::kernels`] over plain arrays of [`BLOCK`]
-//! lanes (values `[f64; BLOCK]`, indices `[i64; BLOCK]`, masks `[bool; BLOCK]`), compiled for the
+//! lanes (values `[f64; BLOCK]`, indices `[i64; BLOCK]`, masks `[u64; BLOCK]` of all-ones or
+//! all-zeros lanes), compiled for the
 //! target's baseline instruction set (SSE2 on x86-64), where the compiler vectorises the
 //! element-wise loops. Every word has the semantics of its AVX2/AVX-512 spelling (IEEE-rounded
 //! arithmetic, no fused multiply–add, ordered comparisons, signed 64-bit indices, the same
@@ -23,17 +24,29 @@ type E = f64;
 type F = [f64; BLOCK];
 /// A block of table indices (signed, as the vector backends' 64-bit lanes).
 type I = [i64; BLOCK];
-/// A block of lane masks.
-type M = [bool; BLOCK];
+/// A block of lane masks: all-ones (true) or all-zeros (false) per lane, as the vector backends'
+/// masks, so that a comparison is one `cmppd` and a select three bit operations on SSE2 (masks of
+/// `bool` made the compiler pack and unpack bytes around every select).
+type M = [u64; BLOCK];
 
+/// The mask lane of `b`.
+#[inline(always)]
+fn mask(b: bool) -> u64 {
+    (b as u64).wrapping_neg()
+}
+
+// Every word is an explicit loop over the lanes (not `array::map`/`from_fn`, whose closures the
+// compiler left out of line: a call per gather, 40 % of the forward map's instructions).
 macro_rules! lanewise {
     ($($name:ident($($a:ident: $t:ty),*) -> $r:ty => $e:expr;)*) => {$(
         #[inline(always)]
         fn $name($($a: $t),*) -> $r {
-            std::array::from_fn(|l| {
+            let mut o: $r = [Default::default(); BLOCK];
+            for l in 0..BLOCK {
                 $(let $a = $a[l];)*
-                $e
-            })
+                o[l] = $e;
+            }
+            o
         }
     )*};
 }
@@ -43,28 +56,30 @@ lanewise! {
     sub(a: F, b: F) -> F => a - b;
     mul(a: F, b: F) -> F => a * b;
     div(a: F, b: F) -> F => a / b;
-    lt(a: F, b: F) -> M => a < b;
-    le(a: F, b: F) -> M => a <= b;
-    gt(a: F, b: F) -> M => a > b;
-    ge(a: F, b: F) -> M => a >= b;
-    eq(a: F, b: F) -> M => a == b;
+    lt(a: F, b: F) -> M => mask(a < b);
+    le(a: F, b: F) -> M => mask(a <= b);
+    gt(a: F, b: F) -> M => mask(a > b);
+    ge(a: F, b: F) -> M => mask(a >= b);
+    eq(a: F, b: F) -> M => mask(a == b);
     and(a: M, b: M) -> M => a & b;
     or(a: M, b: M) -> M => a | b;
     not(a: M) -> M => !a;
     sqrt(a: F) -> F => a.sqrt();
     abs(a: F) -> F => a.abs();
     neg(a: F) -> F => -a;
-    isnan(a: F) -> M => a.is_nan();
-    sign_negative(a: F) -> M => a.is_sign_negative();
-    sel(m: M, a: F, b: F) -> F => if m { a } else { b };
+    isnan(a: F) -> M => mask(a.is_nan());
+    sign_negative(a: F) -> M => ((a.to_bits() as i64) >> 63) as u64;
+    sel(m: M, a: F, b: F) -> F => f64::from_bits((m & a.to_bits()) | (!m & b.to_bits()));
     iadd(a: I, b: I) -> I => a.wrapping_add(b);
     isub(a: I, b: I) -> I => a.wrapping_sub(b);
     imin(a: I, b: I) -> I => a.min(b);
     imax(a: I, b: I) -> I => a.max(b);
     imul(a: I, b: I) -> I => a.wrapping_mul(b);
-    isel(m: M, a: I, b: I) -> I => if m { a } else { b };
-    ieq(a: I, b: I) -> M => a == b;
-    igt(a: I, b: I) -> M => a > b;
+    isel(m: M, a: I, b: I) -> I => ((m & a as u64) | (!m & b as u64)) as i64;
+    ieq(a: I, b: I) -> M => mask(a == b);
+    igt(a: I, b: I) -> M => mask(a > b);
+    ilanes(a: I) -> [usize; BLOCK] => a as usize;
+    ifrom(a: [usize; BLOCK]) -> I => a as i64;
 }
 
 #[inline(always)]
@@ -77,7 +92,11 @@ fn zero() -> F {
 }
 #[inline(always)]
 fn any(m: M) -> bool {
-    m.iter().any(|&b| b)
+    let mut acc = 0;
+    for l in 0..BLOCK {
+        acc |= m[l];
+    }
+    acc != 0
 }
 #[inline(always)]
 fn isplat(x: usize) -> I {
@@ -88,10 +107,6 @@ fn izero() -> I {
     isplat(0)
 }
 #[inline(always)]
-fn ilanes(a: I) -> [usize; BLOCK] {
-    a.map(|x| x as usize)
-}
-#[inline(always)]
 fn flanes(a: F) -> [f64; BLOCK] {
     a
 }
@@ -99,34 +114,42 @@ fn flanes(a: F) -> [f64; BLOCK] {
 fn fload(a: &[f64; BLOCK]) -> F {
     *a
 }
-#[inline(always)]
-fn ifrom(a: [usize; BLOCK]) -> I {
-    a.map(|x| x as i64)
-}
 
 /// `(x as usize).min(kmax)` per lane (NaN and negatives give 0), as the vector backends compute
 /// it: max with 0 (NaN gives 0), min with `kmax`, truncation.
 #[inline(always)]
 fn to_index(x: F, kmax: usize) -> I {
     let top = kmax as f64;
-    x.map(|x| {
-        let v = if x > 0.0 { x } else { 0.0 };
-        (if v < top { v } else { top }) as i64
-    })
+    let mut o = [0; BLOCK];
+    for l in 0..BLOCK {
+        let v = if x[l] > 0.0 { x[l] } else { 0.0 };
+        o[l] = (if v < top { v } else { top }) as i64;
+    }
+    o
 }
 
 /// `t[idx]` per lane, the index clamped into `t` first (`t` must not be empty).
 #[inline(always)]
 fn gather(t: &[f64], idx: I) -> F {
-    let last = t.len() as i64 - 1;
-    idx.map(|i| t[i.clamp(0, last) as usize])
+    assert!(!t.is_empty());
+    let last = t.len() - 1;
+    let mut o = [0.0; BLOCK];
+    for l in 0..BLOCK {
+        o[l] = t[(idx[l].max(0) as usize).min(last)];
+    }
+    o
 }
 
 /// `t[idx] as usize` per lane for a u32 table, the index clamped into `t` first.
 #[inline(always)]
 fn gather_u32(t: &[u32], idx: I) -> I {
-    let last = t.len() as i64 - 1;
-    idx.map(|i| t[i.clamp(0, last) as usize] as i64)
+    assert!(!t.is_empty());
+    let last = t.len() - 1;
+    let mut o = [0; BLOCK];
+    for l in 0..BLOCK {
+        o[l] = t[(idx[l].max(0) as usize).min(last)] as i64;
+    }
+    o
 }
 
 super::kernels::vector_kernels!();
