@@ -115,7 +115,8 @@ def test_dtypes_and_memory_orders_give_the_same_result():
 
 @pytest.mark.parametrize("method", ["hds", "bilinear"])
 def test_float32_in_gives_float32_out(method):
-    # float32 points in: the float32 batch calls (today the float64 map rounded once), float32 out.
+    # float32 points in: the float32 batch calls, float32 out (the HDS maps: their float32 map,
+    # gonio::mapping::Float32Map; other methods: the float64 map rounded once).
     s = gonio.example().sampler(method)
     u32 = gonio.sequence(5_000, "random", seed=12).astype(np.float32)
     d32, p32 = s.sample(u32)
@@ -127,8 +128,8 @@ def test_float32_in_gives_float32_out(method):
         np.testing.assert_array_equal(d32, d64.astype(np.float32))
         np.testing.assert_array_equal(p32, p64.astype(np.float32))
     else:
-        # The HDS map's own float32 path (its sphere splits the square in float32, and a float32
-        # map may take this call): close to the float64 map, and consistent in itself (below).
+        # The HDS map's float32 map (f32 tables and arithmetic): close to the float64 map, and
+        # consistent in itself (below).
         assert np.max(np.abs(d32.astype(np.float64) - d64)) < 1e-4
     assert np.max(np.abs(np.linalg.norm(d32.astype(np.float64), axis=1) - 1)) < 1e-6
     # Any memory order or stride of float32 input gives the same bits.
