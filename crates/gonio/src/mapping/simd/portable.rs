@@ -37,7 +37,7 @@ fn mask(b: bool) -> u64 {
 }
 
 // Every word is an explicit loop over the lanes (not `array::map`/`from_fn`, whose closures the
-// compiler left out of line: a call per gather, 40 % of the forward map's instructions).
+// compiler left out of line: a call per gather, ~30 % of the forward map's instructions).
 macro_rules! lanewise {
     ($($name:ident($($a:ident: $t:ty),*) -> $r:ty => $e:expr;)*) => {$(
         #[inline(always)]
