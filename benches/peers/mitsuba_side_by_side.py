@@ -26,7 +26,8 @@ Run:
         /work/venv-mitsuba/bin/python benches/peers/mitsuba_side_by_side.py [--json out.json]
 
 What is compared is not identical work: Mitsuba returns a point of the unit square and its density
-in float32; gonio returns a unit direction on the hemisphere and its exact density (f64 or f32).
+in float32; gonio returns a unit direction on the hemisphere and its exact density (f64, f32
+rounded from f64, or the float32 map's own: ``gonio::mapping::Float32Map``).
 A second table therefore also times Mitsuba with the work its caller adds for directions, in the
 same Dr.Jit kernel: the lift of the sampled point to a unit direction (θ = (π/2)y, φ = 2πx, two
 sincos) with the pdf per steradian (÷ π² sin θ), and, before ``invert``, a direction's mapping back
@@ -181,13 +182,17 @@ def main():
 
     table([("sample_ns", "forward_f64_ns", "mi sample", "gonio f64 fwd"),
            ("sample_ns", "forward_f32_ns", "mi sample", "gonio f32 fwd"),
+           ("sample_ns", "forward_float32_ns", "mi sample", "float32 map fwd"),
            ("invert_ns", "inverse_f64_ns", "mi invert", "gonio f64 inv"),
-           ("invert_ns", "inverse_f32_ns", "mi invert", "gonio f32 inv")])
+           ("invert_ns", "inverse_f32_ns", "mi invert", "gonio f32 inv"),
+           ("invert_ns", "inverse_float32_ns", "mi invert", "float32 map inv")])
     print()
     print("like for like: Mitsuba plus the lift to a unit direction and its pdf per steradian (sample),")
     print("and a direction mapped back to the square first (invert); ratio = Mitsuba / gonio f64")
     table([("sample_dir_ns", "forward_f64_ns", "mi sample+dir", "gonio f64 fwd"),
-           ("invert_dir_ns", "inverse_f64_ns", "mi dir+invert", "gonio f64 inv")])
+           ("sample_dir_ns", "forward_float32_ns", "mi sample+dir", "float32 map fwd"),
+           ("invert_dir_ns", "inverse_f64_ns", "mi dir+invert", "gonio f64 inv"),
+           ("invert_dir_ns", "inverse_float32_ns", "mi dir+invert", "float32 map inv")])
     print("scaling (one thread / all threads): " + ", ".join(
         f"{r['grid']}: Mitsuba sample {r['mitsuba']['one']['sample_ns'] / r['mitsuba']['all']['sample_ns']:.2f}, "
         f"gonio f64 forward {r['gonio']['one']['forward_f64_ns'] / r['gonio']['all']['forward_f64_ns']:.2f}"

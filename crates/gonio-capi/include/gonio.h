@@ -830,7 +830,7 @@ GonioStatus gonio_invert_batch_soa(const struct GonioSampler *sampler,
                                    double *v);
 
 /*
- Samples `n` points of the square given as interleaved pairs `u[2i], u[2i+1]` (float; computed in double, results rounded):
+ Samples `n` points of the square given as interleaved pairs `u[2i], u[2i+1]` (float; the sampler's float32 batch call: its float32 map where it has one, else computed in double and rounded once):
  directions into `directions[3i..3i+3]`, densities (per sr) into `pdfs[i]`.
 
  # Safety
@@ -843,7 +843,7 @@ GonioStatus gonio_sample_batch_f32(const struct GonioSampler *sampler,
                                    float *pdfs);
 
 /*
- Samples `n` points of the square given as arrays `u[i]`, `v[i]` (float; computed in double, results rounded): directions
+ Samples `n` points of the square given as arrays `u[i]`, `v[i]` (float; the sampler's float32 batch call: its float32 map where it has one, else computed in double and rounded once): directions
  into `x[i]`, `y[i]`, `z[i]`, densities (per sr) into `pdfs[i]`.
 
  # Safety
@@ -860,7 +860,7 @@ GonioStatus gonio_sample_batch_soa_f32(const struct GonioSampler *sampler,
 
 /*
  The sampler's density (per sr) at `n` directions given as interleaved triples
- `directions[3i..3i+3]` (float; computed in double, results rounded; normalised first), into `out[i]`. A zero or
+ `directions[3i..3i+3]` (float; normalised in double and rounded to float, then the sampler's float32 batch call: its float32 map where it has one, else computed in double and rounded once), into `out[i]`. A zero or
  non-finite direction stops the batch with [`GONIO_ERR_INVALID_ARGUMENT`], naming its index.
 
  # Safety
@@ -873,7 +873,7 @@ GonioStatus gonio_pdf_batch_f32(const struct GonioSampler *sampler,
 
 /*
  The sampler's density (per sr) at `n` directions given as arrays `x[i]`, `y[i]`, `z[i]`
- (float; computed in double, results rounded; normalised first), into `out[i]`; as the interleaved variant.
+ (float; normalised in double and rounded to float, then the sampler's float32 batch call: its float32 map where it has one, else computed in double and rounded once), into `out[i]`; as the interleaved variant.
 
  # Safety
  `sampler` must be NULL or a live handle; every array NULL or valid for its `n` elements.
@@ -913,7 +913,7 @@ GonioStatus gonio_target_pdf_batch_soa_f32(const struct GonioSampler *sampler,
                                            float *out);
 
 /*
- Inverts `n` directions given as interleaved triples `directions[3i..3i+3]` (float; computed in double, results rounded)
+ Inverts `n` directions given as interleaved triples `directions[3i..3i+3]` (float; normalised in double and rounded to float, then the sampler's float32 batch call: its float32 map where it has one, else computed in double and rounded once)
  into interleaved points `uv[2i], uv[2i+1]`. A direction outside the domain or of density 0 gives (NaN, NaN)
  and the batch goes on; a method without inverse is [`GONIO_ERR_UNSUPPORTED`]; a zero or
  non-finite direction stops the batch with [`GONIO_ERR_INVALID_ARGUMENT`], naming its index.
@@ -927,7 +927,7 @@ GonioStatus gonio_invert_batch_f32(const struct GonioSampler *sampler,
                                    float *uv);
 
 /*
- Inverts `n` directions given as arrays `x[i]`, `y[i]`, `z[i]` (float; computed in double, results rounded) into `u[i]`,
+ Inverts `n` directions given as arrays `x[i]`, `y[i]`, `z[i]` (float; normalised in double and rounded to float, then the sampler's float32 batch call: its float32 map where it has one, else computed in double and rounded once) into `u[i]`,
  `v[i]`; as the interleaved variant.
 
  # Safety

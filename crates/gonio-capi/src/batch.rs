@@ -1,35 +1,94 @@
 //! Batches: every `*_batch*` function, array-of-structs and structure-of-arrays, f64 and f32.
+//!
+//! Every batch goes through the sampler's structure-of-arrays calls
+//! ([`Sampler::sample_batch_soa`], [`Sampler::pdf_batch_soa`], [`Sampler::invert_batch_soa`] and
+//! their `_f32` twins; the HDS maps' vector kernels) on [`CHUNK`] elements at a time: the chunk's
+//! inputs are read (and checked, directions normalised) into columns on the stack, the trait call
+//! fills result columns on the stack, and these are written to the caller's arrays. A
+//! structure-of-arrays call thus copies each column once in and once out (no transpose); an
+//! array-of-structs call transposes once into the columns and once back. f32 calls reach the
+//! `_f32` methods with f32 data (the sampler's float32 map where it has one).
+
+// The chunk loops index several columns by the same element number on purpose.
+#![allow(clippy::needless_range_loop)]
 
 use super::*;
-use gonio::sampler::{Sample, Vec3};
+use gonio::batch::CHUNK;
 use gonio::{InvertError, Sampler};
 
 // ---------------------------------------------------------------------------------------------
 // Batches.
 
-/// The two float types of the batch functions.
-trait Real: Copy {
+/// The two float types of the batch functions, each with its structure-of-arrays calls of the
+/// sampler trait.
+trait Real: Copy + Default {
     fn to_f64(self) -> f64;
-    fn from_f64(x: f64) -> Self;
+    /// [`Sampler::sample_batch_soa`] or its `_f32` twin.
+    fn sample(s: &dyn Sampler, u: &[Self], v: &[Self], dir: [&mut [Self]; 3], pdf: &mut [Self]);
+    /// [`Sampler::pdf_batch_soa`] or its `_f32` twin at unit f64 directions (at most [`CHUNK`]),
+    /// rounded to f32 first for the twin.
+    fn pdf(s: &dyn Sampler, dir: [&[f64]; 3], pdf: &mut [Self]);
+    /// [`Sampler::invert_batch_soa`] or its `_f32` twin, as [`Real::pdf`].
+    fn invert(s: &dyn Sampler, dir: [&[f64]; 3], uv: [&mut [Self]; 2]);
+    /// The target density at unit f64 directions, rounded to `Self` (no sampler has a batch path
+    /// for it).
+    fn target(s: &dyn Sampler, dir: [&[f64]; 3], out: &mut [Self]);
 }
+
 impl Real for f64 {
     #[inline]
     fn to_f64(self) -> f64 {
         self
     }
-    #[inline]
-    fn from_f64(x: f64) -> Self {
-        x
+    fn sample(s: &dyn Sampler, u: &[f64], v: &[f64], dir: [&mut [f64]; 3], pdf: &mut [f64]) {
+        s.sample_batch_soa(u, v, dir, pdf)
+    }
+    fn pdf(s: &dyn Sampler, dir: [&[f64]; 3], pdf: &mut [f64]) {
+        s.pdf_batch_soa(dir, pdf)
+    }
+    fn invert(s: &dyn Sampler, dir: [&[f64]; 3], uv: [&mut [f64]; 2]) {
+        s.invert_batch_soa(dir, uv)
+    }
+    fn target(s: &dyn Sampler, dir: [&[f64]; 3], out: &mut [f64]) {
+        for (k, o) in out.iter_mut().enumerate() {
+            *o = s.target_pdf([dir[0][k], dir[1][k], dir[2][k]]);
+        }
     }
 }
+
+/// f64 unit directions rounded to f32 columns on the stack.
+fn round_dirs(dir: [&[f64]; 3]) -> [[f32; CHUNK]; 3] {
+    let mut b = [[0.0f32; CHUNK]; 3];
+    for (b, d) in b.iter_mut().zip(dir) {
+        for (b, &x) in b.iter_mut().zip(d) {
+            *b = x as f32;
+        }
+    }
+    b
+}
+
 impl Real for f32 {
     #[inline]
     fn to_f64(self) -> f64 {
         f64::from(self)
     }
-    #[inline]
-    fn from_f64(x: f64) -> Self {
-        x as f32
+    fn sample(s: &dyn Sampler, u: &[f32], v: &[f32], dir: [&mut [f32]; 3], pdf: &mut [f32]) {
+        s.sample_batch_soa_f32(u, v, dir, pdf)
+    }
+    fn pdf(s: &dyn Sampler, dir: [&[f64]; 3], pdf: &mut [f32]) {
+        let m = pdf.len();
+        let b = round_dirs(dir);
+        s.pdf_batch_soa_f32([&b[0][..m], &b[1][..m], &b[2][..m]], pdf)
+    }
+    fn invert(s: &dyn Sampler, dir: [&[f64]; 3], uv: [&mut [f32]; 2]) {
+        let m = uv[0].len();
+        let b = round_dirs(dir);
+        s.invert_batch_soa_f32([&b[0][..m], &b[1][..m], &b[2][..m]], uv)
+    }
+    fn target(s: &dyn Sampler, dir: [&[f64]; 3], out: &mut [f32]) {
+        for (k, o) in out.iter_mut().enumerate() {
+            *o = s.target_pdf([dir[0][k], dir[1][k], dir[2][k]]) as f32;
+        }
     }
 }
 
@@ -84,15 +143,15 @@ impl<T: Real, const K: usize> In<T, K> {
             stride: 1,
         })
     }
-    /// Element i as f64.
+    /// Element i.
     ///
     /// # Safety
     /// i < n, and the caller's pointers are valid for n elements.
     #[inline]
-    unsafe fn get(&self, i: usize) -> [f64; K] {
-        let mut v = [0.0; K];
+    unsafe fn get(&self, i: usize) -> [T; K] {
+        let mut v = [T::default(); K];
         for (c, x) in v.iter_mut().enumerate() {
-            *x = self.ptr[c].add(i * self.stride).read().to_f64();
+            *x = self.ptr[c].add(i * self.stride).read();
         }
         v
     }
@@ -118,24 +177,24 @@ impl<T: Real, const K: usize> Out<T, K> {
             stride: 1,
         })
     }
-    /// Writes element i.
+    /// Writes elements `start..start + m` from the first m entries of K columns.
     ///
     /// # Safety
-    /// i < n, and the caller's pointers are valid for n elements.
+    /// start + m ≤ n, and the caller's pointers are valid for n elements.
     #[inline]
-    unsafe fn set(&self, i: usize, v: [f64; K]) {
-        for (c, x) in v.iter().enumerate() {
-            self.ptr[c].add(i * self.stride).write(T::from_f64(*x));
+    unsafe fn put(&self, start: usize, cols: [&[T]; K]) {
+        for (c, col) in cols.iter().enumerate() {
+            let base = self.ptr[c];
+            for (k, &x) in col.iter().enumerate() {
+                base.add((start + k) * self.stride).write(x);
+            }
         }
     }
 }
 
-/// Points per chunk of a batch: the sampler's own batch path sees this many at a time.
-const CHUNK: usize = 256;
-
-/// Samples n points: directions into `dirs` and densities into `pdfs`. A point outside the unit
-/// square (or NaN) stops the batch with [`GONIO_ERR_INVALID_ARGUMENT`] naming its index (the
-/// chunks before it are written).
+/// Samples n points: directions into `dirs` and densities into `pdfs`, through
+/// [`Real::sample`] a chunk at a time. A point outside the unit square (or NaN) stops the batch
+/// with [`GONIO_ERR_INVALID_ARGUMENT`] naming its index (the chunks before it are written).
 ///
 /// # Safety
 /// The views are valid for n elements.
@@ -146,31 +205,39 @@ unsafe fn sample_n<T: Real>(
     dirs: &Out<T, 3>,
     pdfs: &Out<T, 1>,
 ) -> Result<(), Failure> {
-    let mut pts = [[0.0; 2]; CHUNK];
-    let mut out = [Sample::default(); CHUNK];
+    let mut pts = [[T::default(); CHUNK]; 2];
+    let mut out = [[T::default(); CHUNK]; 4];
     let mut start = 0;
     while start < n {
         let m = CHUNK.min(n - start);
-        for (k, p) in pts[..m].iter_mut().enumerate() {
+        for k in 0..m {
             let i = start + k;
-            *p = in_square(u.get(i))
+            let p = u.get(i);
+            in_square(p.map(T::to_f64))
                 .map_err(|e| Failure::invalid(format!("point #{i}: {}", e.message)))?;
+            pts[0][k] = p[0];
+            pts[1][k] = p[1];
         }
-        s.sample_batch(&pts[..m], &mut out[..m]);
-        for (k, o) in out[..m].iter().enumerate() {
-            dirs.set(start + k, o.direction);
-            pdfs.set(start + k, [o.pdf]);
-        }
+        let [x, y, z, p] = &mut out;
+        T::sample(
+            s,
+            &pts[0][..m],
+            &pts[1][..m],
+            [&mut x[..m], &mut y[..m], &mut z[..m]],
+            &mut p[..m],
+        );
+        dirs.put(start, [&x[..m], &y[..m], &z[..m]]);
+        pdfs.put(start, [&p[..m]]);
         start += m;
     }
     Ok(())
 }
 
 /// Evaluates a batch function at n directions, a chunk of [`CHUNK`] at a time: the chunk's
-/// directions are read and normalised (a zero or non-finite one stops with
-/// [`GONIO_ERR_INVALID_ARGUMENT`] naming its index), `f` fills the chunk's results, which are then
-/// written. Every input of a chunk is read before any of its outputs is written, so an output may
-/// overwrite its own or an earlier element's input (in place).
+/// directions are read and normalised in f64 into columns (a zero or non-finite one stops with
+/// [`GONIO_ERR_INVALID_ARGUMENT`] naming its index), `f` fills the chunk's K result columns,
+/// which are then written. Every input of a chunk is read before any of its outputs is written,
+/// so an output may overwrite its own or an earlier element's input (in place).
 ///
 /// # Safety
 /// The views are valid for n elements.
@@ -178,39 +245,29 @@ unsafe fn eval_n<T: Real, const K: usize>(
     n: usize,
     dirs: &In<T, 3>,
     out: &Out<T, K>,
-    mut f: impl FnMut(&[Vec3], &mut [[f64; K]]) -> Result<(), Failure>,
+    mut f: impl FnMut([&[f64]; 3], [&mut [T]; K]),
 ) -> Result<(), Failure> {
-    let mut unit_dirs = [[0.0; 3]; CHUNK];
-    let mut res = [[0.0; K]; CHUNK];
+    let mut unit_dirs = [[0.0f64; CHUNK]; 3];
+    let mut res = [[T::default(); CHUNK]; K];
     let mut start = 0;
     while start < n {
         let m = CHUNK.min(n - start);
-        for (k, d) in unit_dirs[..m].iter_mut().enumerate() {
+        for k in 0..m {
             let i = start + k;
-            *d = unit(dirs.get(i))
+            let d = unit(dirs.get(i).map(T::to_f64))
                 .map_err(|e| Failure::invalid(format!("direction #{i}: {}", e.message)))?;
+            for (c, x) in d.into_iter().enumerate() {
+                unit_dirs[c][k] = x;
+            }
         }
-        f(&unit_dirs[..m], &mut res[..m])?;
-        for (k, r) in res[..m].iter().enumerate() {
-            out.set(start + k, *r);
-        }
+        let [x, y, z] = &unit_dirs;
+        let mut cols = res.iter_mut().map(|c| &mut c[..m]);
+        f(
+            [&x[..m], &y[..m], &z[..m]],
+            std::array::from_fn(|_| cols.next().expect("K columns")),
+        );
+        out.put(start, std::array::from_fn(|c| &res[c][..m]));
         start += m;
-    }
-    Ok(())
-}
-
-/// `invert` of a chunk of unit directions through the sampler's batch path: a point, or NaN for a
-/// direction outside the domain or of density 0 (no preimage).
-fn invert_or_nan(s: &dyn Sampler, dirs: &[Vec3], out: &mut [[f64; 2]]) -> Result<(), Failure> {
-    let mut res = [Ok([0.0; 2]); CHUNK];
-    let res = &mut res[..dirs.len()];
-    s.invert_batch(dirs, res);
-    for (o, r) in out.iter_mut().zip(res.iter()) {
-        *o = match *r {
-            Ok(p) => p,
-            Err(InvertError::OutsideDomain | InvertError::ZeroDensity) => [f64::NAN, f64::NAN],
-            Err(e @ InvertError::Unsupported) => return Err(invert_error(e)),
-        };
     }
     Ok(())
 }
@@ -255,35 +312,20 @@ unsafe fn sample_soa<T: Real>(
 }
 
 /// A density of a sampler at a chunk of unit directions (pdf or target pdf).
-type DensityFn = fn(&dyn Sampler, &[Vec3], &mut [[f64; 1]]);
-
-/// The pdf through the sampler's batch path (the SIMD kernels of the HDS maps).
-fn pdf_of(s: &dyn Sampler, dirs: &[Vec3], out: &mut [[f64; 1]]) {
-    s.pdf_batch(dirs, out.as_flattened_mut());
-}
-
-/// The target density, one direction at a time (no sampler has a batch path for it).
-fn target_of(s: &dyn Sampler, dirs: &[Vec3], out: &mut [[f64; 1]]) {
-    for (o, d) in out.iter_mut().zip(dirs) {
-        *o = [s.target_pdf(*d)];
-    }
-}
+type DensityFn<T> = fn(&dyn Sampler, [&[f64]; 3], &mut [T]);
 
 unsafe fn density_aos<T: Real>(
     sampler: *const GonioSampler,
     directions: *const T,
     n: usize,
     out: *mut T,
-    f: DensityFn,
+    f: DensityFn<T>,
 ) -> GonioStatus {
     guard(|| {
         let s = r(sampler, "sampler")?;
         let d = In::<T, 3>::aos(directions, n, "directions")?;
         let o = Out::<T, 1>::aos(out, n, "out")?;
-        eval_n(n, &d, &o, |dirs, res| {
-            f(s.inner.as_ref(), dirs, res);
-            Ok(())
-        })
+        eval_n(n, &d, &o, |dirs, [res]| f(s.inner.as_ref(), dirs, res))
     })
 }
 
@@ -294,16 +336,13 @@ unsafe fn density_soa<T: Real>(
     z: *const T,
     n: usize,
     out: *mut T,
-    f: DensityFn,
+    f: DensityFn<T>,
 ) -> GonioStatus {
     guard(|| {
         let s = r(sampler, "sampler")?;
         let d = In::<T, 3>::soa([(x, "x"), (y, "y"), (z, "z")], n)?;
         let o = Out::<T, 1>::soa([(out, "out")], n)?;
-        eval_n(n, &d, &o, |dirs, res| {
-            f(s.inner.as_ref(), dirs, res);
-            Ok(())
-        })
+        eval_n(n, &d, &o, |dirs, [res]| f(s.inner.as_ref(), dirs, res))
     })
 }
 
@@ -321,9 +360,7 @@ unsafe fn invert_aos<T: Real>(
         if s.inner.invert([0.0, 0.0, 1.0]) == Err(InvertError::Unsupported) {
             return Err(invert_error(InvertError::Unsupported));
         }
-        eval_n(n, &d, &o, |dirs, res| {
-            invert_or_nan(s.inner.as_ref(), dirs, res)
-        })
+        eval_n(n, &d, &o, |dirs, uv| T::invert(s.inner.as_ref(), dirs, uv))
     })
 }
 
@@ -345,9 +382,7 @@ unsafe fn invert_soa<T: Real>(
         if s.inner.invert([0.0, 0.0, 1.0]) == Err(InvertError::Unsupported) {
             return Err(invert_error(InvertError::Unsupported));
         }
-        eval_n(n, &d, &o, |dirs, res| {
-            invert_or_nan(s.inner.as_ref(), dirs, res)
-        })
+        eval_n(n, &d, &o, |dirs, uv| T::invert(s.inner.as_ref(), dirs, uv))
     })
 }
 
@@ -400,7 +435,7 @@ pub unsafe extern "C" fn gonio_pdf_batch(
     n: usize,
     out: *mut f64,
 ) -> GonioStatus {
-    density_aos::<f64>(sampler, directions, n, out, pdf_of)
+    density_aos::<f64>(sampler, directions, n, out, f64::pdf)
 }
 
 /// The sampler's density (per sr) at `n` directions given as arrays `x[i]`, `y[i]`, `z[i]`
@@ -417,7 +452,7 @@ pub unsafe extern "C" fn gonio_pdf_batch_soa(
     n: usize,
     out: *mut f64,
 ) -> GonioStatus {
-    density_soa::<f64>(sampler, x, y, z, n, out, pdf_of)
+    density_soa::<f64>(sampler, x, y, z, n, out, f64::pdf)
 }
 
 /// The target density (per sr) at `n` directions given as interleaved triples
@@ -433,7 +468,7 @@ pub unsafe extern "C" fn gonio_target_pdf_batch(
     n: usize,
     out: *mut f64,
 ) -> GonioStatus {
-    density_aos::<f64>(sampler, directions, n, out, target_of)
+    density_aos::<f64>(sampler, directions, n, out, f64::target)
 }
 
 /// The target density (per sr) at `n` directions given as arrays `x[i]`, `y[i]`, `z[i]`
@@ -450,7 +485,7 @@ pub unsafe extern "C" fn gonio_target_pdf_batch_soa(
     n: usize,
     out: *mut f64,
 ) -> GonioStatus {
-    density_soa::<f64>(sampler, x, y, z, n, out, target_of)
+    density_soa::<f64>(sampler, x, y, z, n, out, f64::target)
 }
 
 /// Inverts `n` directions given as interleaved triples `directions[3i..3i+3]` (double)
@@ -489,7 +524,7 @@ pub unsafe extern "C" fn gonio_invert_batch_soa(
     invert_soa::<f64>(sampler, x, y, z, n, u, v)
 }
 
-/// Samples `n` points of the square given as interleaved pairs `u[2i], u[2i+1]` (float; computed in double, results rounded):
+/// Samples `n` points of the square given as interleaved pairs `u[2i], u[2i+1]` (float; the sampler's float32 batch call: its float32 map where it has one, else computed in double and rounded once):
 /// directions into `directions[3i..3i+3]`, densities (per sr) into `pdfs[i]`.
 ///
 /// # Safety
@@ -505,7 +540,7 @@ pub unsafe extern "C" fn gonio_sample_batch_f32(
     sample_aos::<f32>(sampler, u, n, directions, pdfs)
 }
 
-/// Samples `n` points of the square given as arrays `u[i]`, `v[i]` (float; computed in double, results rounded): directions
+/// Samples `n` points of the square given as arrays `u[i]`, `v[i]` (float; the sampler's float32 batch call: its float32 map where it has one, else computed in double and rounded once): directions
 /// into `x[i]`, `y[i]`, `z[i]`, densities (per sr) into `pdfs[i]`.
 ///
 /// # Safety
@@ -526,7 +561,7 @@ pub unsafe extern "C" fn gonio_sample_batch_soa_f32(
 }
 
 /// The sampler's density (per sr) at `n` directions given as interleaved triples
-/// `directions[3i..3i+3]` (float; computed in double, results rounded; normalised first), into `out[i]`. A zero or
+/// `directions[3i..3i+3]` (float; normalised in double and rounded to float, then the sampler's float32 batch call: its float32 map where it has one, else computed in double and rounded once), into `out[i]`. A zero or
 /// non-finite direction stops the batch with [`GONIO_ERR_INVALID_ARGUMENT`], naming its index.
 ///
 /// # Safety
@@ -538,11 +573,11 @@ pub unsafe extern "C" fn gonio_pdf_batch_f32(
     n: usize,
     out: *mut f32,
 ) -> GonioStatus {
-    density_aos::<f32>(sampler, directions, n, out, pdf_of)
+    density_aos::<f32>(sampler, directions, n, out, f32::pdf)
 }
 
 /// The sampler's density (per sr) at `n` directions given as arrays `x[i]`, `y[i]`, `z[i]`
-/// (float; computed in double, results rounded; normalised first), into `out[i]`; as the interleaved variant.
+/// (float; normalised in double and rounded to float, then the sampler's float32 batch call: its float32 map where it has one, else computed in double and rounded once), into `out[i]`; as the interleaved variant.
 ///
 /// # Safety
 /// `sampler` must be NULL or a live handle; every array NULL or valid for its `n` elements.
@@ -555,7 +590,7 @@ pub unsafe extern "C" fn gonio_pdf_batch_soa_f32(
     n: usize,
     out: *mut f32,
 ) -> GonioStatus {
-    density_soa::<f32>(sampler, x, y, z, n, out, pdf_of)
+    density_soa::<f32>(sampler, x, y, z, n, out, f32::pdf)
 }
 
 /// The target density (per sr) at `n` directions given as interleaved triples
@@ -571,7 +606,7 @@ pub unsafe extern "C" fn gonio_target_pdf_batch_f32(
     n: usize,
     out: *mut f32,
 ) -> GonioStatus {
-    density_aos::<f32>(sampler, directions, n, out, target_of)
+    density_aos::<f32>(sampler, directions, n, out, f32::target)
 }
 
 /// The target density (per sr) at `n` directions given as arrays `x[i]`, `y[i]`, `z[i]`
@@ -588,10 +623,10 @@ pub unsafe extern "C" fn gonio_target_pdf_batch_soa_f32(
     n: usize,
     out: *mut f32,
 ) -> GonioStatus {
-    density_soa::<f32>(sampler, x, y, z, n, out, target_of)
+    density_soa::<f32>(sampler, x, y, z, n, out, f32::target)
 }
 
-/// Inverts `n` directions given as interleaved triples `directions[3i..3i+3]` (float; computed in double, results rounded)
+/// Inverts `n` directions given as interleaved triples `directions[3i..3i+3]` (float; normalised in double and rounded to float, then the sampler's float32 batch call: its float32 map where it has one, else computed in double and rounded once)
 /// into interleaved points `uv[2i], uv[2i+1]`. A direction outside the domain or of density 0 gives (NaN, NaN)
 /// and the batch goes on; a method without inverse is [`GONIO_ERR_UNSUPPORTED`]; a zero or
 /// non-finite direction stops the batch with [`GONIO_ERR_INVALID_ARGUMENT`], naming its index.
@@ -608,7 +643,7 @@ pub unsafe extern "C" fn gonio_invert_batch_f32(
     invert_aos::<f32>(sampler, directions, n, uv)
 }
 
-/// Inverts `n` directions given as arrays `x[i]`, `y[i]`, `z[i]` (float; computed in double, results rounded) into `u[i]`,
+/// Inverts `n` directions given as arrays `x[i]`, `y[i]`, `z[i]` (float; normalised in double and rounded to float, then the sampler's float32 batch call: its float32 map where it has one, else computed in double and rounded once) into `u[i]`,
 /// `v[i]`; as the interleaved variant.
 ///
 /// # Safety

@@ -3,7 +3,8 @@
 
 use super::*;
 use gonio::mapping::SphereLayout;
-use gonio::sampler::{BuildOptions, Method, Vec3};
+use gonio::sampler::Vec3;
+use gonio::{BuildOptions, Method};
 use gonio::{Domain, InvertError};
 use std::ffi::c_char;
 use std::panic::{catch_unwind, AssertUnwindSafe};

@@ -502,8 +502,8 @@ pub unsafe extern "C" fn gonio_envmap_sample_batch(
             in_square([p[0], p[1]])
                 .map_err(|e| Failure::invalid(format!("point #{i}: {}", e.message)))?;
         }
-        // 256 points at a time through stack buffers (the batch kernel's width is a divisor).
-        const CHUNK: usize = 256;
+        // `gonio::batch::CHUNK` points at a time through stack buffers.
+        use gonio::batch::CHUNK;
         let mut u = [[0.0f64; 2]; CHUNK];
         let (mut d, mut p, mut c) = ([[0.0f64; 3]; CHUNK], [0.0f64; CHUNK], [[0.0f32; 3]; CHUNK]);
         for (j, chunk) in pts.chunks(2 * CHUNK).enumerate() {

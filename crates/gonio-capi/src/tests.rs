@@ -250,7 +250,7 @@ fn batches_agree_with_single_points_in_every_layout() {
             assert!(e < 1e-8, "point {i}: round trip off by {e}");
         }
     }
-    // f32: the f64 results rounded (inputs rounded first).
+    // f32: the float32 map's results (inputs rounded first).
     let uvf: Vec<f32> = uv.iter().map(|&a| a as f32).collect();
     let (mut df, mut pf) = (vec![0f32; 3 * n], vec![0f32; n]);
     let st =
@@ -266,9 +266,13 @@ fn batches_agree_with_single_points_in_every_layout() {
                 &mut one,
             )
         };
-        // The f64 result rounded (up to the batch path's own round-off).
-        assert!((f64::from(df[3 * i + 2]) - one.direction[2]).abs() <= 1e-7);
-        assert!((f64::from(pf[i]) - one.pdf).abs() <= 1e-6 * one.pdf);
+        // The float32 map (its own tables and arithmetic), close to the f64 map: the direction
+        // within 4e-7 scaled by min(1, 2π·pdf) (a low density stretches the map; measured
+        // 1.6e-7), the pdf within 1e-4 relative (measured 3.2e-5, at a low density where the
+        // f32 round-off of the position meets a steep density).
+        let q = (one.pdf * std::f64::consts::TAU).min(1.0);
+        assert!((f64::from(df[3 * i + 2]) - one.direction[2]).abs() * q <= 4e-7);
+        assert!((f64::from(pf[i]) - one.pdf).abs() <= 1e-4 * one.pdf);
     }
     let mut tf = vec![0f32; n];
     assert_eq!(
@@ -445,4 +449,430 @@ fn one_sampler_serves_many_threads() {
         gonio_sampler_free(s);
         gonio_diagram_free(d);
     }
+}
+
+/// A handle around a sampler built in Rust (the test needs the trait call on the same object).
+fn handle(s: Box<dyn gonio::Sampler>) -> *mut GonioSampler {
+    Box::into_raw(Box::new(GonioSampler { inner: s }))
+}
+
+fn bits<T: Copy + Into<f64>>(v: &[T]) -> Vec<u64> {
+    v.iter().map(|&x| x.into().to_bits()).collect()
+}
+
+#[test]
+#[allow(clippy::needless_range_loop)] // columns indexed by element on purpose
+fn batches_give_the_bits_of_the_trait_soa_calls() {
+    use gonio::synthetic::{example_luminaire, random_hemisphere, Family};
+    use gonio::{Domain, Method};
+    let lum = example_luminaire();
+    let zero_heavy = random_hemisphere(Family::ZeroHeavy, 9, 12, true, 4);
+    let n = 600; // two full chunks and a partial one
+    let uv: Vec<f64> = (0..2 * n)
+        .map(|i| (((i * 7919) % 1000) as f64 + 0.5) / 1000.0)
+        .collect();
+    let (u, v): (Vec<f64>, Vec<f64>) = (0..n).map(|i| (uv[2 * i], uv[2 * i + 1])).unzip();
+    // Directions over the whole sphere, of length 2.5 (the batches normalise them).
+    let dir: [Vec<f64>; 3] = {
+        let mut d: [Vec<f64>; 3] = [vec![], vec![], vec![]];
+        for i in 0..n {
+            let z = 1.0 - 2.0 * (i as f64 + 0.5) / n as f64;
+            let phi = 2.399_963 * i as f64;
+            let r = (1.0 - z * z).sqrt();
+            for (c, x) in [r * phi.cos(), r * phi.sin(), z].into_iter().enumerate() {
+                d[c].push(2.5 * x);
+            }
+        }
+        d
+    };
+    let unit: [Vec<f64>; 3] = {
+        let mut w: [Vec<f64>; 3] = [vec![], vec![], vec![]];
+        for i in 0..n {
+            let e = gonio::sampler::normalize([dir[0][i], dir[1][i], dir[2][i]]).unwrap();
+            for c in 0..3 {
+                w[c].push(e[c]);
+            }
+        }
+        w
+    };
+    let f = |v: &[f64]| -> Vec<f32> { v.iter().map(|&x| x as f32).collect() };
+    let dir32 = [f(&dir[0]), f(&dir[1]), f(&dir[2])];
+    // The f32 rule: normalised in f64, rounded to f32.
+    let unit32: [Vec<f32>; 3] = {
+        let mut w: [Vec<f32>; 3] = [vec![], vec![], vec![]];
+        for i in 0..n {
+            let e = [dir32[0][i], dir32[1][i], dir32[2][i]].map(f64::from);
+            let e = gonio::sampler::normalize(e).unwrap();
+            for c in 0..3 {
+                w[c].push(e[c] as f32);
+            }
+        }
+        w
+    };
+    let (u32_, v32) = (f(&u), f(&v));
+    for (name, s) in [
+        (
+            "hds sphere",
+            Method::Hds.build(&lum, Domain::Sphere).unwrap(),
+        ),
+        (
+            "hds zero-heavy hemisphere",
+            Method::Hds.build(&zero_heavy, Domain::Hemisphere).unwrap(),
+        ),
+        (
+            "bilinear",
+            Method::Bilinear.build(&lum, Domain::Sphere).unwrap(),
+        ),
+    ] {
+        // The Rust trait calls.
+        let mut want = [vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]];
+        let [wx, wy, wz, wp] = &mut want;
+        s.sample_batch_soa(&u, &v, [wx, wy, wz], wp);
+        let ur = [&unit[0][..], &unit[1][..], &unit[2][..]];
+        let mut wpdf = vec![0.0; n];
+        s.pdf_batch_soa(ur, &mut wpdf);
+        let (mut wu, mut wv) = (vec![0.0; n], vec![0.0; n]);
+        s.invert_batch_soa(ur, [&mut wu, &mut wv]);
+        let mut want32 = [vec![0.0f32; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]];
+        let [wx, wy, wz, wp] = &mut want32;
+        s.sample_batch_soa_f32(&u32_, &v32, [wx, wy, wz], wp);
+        let ur32 = [&unit32[0][..], &unit32[1][..], &unit32[2][..]];
+        let mut wpdf32 = vec![0.0f32; n];
+        s.pdf_batch_soa_f32(ur32, &mut wpdf32);
+        let (mut wu32, mut wv32) = (vec![0.0f32; n], vec![0.0; n]);
+        s.invert_batch_soa_f32(ur32, [&mut wu32, &mut wv32]);
+        if s.domain() == Domain::Hemisphere {
+            assert!(
+                wu.iter().any(|x| x.is_nan()),
+                "{name}: the lower hemisphere has no preimage"
+            );
+        }
+
+        let h = handle(s);
+        // f64, SoA and AoS.
+        let mut o = [vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]];
+        let [x, y, z, p] = &mut o;
+        let st = unsafe {
+            gonio_sample_batch_soa(
+                h,
+                u.as_ptr(),
+                v.as_ptr(),
+                n,
+                x.as_mut_ptr(),
+                y.as_mut_ptr(),
+                z.as_mut_ptr(),
+                p.as_mut_ptr(),
+            )
+        };
+        assert_eq!(st, GONIO_OK, "{}", last_error());
+        for c in 0..4 {
+            assert_eq!(bits(&o[c]), bits(&want[c]), "{name}: sample_soa column {c}");
+        }
+        let (mut dirs, mut pdfs) = (vec![0.0; 3 * n], vec![0.0; n]);
+        let st =
+            unsafe { gonio_sample_batch(h, uv.as_ptr(), n, dirs.as_mut_ptr(), pdfs.as_mut_ptr()) };
+        assert_eq!(st, GONIO_OK);
+        for i in 0..n {
+            let got = [dirs[3 * i], dirs[3 * i + 1], dirs[3 * i + 2], pdfs[i]];
+            let w = [want[0][i], want[1][i], want[2][i], want[3][i]];
+            assert_eq!(bits(&got), bits(&w), "{name}: sample (AoS) #{i}");
+        }
+        let mut p = vec![0.0; n];
+        let st = unsafe {
+            gonio_pdf_batch_soa(
+                h,
+                dir[0].as_ptr(),
+                dir[1].as_ptr(),
+                dir[2].as_ptr(),
+                n,
+                p.as_mut_ptr(),
+            )
+        };
+        assert_eq!(st, GONIO_OK);
+        assert_eq!(bits(&p), bits(&wpdf), "{name}: pdf_soa");
+        let (mut iu, mut iv) = (vec![0.0; n], vec![0.0; n]);
+        let st = unsafe {
+            gonio_invert_batch_soa(
+                h,
+                dir[0].as_ptr(),
+                dir[1].as_ptr(),
+                dir[2].as_ptr(),
+                n,
+                iu.as_mut_ptr(),
+                iv.as_mut_ptr(),
+            )
+        };
+        assert_eq!(st, GONIO_OK);
+        assert_eq!(
+            (bits(&iu), bits(&iv)),
+            (bits(&wu), bits(&wv)),
+            "{name}: invert_soa"
+        );
+        let aos: Vec<f64> = (0..3 * n).map(|k| dir[k % 3][k / 3]).collect();
+        let mut p = vec![0.0; n];
+        assert_eq!(
+            unsafe { gonio_pdf_batch(h, aos.as_ptr(), n, p.as_mut_ptr()) },
+            GONIO_OK
+        );
+        assert_eq!(bits(&p), bits(&wpdf), "{name}: pdf (AoS)");
+        let mut back = vec![0.0; 2 * n];
+        assert_eq!(
+            unsafe { gonio_invert_batch(h, aos.as_ptr(), n, back.as_mut_ptr()) },
+            GONIO_OK
+        );
+        let wuv: Vec<f64> = (0..2 * n)
+            .map(|k| if k % 2 == 0 { wu[k / 2] } else { wv[k / 2] })
+            .collect();
+        assert_eq!(bits(&back), bits(&wuv), "{name}: invert (AoS)");
+
+        // f32, SoA and AoS.
+        let mut o = [vec![0.0f32; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]];
+        let [x, y, z, p] = &mut o;
+        let st = unsafe {
+            gonio_sample_batch_soa_f32(
+                h,
+                u32_.as_ptr(),
+                v32.as_ptr(),
+                n,
+                x.as_mut_ptr(),
+                y.as_mut_ptr(),
+                z.as_mut_ptr(),
+                p.as_mut_ptr(),
+            )
+        };
+        assert_eq!(st, GONIO_OK);
+        for c in 0..4 {
+            assert_eq!(
+                bits(&o[c]),
+                bits(&want32[c]),
+                "{name}: sample_soa_f32 column {c}"
+            );
+        }
+        let uvf: Vec<f32> = f(&uv);
+        let (mut dirs, mut pdfs) = (vec![0.0f32; 3 * n], vec![0.0f32; n]);
+        let st = unsafe {
+            gonio_sample_batch_f32(h, uvf.as_ptr(), n, dirs.as_mut_ptr(), pdfs.as_mut_ptr())
+        };
+        assert_eq!(st, GONIO_OK);
+        for i in 0..n {
+            let got = [dirs[3 * i], dirs[3 * i + 1], dirs[3 * i + 2], pdfs[i]];
+            let w = [want32[0][i], want32[1][i], want32[2][i], want32[3][i]];
+            assert_eq!(bits(&got), bits(&w), "{name}: sample_f32 (AoS) #{i}");
+        }
+        let mut p = vec![0.0f32; n];
+        let st = unsafe {
+            gonio_pdf_batch_soa_f32(
+                h,
+                dir32[0].as_ptr(),
+                dir32[1].as_ptr(),
+                dir32[2].as_ptr(),
+                n,
+                p.as_mut_ptr(),
+            )
+        };
+        assert_eq!(st, GONIO_OK);
+        assert_eq!(bits(&p), bits(&wpdf32), "{name}: pdf_soa_f32");
+        let (mut iu, mut iv) = (vec![0.0f32; n], vec![0.0f32; n]);
+        let st = unsafe {
+            gonio_invert_batch_soa_f32(
+                h,
+                dir32[0].as_ptr(),
+                dir32[1].as_ptr(),
+                dir32[2].as_ptr(),
+                n,
+                iu.as_mut_ptr(),
+                iv.as_mut_ptr(),
+            )
+        };
+        assert_eq!(st, GONIO_OK);
+        assert_eq!(
+            (bits(&iu), bits(&iv)),
+            (bits(&wu32), bits(&wv32)),
+            "{name}: invert_soa_f32"
+        );
+        let aos32: Vec<f32> = (0..3 * n).map(|k| dir32[k % 3][k / 3]).collect();
+        let mut p = vec![0.0f32; n];
+        assert_eq!(
+            unsafe { gonio_pdf_batch_f32(h, aos32.as_ptr(), n, p.as_mut_ptr()) },
+            GONIO_OK
+        );
+        assert_eq!(bits(&p), bits(&wpdf32), "{name}: pdf_f32 (AoS)");
+        let mut back = vec![0.0f32; 2 * n];
+        assert_eq!(
+            unsafe { gonio_invert_batch_f32(h, aos32.as_ptr(), n, back.as_mut_ptr()) },
+            GONIO_OK
+        );
+        let wuv: Vec<f32> = (0..2 * n)
+            .map(|k| if k % 2 == 0 { wu32[k / 2] } else { wv32[k / 2] })
+            .collect();
+        assert_eq!(bits(&back), bits(&wuv), "{name}: invert_f32 (AoS)");
+        unsafe { gonio_sampler_free(h) };
+    }
+}
+
+/// The C ABI's float32 SoA batches of an HDS map give its float32 map's bits
+/// (`gonio::mapping::Float32Map`: f32 tables and arithmetic), not the f64 map rounded.
+#[test]
+#[allow(clippy::needless_range_loop)] // columns indexed by element on purpose
+fn float32_batches_give_the_float32_maps_bits() {
+    use gonio::synthetic::{example_luminaire, random_hemisphere, Family};
+    use gonio::{HemisphereMap, SphereMap};
+    let n = 600; // two full chunks and a partial one
+    let u: Vec<f32> = (0..n)
+        .map(|i| ((i * 7919 % 1000) as f32 + 0.5) / 1000.0)
+        .collect();
+    let v: Vec<f32> = (0..n)
+        .map(|i| ((i * 104_729 % 1000) as f32 + 0.5) / 1000.0)
+        .collect();
+    let hemi = HemisphereMap::new(&random_hemisphere(Family::ZeroHeavy, 9, 12, true, 4)).unwrap();
+    let sphere = SphereMap::new(&example_luminaire()).unwrap();
+    let cases: [(&str, gonio::mapping::Float32Map, Box<dyn gonio::Sampler>); 2] = [
+        ("hemisphere", hemi.float32_map().unwrap(), Box::new(hemi)),
+        ("sphere", sphere.float32_map().unwrap(), Box::new(sphere)),
+    ];
+    for (name, f, s) in cases {
+        let h = handle(s);
+        let mut o = [vec![0.0f32; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]];
+        let [x, y, z, p] = &mut o;
+        let st = unsafe {
+            gonio_sample_batch_soa_f32(
+                h,
+                u.as_ptr(),
+                v.as_ptr(),
+                n,
+                x.as_mut_ptr(),
+                y.as_mut_ptr(),
+                z.as_mut_ptr(),
+                p.as_mut_ptr(),
+            )
+        };
+        assert_eq!(st, GONIO_OK);
+        let mut w = [vec![0.0f32; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]];
+        {
+            let [x, y, z, p] = &mut w;
+            f.sample_soa(&u, &v, [x, y, z], p);
+        }
+        for c in 0..4 {
+            assert_eq!(bits(&o[c]), bits(&w[c]), "{name}: sample column {c}");
+        }
+        // The C ABI normalises f32 directions in double and rounds them to float first (its one
+        // f32 rule): the float32 map is called on those.
+        let d: [Vec<f32>; 3] = {
+            let mut d: [Vec<f32>; 3] = [vec![], vec![], vec![]];
+            for k in 0..n {
+                let e = [o[0][k], o[1][k], o[2][k]].map(f64::from);
+                let e = gonio::sampler::normalize(e).unwrap();
+                for c in 0..3 {
+                    d[c].push(e[c] as f32);
+                }
+            }
+            d
+        };
+        let mut p = vec![0.0f32; n];
+        let st = unsafe {
+            gonio_pdf_batch_soa_f32(
+                h,
+                o[0].as_ptr(),
+                o[1].as_ptr(),
+                o[2].as_ptr(),
+                n,
+                p.as_mut_ptr(),
+            )
+        };
+        assert_eq!(st, GONIO_OK);
+        let mut wp = vec![0.0f32; n];
+        f.pdf_soa([&d[0], &d[1], &d[2]], &mut wp);
+        assert_eq!(bits(&p), bits(&wp), "{name}: pdf");
+        let (mut iu, mut iv) = (vec![0.0f32; n], vec![0.0f32; n]);
+        let st = unsafe {
+            gonio_invert_batch_soa_f32(
+                h,
+                o[0].as_ptr(),
+                o[1].as_ptr(),
+                o[2].as_ptr(),
+                n,
+                iu.as_mut_ptr(),
+                iv.as_mut_ptr(),
+            )
+        };
+        assert_eq!(st, GONIO_OK);
+        let (mut wu, mut wv) = (vec![0.0f32; n], vec![0.0f32; n]);
+        f.invert_soa_nonzero([&d[0], &d[1], &d[2]], [&mut wu, &mut wv]);
+        assert_eq!(
+            (bits(&iu), bits(&iv)),
+            (bits(&wu), bits(&wv)),
+            "{name}: invert"
+        );
+        // And it is the float32 map, not the f64 map rounded: some pdf differs from that.
+        let mut r = vec![0.0f64; n];
+        let dw: [Vec<f64>; 3] = std::array::from_fn(|c| d[c].iter().map(|&x| x as f64).collect());
+        let unit: Vec<[f64; 3]> = (0..n)
+            .map(|k| gonio::sampler::normalize([dw[0][k], dw[1][k], dw[2][k]]).unwrap())
+            .collect();
+        for k in 0..n {
+            r[k] = unsafe { &*h }.inner.pdf(unit[k]);
+        }
+        assert!(
+            (0..n).any(|k| (r[k] as f32).to_bits() != p[k].to_bits()),
+            "{name}: the float32 batch equals the f64 map rounded everywhere"
+        );
+        unsafe { gonio_sampler_free(h) };
+    }
+}
+
+#[test]
+fn a_bad_input_in_a_later_chunk_of_a_soa_batch_is_named_and_earlier_chunks_written() {
+    use gonio::{Domain, Method};
+    let h = handle(
+        Method::Hds
+            .build(&gonio::synthetic::example_luminaire(), Domain::Sphere)
+            .unwrap(),
+    );
+    let n = 300;
+    let mut u = vec![0.5f32; n];
+    let v = vec![0.25f32; n];
+    u[280] = f32::NAN;
+    let mut o = [
+        vec![-7.0f32; n],
+        vec![-7.0; n],
+        vec![-7.0; n],
+        vec![-7.0; n],
+    ];
+    let [x, y, z, p] = &mut o;
+    let st = unsafe {
+        gonio_sample_batch_soa_f32(
+            h,
+            u.as_ptr(),
+            v.as_ptr(),
+            n,
+            x.as_mut_ptr(),
+            y.as_mut_ptr(),
+            z.as_mut_ptr(),
+            p.as_mut_ptr(),
+        )
+    };
+    assert_eq!(st, GONIO_ERR_INVALID_ARGUMENT);
+    assert!(last_error().starts_with("point #280: "), "{}", last_error());
+    // The first chunk (256 points) is written, the second is not.
+    assert!(o[3][..256].iter().all(|&q| q > 0.0));
+    assert!(o[3][256..].iter().all(|&q| q == -7.0));
+    let zero = [0.0f64; 1];
+    let mut out = [0.0f64; 1];
+    let st = unsafe {
+        gonio_pdf_batch_soa(
+            h,
+            zero.as_ptr(),
+            zero.as_ptr(),
+            zero.as_ptr(),
+            1,
+            out.as_mut_ptr(),
+        )
+    };
+    assert_eq!(st, GONIO_ERR_INVALID_ARGUMENT);
+    assert!(
+        last_error().starts_with("direction #0: "),
+        "{}",
+        last_error()
+    );
+    unsafe { gonio_sampler_free(h) };
 }

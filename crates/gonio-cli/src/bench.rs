@@ -14,6 +14,7 @@ use gonio::baselines::Rejection;
 use gonio::clock::{process_cpu_ns, thread_cpu_ns};
 use gonio::mapping::batch::{invert_soa_par, pdf_soa_par, sample_soa_par, SoaSampler};
 use gonio::mapping::simd::{Backend, BatchFloat};
+use gonio::mapping::Float32Map;
 use gonio::sampler::sample_batch_par;
 use gonio::sequence::Halton;
 use gonio::{Diagram, Domain, HemisphereMap, Method, Point2, Sample, Sampler, SphereMap, Vec3};
@@ -118,6 +119,13 @@ pub struct SoaTimes {
     pub pdf_f32_ns: f64,
     /// `invert_soa_par` in f32.
     pub inverse_f32_ns: f64,
+    /// The float32 map's (`gonio::mapping::Float32Map`) `sample_soa_par`: f32 tables and
+    /// arithmetic.
+    pub forward_float32_ns: f64,
+    /// The float32 map's `pdf_soa_par`.
+    pub pdf_float32_ns: f64,
+    /// The float32 map's `invert_soa_par`.
+    pub inverse_float32_ns: f64,
 }
 
 /// The SoA measurements: in a one-thread pool and on all batch threads.
@@ -278,10 +286,12 @@ pub fn run_soa_bench(
     let times = |pool: &rayon::ThreadPool| -> Result<SoaTimes> {
         Ok(if domain == Domain::Hemisphere {
             let map = HemisphereMap::new(diagram)?;
-            pool.install(|| soa_times(&map, &u, &v))
+            let f = map.float32_map()?;
+            pool.install(|| soa_times(&map, &f, &u, &v))
         } else {
             let map = SphereMap::new(diagram)?;
-            pool.install(|| soa_times(&map, &u, &v))
+            let f = map.float32_map()?;
+            pool.install(|| soa_times(&map, &f, &u, &v))
         })
     };
     Ok(SoaBench {
@@ -304,7 +314,7 @@ fn best_wall(items: usize, mut f: impl FnMut()) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
-fn soa_times<S: SoaSampler>(map: &S, u: &[f64], v: &[f64]) -> SoaTimes {
+fn soa_times<S: SoaSampler>(map: &S, f32map: &Float32Map, u: &[f64], v: &[f64]) -> SoaTimes {
     let (f64s, dirs) = soa_type(map, u.to_vec(), v.to_vec(), None);
     let dirs32: Vec<Vec<f32>> = dirs
         .iter()
@@ -312,8 +322,12 @@ fn soa_times<S: SoaSampler>(map: &S, u: &[f64], v: &[f64]) -> SoaTimes {
         .collect();
     let u32s: Vec<f32> = u.iter().map(|&x| x as f32).collect();
     let v32s: Vec<f32> = v.iter().map(|&x| x as f32).collect();
-    let (f32s, _) = soa_type(map, u32s, v32s, Some(dirs32));
+    let (f32s, _) = soa_type(map, u32s.clone(), v32s.clone(), Some(dirs32.clone()));
+    let own = float32_times(f32map, &u32s, &v32s, &dirs32);
     SoaTimes {
+        forward_float32_ns: own[0],
+        pdf_float32_ns: own[1],
+        inverse_float32_ns: own[2],
         forward_f64_ns: f64s[0],
         pdf_f64_ns: f64s[1],
         inverse_f64_ns: f64s[2],
@@ -321,6 +335,30 @@ fn soa_times<S: SoaSampler>(map: &S, u: &[f64], v: &[f64]) -> SoaTimes {
         pdf_f32_ns: f32s[1],
         inverse_f32_ns: f32s[2],
     }
+}
+
+/// Forward, pdf and inverse times of the float32 map (pdf and inverse on `dirs`).
+fn float32_times(map: &Float32Map, u: &[f32], v: &[f32], dirs: &[Vec<f32>]) -> [f64; 3] {
+    let n = u.len();
+    let mut o = vec![vec![0f32; n]; 4];
+    let forward = {
+        let [x, y, z, p] = &mut o[..] else {
+            unreachable!("four columns")
+        };
+        best_wall(n, || {
+            map.sample_soa_par(black_box(u), v, [&mut *x, &mut *y, &mut *z], &mut *p);
+        })
+    };
+    let d = dirs;
+    let mut pdf = vec![0f32; n];
+    let pdf_ns = best_wall(n, || {
+        map.pdf_soa_par([black_box(&d[0]), &d[1], &d[2]], &mut pdf)
+    });
+    let (mut wu, mut wv) = (vec![0f32; n], vec![0f32; n]);
+    let inverse = best_wall(n, || {
+        map.invert_soa_par([black_box(&d[0]), &d[1], &d[2]], [&mut wu, &mut wv])
+    });
+    [forward, pdf_ns, inverse]
 }
 
 /// Forward, pdf and inverse times in the element type T; pdf and inverse on `dirs` when given,
@@ -595,18 +633,23 @@ impl fmt::Display for BenchReport {
             )?;
             writeln!(
                 f,
-                "threads  forward f64  pdf f64  inverse f64  forward f32  pdf f32  inverse f32"
+                "threads  forward f64  pdf f64  inverse f64  forward f32  pdf f32  inverse f32  \
+                 float32 map: forward  pdf  inverse"
             )?;
             for (t, r) in [(1, &soa.one), (soa.threads, &soa.all)] {
                 writeln!(
                     f,
-                    "{t:>7}  {:>11.1}  {:>7.1}  {:>11.1}  {:>11.1}  {:>7.1}  {:>11.1}",
+                    "{t:>7}  {:>11.1}  {:>7.1}  {:>11.1}  {:>11.1}  {:>7.1}  {:>11.1}  \
+                     {:>20.1}  {:>3.1}  {:>7.1}",
                     r.forward_f64_ns,
                     r.pdf_f64_ns,
                     r.inverse_f64_ns,
                     r.forward_f32_ns,
                     r.pdf_f32_ns,
-                    r.inverse_f32_ns
+                    r.inverse_f32_ns,
+                    r.forward_float32_ns,
+                    r.pdf_float32_ns,
+                    r.inverse_float32_ns
                 )?;
             }
         }

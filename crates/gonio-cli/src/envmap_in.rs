@@ -10,7 +10,6 @@
 
 use crate::args::ConvertArgs;
 use crate::input::read_regular;
-use crate::load::{InputKind, Loaded};
 use crate::output::Output;
 use anyhow::Context;
 use gonio::baselines::equal_area::equal_area_square_to_sphere;
@@ -29,8 +28,8 @@ pub fn is_image_name(name: &str) -> bool {
 }
 
 /// Reads an image file and builds its environment map; the reader's and the map's warnings go
-/// to standard error.
-pub fn load_envmap(name: &str) -> anyhow::Result<Loaded> {
+/// to standard error. (`load::load` wraps it into its `Loaded`.)
+pub fn load_envmap(name: &str) -> anyhow::Result<EnvironmentMap> {
     let bytes = read_regular(Path::new(name), name, MAX_IMAGE_BYTES)?;
     let format = ImageFormat::sniff(&bytes).or_else(|| ImageFormat::from_path(Path::new(name)));
     let image = Image::from_bytes(&bytes, format).map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
@@ -39,13 +38,7 @@ pub fn load_envmap(name: &str) -> anyhow::Result<Loaded> {
     for w in env.warnings() {
         eprintln!("gonio: warning: {name}: {w}");
     }
-    Ok(Loaded {
-        name: name.to_string(),
-        kind: InputKind::EnvMap,
-        diagram: env.diagram(),
-        photometry: None,
-        envmap: Some(Box::new(env)),
-    })
+    Ok(env)
 }
 
 /// The lines `gonio info` adds for an environment map.
@@ -104,8 +97,7 @@ pub fn render_equal_area(env: &EnvironmentMap, n: usize) -> Vec<f32> {
 /// image pbrt-v4's `ImageInfiniteLight` reads, and the scene line that uses it.
 pub fn convert_pbrt(a: &ConvertArgs, ext: Option<&str>) -> anyhow::Result<()> {
     let out_name = a.output.display().to_string();
-    let loaded = load_envmap(&a.input)?;
-    let env = loaded.envmap.as_deref().expect("an image loads an envmap");
+    let env = &load_envmap(&a.input)?;
     let (w, h) = (env.image().width(), env.image().height());
     let n = a
         .resolution

@@ -110,7 +110,14 @@ pub fn load(name: &str) -> anyhow::Result<Loaded> {
         });
     }
     if crate::envmap_in::is_image_name(name) {
-        return crate::envmap_in::load_envmap(name);
+        let env = crate::envmap_in::load_envmap(name)?;
+        return Ok(Loaded {
+            name: name.to_string(),
+            kind: InputKind::EnvMap,
+            diagram: env.diagram(),
+            photometry: None,
+            envmap: Some(Box::new(env)),
+        });
     }
     let bytes = read_file(name)?;
     let hint = input_kind(name).ok();

@@ -49,8 +49,8 @@ impl<const K: usize> Rows<'_, K> {
     }
 }
 
-/// The address range of the elements of a float64 array (numpy's `byte_bounds`); None when empty.
-pub(crate) fn span<D: Dimension>(a: &Bound<'_, PyArray<f64, D>>) -> Span {
+/// The address range of the elements of an array (numpy's `byte_bounds`); None when empty.
+pub(crate) fn span<T: Element, D: Dimension>(a: &Bound<'_, PyArray<T, D>>) -> Span {
     let shape = a.shape();
     if shape.contains(&0) {
         return None;
@@ -65,7 +65,7 @@ pub(crate) fn span<D: Dimension>(a: &Bound<'_, PyArray<f64, D>>) -> Span {
             hi += ext;
         }
     }
-    Some((lo as usize, hi as usize + std::mem::size_of::<f64>()))
+    Some((lo as usize, hi as usize + std::mem::size_of::<T>()))
 }
 
 /// InputError when two of the named spans overlap (the later one is named).
@@ -280,12 +280,12 @@ pub(crate) fn table(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<(Vec<f64>, [
     Ok((v, [s[0], s[1]]))
 }
 
-/// A new C-ordered float64 array of zeros of `shape`, allocated by numpy: MemoryError (not a
-/// panic) when it cannot be.
-pub(crate) fn zeros<'py, D: Dimension>(
+/// A new C-ordered array of zeros of `shape` (float64 or float32), allocated by numpy:
+/// MemoryError (not a panic) when it cannot be.
+pub(crate) fn zeros<'py, T: Element, D: Dimension>(
     py: Python<'py>,
     shape: &[usize],
-) -> PyResult<Bound<'py, PyArray<f64, D>>> {
+) -> PyResult<Bound<'py, PyArray<T, D>>> {
     if D::NDIM.is_some_and(|n| n != shape.len()) {
         return Err(crate::InternalError::new_err(format!(
             "an output of shape {} of the wrong dimension",
@@ -308,7 +308,7 @@ pub(crate) fn zeros<'py, D: Dimension>(
             py,
             dims.len() as std::ffi::c_int,
             dims.as_mut_ptr(),
-            f64::get_dtype(py).into_dtype_ptr(),
+            T::get_dtype(py).into_dtype_ptr(),
             0,
         );
         let any = Bound::from_owned_ptr_or_err(py, ptr)?;
@@ -323,7 +323,7 @@ pub(crate) fn new_2d<'py>(
     k: usize,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let n = data.len().checked_div(k).unwrap_or(0);
-    let a = zeros::<numpy::Ix2>(py, &[n, k])?;
+    let a = zeros::<f64, numpy::Ix2>(py, &[n, k])?;
     fill(&a, "a new array", |out| {
         out.copy_from_slice(&data[..n * k]);
         Ok(())
@@ -333,7 +333,7 @@ pub(crate) fn new_2d<'py>(
 
 /// A new 1-D float64 array with a copy of `data`.
 pub(crate) fn new_1d<'py>(py: Python<'py>, data: &[f64]) -> PyResult<Bound<'py, PyArray1<f64>>> {
-    let a = zeros::<numpy::Ix1>(py, &[data.len()])?;
+    let a = zeros::<f64, numpy::Ix1>(py, &[data.len()])?;
     fill(&a, "a new array", |out| {
         out.copy_from_slice(data);
         Ok(())
@@ -342,23 +342,25 @@ pub(crate) fn new_1d<'py>(py: Python<'py>, data: &[f64]) -> PyResult<Bound<'py, 
 }
 
 /// The output array of a batch, of shape `shape` (`[n]` or `[n, k]`): the caller's `out`, which
-/// must be a C-contiguous float64 numpy array of that shape (InputError naming `what` otherwise;
+/// must be a C-contiguous numpy array of the batch's dtype (float64, or float32 for float32
+/// input) and of that shape (InputError naming `what` otherwise;
 /// [`fill`] checks the rest), or a new array of zeros allocated by numpy. numpy asks the kernel for huge
 /// pages for arrays of 4 MiB and more, so filling a fresh output faults 512× fewer pages than a
 /// fresh `Vec` (whose 4 KiB page faults took ~20 % of `Sampler.sample`).
-pub(crate) fn output<'py, D: Dimension>(
+pub(crate) fn output<'py, T: Element, D: Dimension>(
     py: Python<'py>,
     out: Option<&Bound<'py, PyAny>>,
     what: &str,
     shape: &[usize],
-) -> PyResult<Bound<'py, PyArray<f64, D>>> {
+) -> PyResult<Bound<'py, PyArray<T, D>>> {
     let want = fmt_shape(shape);
     let Some(out) = out else {
         return zeros(py, shape);
     };
-    let a = out.cast::<PyArray<f64, D>>().map_err(|_| {
+    let a = out.cast::<PyArray<T, D>>().map_err(|_| {
         InputError::new_err(format!(
-            "{what}: expected a float64 numpy array of shape {want}"
+            "{what}: expected a {} numpy array of shape {want}",
+            dtype_name::<T>()
         ))
     })?;
     if a.shape() != shape {
@@ -377,10 +379,10 @@ pub(crate) fn output<'py, D: Dimension>(
 /// Runs `fill` on the contiguous data of `a`, an output array from [`output`]. Raises InputError
 /// when `a` is not C-contiguous and aligned, cannot be written, or overlaps an array the call is
 /// reading or writing (numpy's borrow check).
-pub(crate) fn fill<'py, D: Dimension, T>(
-    a: &Bound<'py, PyArray<f64, D>>,
+pub(crate) fn fill<'py, E: Element, D: Dimension, T>(
+    a: &Bound<'py, PyArray<E, D>>,
     what: &str,
-    fill: impl FnOnce(&mut [f64]) -> PyResult<T>,
+    fill: impl FnOnce(&mut [E]) -> PyResult<T>,
 ) -> PyResult<T> {
     let mut w = a.try_readwrite().map_err(|e| {
         InputError::new_err(format!(
@@ -391,4 +393,67 @@ pub(crate) fn fill<'py, D: Dimension, T>(
         InputError::new_err(format!("{what}: must be C-contiguous and aligned ({e})"))
     })?;
     fill(data)
+}
+
+/// "float64" or "float32", for messages.
+fn dtype_name<T: Element>() -> &'static str {
+    if std::mem::size_of::<T>() == 4 {
+        "float32"
+    } else {
+        "float64"
+    }
+}
+
+/// A batch of float32 rows of `K` coordinates, borrowed from numpy when C-contiguous.
+pub(crate) struct Rows32<'py, const K: usize> {
+    borrowed: Option<PyReadonlyArray2<'py, f32>>,
+    owned: Vec<[f32; K]>,
+    /// The memory read in place (None when the rows were copied or there are none).
+    pub(crate) span: Span,
+}
+
+impl<const K: usize> Rows32<'_, K> {
+    /// The rows as one contiguous slice.
+    pub(crate) fn as_slice(&self) -> &[[f32; K]] {
+        if let Some(a) = &self.borrowed {
+            if let Ok(s) = a.as_slice() {
+                return s.as_chunks::<K>().0;
+            }
+        }
+        &self.owned
+    }
+}
+
+/// `obj` as float32 rows of shape (n, K) when it is a float32 numpy array (the float32 batches:
+/// float32 in, float32 out); `None` for anything else, which [`rows`] reads as float64.
+pub(crate) fn rows32<'py, const K: usize>(
+    obj: &Bound<'py, PyAny>,
+    what: &str,
+) -> PyResult<Option<Rows32<'py, K>>> {
+    let Ok(a) = obj.cast::<PyArray2<f32>>() else {
+        return Ok(None);
+    };
+    let shape = a.shape();
+    if shape[1] != K {
+        return Err(InputError::new_err(format!(
+            "{what}: expected an array of shape (n, {K}), got shape {}",
+            fmt_shape(shape)
+        )));
+    }
+    let ro = a.try_readonly().map_err(|e| borrow_error(what, e))?;
+    if a.is_c_contiguous() && ro.as_slice().is_ok() {
+        return Ok(Some(Rows32 {
+            span: span(a),
+            borrowed: Some(ro),
+            owned: Vec::new(),
+        }));
+    }
+    let v = ro.as_array();
+    let mut owned = try_vec(v.nrows(), what)?;
+    owned.extend(v.rows().into_iter().map(|r| std::array::from_fn(|k| r[k])));
+    Ok(Some(Rows32 {
+        borrowed: None,
+        owned,
+        span: None,
+    }))
 }

@@ -21,8 +21,8 @@ use std::borrow::Cow;
 use std::path::PathBuf;
 use std::sync::Arc;
 
-/// Rows per rayon task: small batches stay on one thread.
-const CHUNK: usize = 4096;
+// Rows per rayon task (small batches stay on one thread): the library's batch task size.
+use gonio::batch::PAR_CHUNK as CHUNK;
 
 /// A tabulated BRDF f_r(ω_i, ω_o) in 1/sr, 1 or 3 channels, read by [`read_brdf`].
 #[pyclass(name = "Brdf", module = "gonio", frozen)]

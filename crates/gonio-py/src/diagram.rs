@@ -1,6 +1,8 @@
 //! `gonio.Diagram` and the readers `gonio.read`, `gonio.read_bytes`, `gonio.example`.
 
 use crate::arrays;
+use crate::batch::map_rows;
+use crate::types::{domain_name, PyDiagram, Source};
 use crate::{DiagramError, InputError, ParseError};
 use gonio::decimal::degrees;
 use gonio::photometry::{
@@ -8,64 +10,11 @@ use gonio::photometry::{
     WriteMeta,
 };
 use gonio::sampler::{normalize, spherical};
-use gonio::{Diagram, Domain};
+use gonio::Diagram;
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyList, PyString};
 use std::path::{Path, PathBuf};
-
-/// Where a diagram came from (the library's one kind enum); photometric sources are in candela
-/// and always sampled on the sphere.
-pub(crate) use gonio::input::InputKind as Source;
-
-/// A goniometric diagram: values on a (θ, φ) grid, from a file or from arrays.
-///
-/// Frame (README "The frame"): θ is the polar angle from +z, φ the azimuth from +x toward +y, both
-/// in degrees here; the direction of (θ, φ) is (sin θ cos φ, sin θ sin φ, cos θ). Photometric
-/// files are brought into this frame with θ = 180° − γ (nadir γ = 0° is −z) and φ = C; their
-/// values are candela.
-#[pyclass(name = "Diagram", module = "gonio", frozen)]
-pub(crate) struct PyDiagram {
-    pub(crate) diagram: Diagram,
-    pub(crate) source: Source,
-    pub(crate) name: String,
-    pub(crate) photometry: Option<Box<Photometry>>,
-}
-
-impl PyDiagram {
-    /// The domain every sampler gets by default: the whole sphere for photometric input (IES,
-    /// EULUMDAT, the example), else the upper hemisphere when the diagram lies in θ ≤ 90°.
-    pub(crate) fn default_domain(&self) -> Domain {
-        let theta_max = *self
-            .diagram
-            .theta()
-            .last()
-            .expect("a diagram has parallels");
-        if self.source.is_photometric() || theta_max > std::f64::consts::FRAC_PI_2 {
-            Domain::Sphere
-        } else {
-            Domain::Hemisphere
-        }
-    }
-}
-
-pub(crate) fn domain_name(d: Domain) -> &'static str {
-    match d {
-        Domain::Hemisphere => "hemisphere",
-        Domain::Sphere => "sphere",
-    }
-}
-
-pub(crate) fn parse_domain(s: &str) -> PyResult<Domain> {
-    // Names are matched as everywhere in gonio: ASCII letter case and blanks do not matter.
-    match s.trim().to_ascii_lowercase().as_str() {
-        "hemisphere" => Ok(Domain::Hemisphere),
-        "sphere" => Ok(Domain::Sphere),
-        _ => Err(InputError::new_err(format!(
-            "unknown domain `{s}`; expected \"hemisphere\" or \"sphere\""
-        ))),
-    }
-}
 
 fn diagram_error(e: gonio::DiagramError) -> PyErr {
     DiagramError::new_err(e.to_string())
@@ -378,7 +327,7 @@ impl PyDiagram {
         let rows = arrays::rows::<3>(directions, "directions")?;
         let dirs = rows.as_slice();
         let d = &self.diagram;
-        crate::sampler::map_rows(py, "intensity", &dirs, |v| {
+        map_rows(py, "intensity", &dirs, |v| {
             let v = normalize(*v)?;
             let (t, p) = spherical(v);
             Some(d.interpolate(t, p))
@@ -436,16 +385,6 @@ impl PyDiagram {
             self.diagram.n_meridians(),
             self.diagram.integral()
         )
-    }
-}
-
-impl PyDiagram {
-    /// The file stem of the name, for headers written from this diagram.
-    pub(crate) fn stem(&self) -> String {
-        Path::new(&self.name)
-            .file_stem()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_else(|| self.name.clone())
     }
 }
 

@@ -144,8 +144,12 @@ impl PyEnvMap {
         let ds = rows.as_slice();
         let env = &self.env;
         let c = detached(py, "EnvMap.eval", || {
+            // The batch lookup (the angles on SIMD lanes): `EnvironmentMap::eval` bit for bit.
+            let mut rgb: Vec<[f32; 3]> = arrays::try_vec(ds.len(), "rgb")?;
+            rgb.resize(ds.len(), [0.0; 3]);
+            env.eval_batch(&ds, &mut rgb);
             let mut c = arrays::try_vec(3 * ds.len(), "rgb")?;
-            c.extend(ds.iter().flat_map(|&d| env.eval(d).map(f64::from)));
+            c.extend(rgb.iter().flat_map(|v| v.map(f64::from)));
             PyResult::Ok(c)
         })??;
         arrays::new_2d(py, &c, 3)

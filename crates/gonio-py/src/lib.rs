@@ -3,7 +3,7 @@
 //!
 //! The bindings add no second design: reading goes through [`gonio::photometry`] and
 //! [`gonio::Diagram`], samplers come from the library's factory, batches through
-//! [`gonio::Sampler::sample_batch`] on rayon threads with the GIL released, the battery through
+//! the [`gonio::Sampler`] structure-of-arrays batch calls on rayon threads with the GIL released, the battery through
 //! [`gonio::check`]. What the bindings add is the conversion between numpy arrays and the
 //! library's types, and the mapping of every library error to a Python exception:
 //!
@@ -21,12 +21,14 @@ use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 
 mod arrays;
+mod batch;
 mod brdf;
 mod diagram;
 mod envmap;
 mod mesh;
 mod misc;
 mod sampler;
+mod types;
 
 create_exception!(
     gonio,
@@ -111,7 +113,7 @@ fn _gonio(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("BuildError", py.get_type::<BuildError>())?;
     m.add("InputError", py.get_type::<InputError>())?;
     m.add("InternalError", py.get_type::<InternalError>())?;
-    m.add_class::<diagram::PyDiagram>()?;
+    m.add_class::<types::PyDiagram>()?;
     m.add_class::<sampler::PySampler>()?;
     m.add_class::<envmap::PyEnvMap>()?;
     brdf::register(m)?;

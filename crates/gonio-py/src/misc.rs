@@ -1,8 +1,9 @@
 //! Sequences, the check battery, conversion and writing.
 
 use crate::arrays;
-use crate::diagram::{dumps, out_format, PyDiagram};
+use crate::diagram::{dumps, out_format};
 use crate::sampler::PySampler;
+use crate::types::PyDiagram;
 use crate::{detached, InputError};
 use gonio::check::{cell_boundary_points, run_battery_with_progress, BatteryOptions};
 use gonio::sequence::{Sequence, SequenceKind};
@@ -44,10 +45,10 @@ pub(crate) fn sequence<'py>(
     }
     let seq = Sequence::new(kind, seed);
     let n = n as usize;
-    let arr = arrays::zeros::<numpy::Ix2>(py, &[n, 2])?;
+    let arr = arrays::zeros::<f64, numpy::Ix2>(py, &[n, 2])?;
     arrays::fill(&arr, "sequence", |flat| {
         let (pts, _) = flat.as_chunks_mut::<2>();
-        crate::sampler::in_slices(py, "sequence", n, |r| {
+        crate::batch::in_slices(py, "sequence", n, |r| {
             seq.fill_par(start + r.start as u64, &mut pts[r]);
             None
         })

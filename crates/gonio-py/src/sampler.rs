@@ -1,92 +1,16 @@
 //! `gonio.Sampler`: any method on any domain, batches with the GIL released on rayon threads.
 
 use crate::arrays;
-use crate::diagram::{domain_name, parse_domain, PyDiagram};
+use crate::batch::{fmt_row, in_slices, map_rows};
+use crate::types::{domain_name, parse_domain, PyDiagram};
 use crate::{detached, BuildError, InputError};
+use gonio::batch::{CHUNK, PAR_CHUNK};
 use gonio::sampler::normalize;
 use gonio::Method;
-use gonio::{InvertError, Point2, Sampler, Vec3};
-use numpy::{PyArray1, PyArray2};
+use gonio::{InvertError, Sampler};
+use numpy::{Element, PyArray1, PyArray2};
 use pyo3::prelude::*;
 use rayon::prelude::*;
-
-/// Rows per rayon task. Each output row depends only on its own input row, so the results do not
-/// depend on the number of threads.
-const CHUNK: usize = 4096;
-
-/// Rows per slice of a batch: between slices the GIL is taken back and pending signals are
-/// handled (Ctrl-C raises KeyboardInterrupt within one slice's time, a few ms).
-pub(crate) const SLICE: usize = 1 << 18;
-
-/// Runs `f` on consecutive ranges of at most [`SLICE`] of `n` rows with the GIL released,
-/// handling signals between them; `f` returns the first bad row of its range (relative to the
-/// range's start), which stops the batch. Returns the first bad row of the whole batch.
-pub(crate) fn in_slices(
-    py: Python<'_>,
-    what: &str,
-    n: usize,
-    mut f: impl FnMut(std::ops::Range<usize>) -> Option<usize> + Send,
-) -> PyResult<Option<usize>> {
-    let mut start = 0;
-    while start < n {
-        let end = n.min(start + SLICE);
-        if let Some(k) = detached(py, what, || f(start..end))? {
-            return Ok(Some(start + k));
-        }
-        start = end;
-        if start < n {
-            py.check_signals()?;
-        }
-    }
-    Ok(None)
-}
-
-/// Applies `f` to every row on all rayon threads with the GIL released, into a new array; `None`
-/// from `f` marks an invalid row, and the first invalid row (lowest index) is reported.
-pub(crate) fn map_rows<'py, const K: usize>(
-    py: Python<'py>,
-    what: &str,
-    rows: &[[f64; K]],
-    f: impl Fn(&[f64; K]) -> Option<f64> + Sync,
-) -> PyResult<Bound<'py, PyArray1<f64>>> {
-    let arr = arrays::output(py, None, what, &[rows.len()])?;
-    let bad = arrays::fill(&arr, what, |out| {
-        in_slices(py, what, rows.len(), |r| {
-            let rows = &rows[r.clone()];
-            out[r]
-                .par_chunks_mut(CHUNK)
-                .zip(rows.par_chunks(CHUNK))
-                .enumerate()
-                .filter_map(|(c, (o, r))| {
-                    let mut first_bad = None;
-                    for (k, (o, r)) in o.iter_mut().zip(r).enumerate() {
-                        match f(r) {
-                            Some(v) => *o = v,
-                            None => {
-                                first_bad.get_or_insert(c * CHUNK + k);
-                            }
-                        }
-                    }
-                    first_bad
-                })
-                .min()
-        })
-    })?;
-    match bad {
-        None => Ok(arr),
-        Some(k) => Err(InputError::new_err(format!(
-            "{what}: row {k}: direction {} is zero or not finite",
-            fmt_row(&rows[k])
-        ))),
-    }
-}
-
-/// A row of numbers for a message, `(x, y, z)`, each in the shortest form that reads back (exponent
-/// form for tiny and huge magnitudes: no 300-digit decimals).
-pub(crate) fn fmt_row(r: &[f64]) -> String {
-    let parts: Vec<String> = r.iter().map(|&x| gonio::decimal::shortest(x)).collect();
-    format!("({})", parts.join(", "))
-}
 
 /// A sampler of a diagram: a bijective map from the unit square [0, 1]² to unit directions with
 /// the exact density of every sample.
@@ -95,10 +19,12 @@ pub(crate) fn fmt_row(r: &[f64]) -> String {
 /// from +z, φ from +x toward +y; for photometric files nadir (γ = 0°) is −z and C = 0° is +x.
 /// Densities are per steradian.
 ///
-/// Every batch method takes an array of shape (n, 2) (points) or (n, 3) (directions), float64 or
-/// float32, C- or Fortran-ordered, and returns new float64 arrays. Batches run on all threads with
-/// the GIL released; each output row depends only on its input row, so results do not depend on
-/// the number of threads.
+/// Every batch method takes an array of shape (n, 2) (points) or (n, 3) (directions), C- or
+/// Fortran-ordered. `sample`, `pdf` and `invert` keep float32: a float32 array in gives float32
+/// arrays out, through the sampler's float32 batch calls (its float32 map where it has one, else
+/// the float64 map rounded once); any other real dtype is read as float64 and gives float64.
+/// Batches run on all threads with the GIL released; each output row depends only on its input
+/// row, so results do not depend on the number of threads.
 #[pyclass(name = "Sampler", module = "gonio", frozen)]
 pub(crate) struct PySampler {
     sampler: Box<dyn Sampler>,
@@ -110,9 +36,6 @@ pub(crate) struct PySampler {
 /// A built sampler, its guaranteed ratio bound (if the method claims one) and the power its
 /// target normalises (diagram units × sr).
 pub(crate) type Built = (Box<dyn Sampler>, Option<(f64, f64)>, f64);
-
-/// (directions (n, 3), pdf (n,)) as numpy arrays.
-type SampleArrays<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>);
 
 /// Builds the sampler of `method` for `diagram` on `domain` through the library's factory
 /// [`Method::build_with`], with its guaranteed ratio bound and target power.
@@ -233,21 +156,115 @@ impl PySampler {
     }
 
     /// Maps points `u` of the unit square, shape (n, 2), each coordinate in [0, 1], to unit
-    /// directions (n, 3) and their exact density (n,) per steradian. Returns (directions, pdf).
-    /// Raises InputError for a point outside [0, 1]² or NaN (naming its row).
+    /// directions (n, 3) and their exact density (n,) per steradian. Returns (directions, pdf),
+    /// float32 for a float32 `u`, else float64. Raises InputError for a point outside [0, 1]² or
+    /// NaN (naming its row).
     ///
-    /// `out=(directions, pdf)`: C-contiguous float64 arrays of shapes (n, 3) and (n,) to write
-    /// into (and return) instead of new ones; reusing them across calls saves the page faults of
-    /// fresh memory. They must not overlap `u` or each other (InputError).
+    /// `out=(directions, pdf)`: C-contiguous arrays of the result's dtype and of shapes (n, 3) and
+    /// (n,) to write into (and return) instead of new ones; reusing them across calls saves the
+    /// page faults of fresh memory. They must not overlap `u` or each other (InputError).
     #[pyo3(signature = (u, *, out = None))]
     fn sample<'py>(
         &self,
         py: Python<'py>,
         u: &Bound<'py, PyAny>,
         out: Option<&Bound<'py, PyAny>>,
-    ) -> PyResult<SampleArrays<'py>> {
+    ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
+        if let Some(rows) = arrays::rows32::<2>(u, "u")? {
+            let (d, p) = self.sample_t(py, rows.as_slice(), rows.span, out)?;
+            return Ok((d.into_any(), p.into_any()));
+        }
         let rows = arrays::rows::<2>(u, "u")?;
-        let pts = rows.as_slice();
+        let (d, p) = self.sample_t(py, &rows.as_slice(), rows.span, out)?;
+        Ok((d.into_any(), p.into_any()))
+    }
+
+    /// Density of `sample` per steradian at `directions` (n, 3), normalised first; 0 outside the
+    /// domain. float32 for float32 `directions` (normalised in float64 and rounded to float32,
+    /// then the float32 batch call), else float64. Raises InputError for a zero or non-finite
+    /// direction. `out`: a C-contiguous array of the result's dtype and of shape (n,) to write
+    /// into (and return), not overlapping `directions`.
+    #[pyo3(signature = (directions, *, out = None))]
+    fn pdf<'py>(
+        &self,
+        py: Python<'py>,
+        directions: &Bound<'py, PyAny>,
+        out: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        if let Some(rows) = arrays::rows32::<3>(directions, "directions")? {
+            return Ok(self.pdf_t(py, rows.as_slice(), rows.span, out)?.into_any());
+        }
+        let rows = arrays::rows::<3>(directions, "directions")?;
+        Ok(self.pdf_t(py, &rows.as_slice(), rows.span, out)?.into_any())
+    }
+
+    /// The target density per steradian at `directions` (n, 3): the diagram interpolated
+    /// bilinearly in (θ, φ), normalised to integrate to 1 over the domain; 0 outside it.
+    fn target_pdf<'py>(
+        &self,
+        py: Python<'py>,
+        directions: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let rows = arrays::rows::<3>(directions, "directions")?;
+        let s = self.sampler.as_ref();
+        map_rows(py, "target_pdf", &rows.as_slice(), |d| {
+            normalize(*d).map(|d| s.target_pdf(d))
+        })
+    }
+
+    /// The points (n, 2) of the unit square that `sample` maps to `directions` (n, 3),
+    /// normalised first; float32 for float32 `directions` (as `pdf`), else float64. Raises
+    /// InputError for a direction outside the domain or where the density is 0 (no point maps to
+    /// it), naming its row, and for a method without inverse ("rejection"). `out`: a
+    /// C-contiguous array of the result's dtype and of shape (n, 2) to write into (and return),
+    /// not overlapping `directions`.
+    #[pyo3(signature = (directions, *, out = None))]
+    fn invert<'py>(
+        &self,
+        py: Python<'py>,
+        directions: &Bound<'py, PyAny>,
+        out: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let s = self.sampler.as_ref();
+        if s.invert([0.0, 0.0, 1.0]) == Err(InvertError::Unsupported) {
+            return Err(InputError::new_err(format!(
+                "method `{}` has no inverse; use hds, piecewise-constant, bilinear or uniform",
+                s.name()
+            )));
+        }
+        if let Some(rows) = arrays::rows32::<3>(directions, "directions")? {
+            return Ok(self
+                .invert_t(py, rows.as_slice(), rows.span, out)?
+                .into_any());
+        }
+        let rows = arrays::rows::<3>(directions, "directions")?;
+        Ok(self
+            .invert_t(py, &rows.as_slice(), rows.span, out)?
+            .into_any())
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "gonio.Sampler(method={:?}, domain={:?}, memory_bytes={})",
+            self.method.as_str(),
+            domain_name(self.sampler.domain()),
+            self.sampler.memory_bytes()
+        )
+    }
+}
+
+/// (directions (n, 3), pdf (n,)) as numpy arrays of `T`.
+type SampleArrays<'py, T> = (Bound<'py, PyArray2<T>>, Bound<'py, PyArray1<T>>);
+
+impl PySampler {
+    /// [`PySampler::sample`] in the element type `T` of the rows.
+    fn sample_t<'py, T: Float>(
+        &self,
+        py: Python<'py>,
+        pts: &[[T; 2]],
+        span: arrays::Span,
+        out: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<SampleArrays<'py, T>> {
         let n = pts.len();
         let outs: Option<(Bound<'py, PyAny>, Bound<'py, PyAny>)> =
             out.map(|o| o.extract()).transpose().map_err(|_| {
@@ -257,7 +274,7 @@ impl PySampler {
         let dirs_a = arrays::output(py, d, "out[0] (directions)", &[n, 3])?;
         let pdf_a = arrays::output(py, p, "out[1] (pdf)", &[n])?;
         arrays::check_disjoint(&[
-            ("u", rows.span),
+            ("u", span),
             ("out[0] (directions)", arrays::span(&dirs_a)),
             ("out[1] (pdf)", arrays::span(&pdf_a)),
         ])?;
@@ -277,27 +294,23 @@ impl PySampler {
         if let Some(k) = bad {
             return Err(InputError::new_err(format!(
                 "u: row {k}: point {} is outside the unit square [0, 1]²",
-                fmt_row(&pts[k])
+                fmt_row(&pts[k].map(Into::into))
             )));
         }
         Ok((dirs_a, pdf_a))
     }
 
-    /// Density of `sample` per steradian at `directions` (n, 3), normalised first; 0 outside the
-    /// domain. Raises InputError for a zero or non-finite direction. `out`: a C-contiguous float64
-    /// array of shape (n,) to write into (and return), not overlapping `directions`.
-    #[pyo3(signature = (directions, *, out = None))]
-    fn pdf<'py>(
+    /// [`PySampler::pdf`] in the element type `T` of the rows.
+    fn pdf_t<'py, T: Float>(
         &self,
         py: Python<'py>,
-        directions: &Bound<'py, PyAny>,
+        dirs: &[[T; 3]],
+        span: arrays::Span,
         out: Option<&Bound<'py, PyAny>>,
-    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let rows = arrays::rows::<3>(directions, "directions")?;
-        let dirs = rows.as_slice();
+    ) -> PyResult<Bound<'py, PyArray1<T>>> {
         let s = self.sampler.as_ref();
         let out_a = arrays::output(py, out, "out", &[dirs.len()])?;
-        arrays::check_disjoint(&[("directions", rows.span), ("out", arrays::span(&out_a))])?;
+        arrays::check_disjoint(&[("directions", span), ("out", arrays::span(&out_a))])?;
         let bad = arrays::fill(&out_a, "out", |out| {
             in_slices(py, "pdf", dirs.len(), |r| {
                 pdf_into(s, &dirs[r.clone()], &mut out[r])
@@ -306,56 +319,30 @@ impl PySampler {
         if let Some(k) = bad {
             return Err(InputError::new_err(format!(
                 "pdf: row {k}: direction {} is zero or not finite",
-                fmt_row(&dirs[k])
+                fmt_row(&dirs[k].map(Into::into))
             )));
         }
         Ok(out_a)
     }
 
-    /// The target density per steradian at `directions` (n, 3): the diagram interpolated
-    /// bilinearly in (θ, φ), normalised to integrate to 1 over the domain; 0 outside it.
-    fn target_pdf<'py>(
+    /// [`PySampler::invert`] in the element type `T` of the rows.
+    fn invert_t<'py, T: Float>(
         &self,
         py: Python<'py>,
-        directions: &Bound<'py, PyAny>,
-    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let rows = arrays::rows::<3>(directions, "directions")?;
-        let s = self.sampler.as_ref();
-        map_rows(py, "target_pdf", &rows.as_slice(), |d| {
-            normalize(*d).map(|d| s.target_pdf(d))
-        })
-    }
-
-    /// The points (n, 2) of the unit square that `sample` maps to `directions` (n, 3),
-    /// normalised first. Raises InputError for a direction outside the domain or where the density
-    /// is 0 (no point maps to it), naming its row, and for a method without inverse ("rejection").
-    /// `out`: a C-contiguous float64 array of shape (n, 2) to write into (and return), not
-    /// overlapping `directions`.
-    #[pyo3(signature = (directions, *, out = None))]
-    fn invert<'py>(
-        &self,
-        py: Python<'py>,
-        directions: &Bound<'py, PyAny>,
+        dirs: &[[T; 3]],
+        span: arrays::Span,
         out: Option<&Bound<'py, PyAny>>,
-    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    ) -> PyResult<Bound<'py, PyArray2<T>>> {
         let s = self.sampler.as_ref();
-        if s.invert([0.0, 0.0, 1.0]) == Err(InvertError::Unsupported) {
-            return Err(InputError::new_err(format!(
-                "method `{}` has no inverse; use hds, piecewise-constant, bilinear or uniform",
-                s.name()
-            )));
-        }
-        let rows = arrays::rows::<3>(directions, "directions")?;
-        let dirs = rows.as_slice();
         let out_a = arrays::output(py, out, "out", &[dirs.len(), 2])?;
-        arrays::check_disjoint(&[("directions", rows.span), ("out", arrays::span(&out_a))])?;
+        arrays::check_disjoint(&[("directions", span), ("out", arrays::span(&out_a))])?;
         let bad = arrays::fill(&out_a, "out", |out| {
             in_slices(py, "invert", dirs.len(), |r| {
                 invert_into(s, &dirs[r.clone()], &mut out[2 * r.start..2 * r.end])
             })
         })?;
         if let Some(k) = bad {
-            let d = dirs[k];
+            let d = dirs[k].map(Into::into);
             let why = match normalize(d).map(|u| s.invert(u)) {
                 None => "is zero or not finite".to_string(),
                 Some(Err(InvertError::ZeroDensity)) => {
@@ -373,60 +360,110 @@ impl PySampler {
         }
         Ok(out_a)
     }
+}
 
-    fn __repr__(&self) -> String {
-        format!(
-            "gonio.Sampler(method={:?}, domain={:?}, memory_bytes={})",
-            self.method.as_str(),
-            domain_name(self.sampler.domain()),
-            self.sampler.memory_bytes()
-        )
+/// The two element types of the batches, each with its structure-of-arrays calls of the sampler
+/// trait.
+pub(crate) trait Float:
+    Element + Copy + Default + Send + Sync + Into<f64> + 'static
+{
+    /// `x` rounded to this type.
+    fn from_f64(x: f64) -> Self;
+    /// [`Sampler::sample_batch_soa`] or its `_f32` twin.
+    fn sample(s: &dyn Sampler, u: &[Self], v: &[Self], dir: [&mut [Self]; 3], pdf: &mut [Self]);
+    /// [`Sampler::pdf_batch_soa`] or its `_f32` twin.
+    fn pdf(s: &dyn Sampler, dir: [&[Self]; 3], pdf: &mut [Self]);
+    /// [`Sampler::invert_batch_soa`] or its `_f32` twin.
+    fn invert(s: &dyn Sampler, dir: [&[Self]; 3], uv: [&mut [Self]; 2]);
+}
+
+impl Float for f64 {
+    fn from_f64(x: f64) -> Self {
+        x
+    }
+    fn sample(s: &dyn Sampler, u: &[f64], v: &[f64], dir: [&mut [f64]; 3], pdf: &mut [f64]) {
+        s.sample_batch_soa(u, v, dir, pdf)
+    }
+    fn pdf(s: &dyn Sampler, dir: [&[f64]; 3], pdf: &mut [f64]) {
+        s.pdf_batch_soa(dir, pdf)
+    }
+    fn invert(s: &dyn Sampler, dir: [&[f64]; 3], uv: [&mut [f64]; 2]) {
+        s.invert_batch_soa(dir, uv)
     }
 }
 
-/// Samples every point into `dirs` (row-major n × 3) and `pdf`; returns the first row outside the
-/// unit square (nothing is sampled in its chunk).
-pub(crate) fn sample_into(
-    s: &dyn Sampler,
-    pts: &[Point2],
-    dirs: &mut [f64],
-    pdf: &mut [f64],
+impl Float for f32 {
+    fn from_f64(x: f64) -> Self {
+        x as f32
+    }
+    fn sample(s: &dyn Sampler, u: &[f32], v: &[f32], dir: [&mut [f32]; 3], pdf: &mut [f32]) {
+        s.sample_batch_soa_f32(u, v, dir, pdf)
+    }
+    fn pdf(s: &dyn Sampler, dir: [&[f32]; 3], pdf: &mut [f32]) {
+        s.pdf_batch_soa_f32(dir, pdf)
+    }
+    fn invert(s: &dyn Sampler, dir: [&[f32]; 3], uv: [&mut [f32]; 2]) {
+        s.invert_batch_soa_f32(dir, uv)
+    }
+}
+
+/// Runs `f(chunk index, first row, rows, outputs)` on every [`PAR_CHUNK`] rows on all rayon
+/// threads; each task returns its first bad row (absolute index), and the lowest is returned.
+fn par_rows<T: Sync, const K: usize, O: Send>(
+    rows: &[[T; K]],
+    out: &mut [O],
+    per_row: usize,
+    f: impl Fn(usize, &[[T; K]], &mut [O]) -> Option<usize> + Sync,
 ) -> Option<usize> {
-    dirs.par_chunks_mut(3 * CHUNK)
-        .zip(pdf.par_chunks_mut(CHUNK))
-        .zip(pts.par_chunks(CHUNK))
+    out.par_chunks_mut(per_row * PAR_CHUNK)
+        .zip(rows.par_chunks(PAR_CHUNK))
         .enumerate()
-        .filter_map(|(c, ((d, p), u))| {
-            if let Some(k) = u
-                .iter()
-                .position(|u| !((0.0..=1.0).contains(&u[0]) && (0.0..=1.0).contains(&u[1])))
-            {
-                return Some(c * CHUNK + k);
-            }
-            let (rows, _) = d.as_chunks_mut::<3>();
-            s.sample_batch_split(u, rows, p);
-            None
-        })
+        .filter_map(|(c, (o, r))| f(c * PAR_CHUNK, r, o))
         .min()
 }
 
-fn invert_into(s: &dyn Sampler, dirs: &[Vec3], out: &mut [f64]) -> Option<usize> {
-    out.par_chunks_mut(2 * CHUNK)
-        .zip(dirs.par_chunks(CHUNK))
+/// Samples every point into `dirs` (row-major n × 3) and `pdf` through the sampler's
+/// structure-of-arrays call ([`Float::sample`]), [`CHUNK`] rows at a time through stack columns;
+/// returns the first row outside the unit square (nothing is sampled in its chunk).
+pub(crate) fn sample_into<T: Float>(
+    s: &dyn Sampler,
+    pts: &[[T; 2]],
+    dirs: &mut [T],
+    pdf: &mut [T],
+) -> Option<usize> {
+    dirs.par_chunks_mut(3 * PAR_CHUNK)
+        .zip(pdf.par_chunks_mut(PAR_CHUNK))
+        .zip(pts.par_chunks(PAR_CHUNK))
         .enumerate()
-        .filter_map(|(c, (o, d))| {
-            let mut unit = [[0.0; 3]; CHUNK];
-            let unit = &mut unit[..d.len()];
-            if let Some(k) = normalize_all(d, unit) {
-                return Some(c * CHUNK + k);
+        .filter_map(|(c, ((d, p), u))| {
+            let first = c * PAR_CHUNK;
+            if let Some(k) = u.iter().position(|u| {
+                let (a, b) = (u[0].into(), u[1].into());
+                !((0.0..=1.0).contains(&a) && (0.0..=1.0).contains(&b))
+            }) {
+                return Some(first + k);
             }
-            let mut res = [Ok([0.0; 2]); CHUNK];
-            let res = &mut res[..d.len()];
-            s.invert_batch(unit, res);
-            for (k, (o, r)) in o.chunks_exact_mut(2).zip(res.iter()).enumerate() {
-                match r {
-                    Ok(u) => o.copy_from_slice(u),
-                    Err(_) => return Some(c * CHUNK + k),
+            let mut cols = [[T::default(); CHUNK]; 5];
+            for ((u, d), p) in u
+                .chunks(CHUNK)
+                .zip(d.chunks_mut(3 * CHUNK))
+                .zip(p.chunks_mut(CHUNK))
+            {
+                let m = u.len();
+                let [cu, cv, x, y, z] = &mut cols;
+                for (k, q) in u.iter().enumerate() {
+                    cu[k] = q[0];
+                    cv[k] = q[1];
+                }
+                T::sample(
+                    s,
+                    &cu[..m],
+                    &cv[..m],
+                    [&mut x[..m], &mut y[..m], &mut z[..m]],
+                    p,
+                );
+                for (k, row) in d.chunks_exact_mut(3).enumerate() {
+                    row.copy_from_slice(&[x[k], y[k], z[k]]);
                 }
             }
             None
@@ -434,31 +471,150 @@ fn invert_into(s: &dyn Sampler, dirs: &[Vec3], out: &mut [f64]) -> Option<usize>
         .min()
 }
 
-/// Normalises every direction of `d` into `unit`; the index of the first zero or non-finite one.
-fn normalize_all(d: &[Vec3], unit: &mut [Vec3]) -> Option<usize> {
-    for (k, (u, d)) in unit.iter_mut().zip(d).enumerate() {
-        match normalize(*d) {
-            Some(v) => *u = v,
+fn invert_into<T: Float>(s: &dyn Sampler, dirs: &[[T; 3]], out: &mut [T]) -> Option<usize> {
+    par_rows(dirs, out, 2, |first, d, o| {
+        let mut cols = [[T::default(); CHUNK]; 3];
+        let mut uv = [[T::default(); CHUNK]; 2];
+        for (j, (d, o)) in d.chunks(CHUNK).zip(o.chunks_mut(2 * CHUNK)).enumerate() {
+            let m = d.len();
+            let base = first + j * CHUNK;
+            if let Some(k) = first_bad(d, &mut cols) {
+                return Some(base + k);
+            }
+            let [bu, bv] = &mut uv;
+            T::invert(
+                s,
+                [&cols[0][..m], &cols[1][..m], &cols[2][..m]],
+                [&mut bu[..m], &mut bv[..m]],
+            );
+            for (k, row) in o.chunks_exact_mut(2).enumerate() {
+                let (a, b) = (bu[k], bv[k]);
+                if a.into().is_nan() || b.into().is_nan() {
+                    return Some(base + k);
+                }
+                row.copy_from_slice(&[a, b]);
+            }
+        }
+        None
+    })
+}
+
+/// Normalises the directions of `d` in f64 into columns of `T` (rounded once to f32 for f32);
+/// the index of the first zero or non-finite one.
+fn first_bad<T: Float>(d: &[[T; 3]], cols: &mut [[T; CHUNK]; 3]) -> Option<usize> {
+    for (k, row) in d.iter().enumerate() {
+        match normalize(row.map(Into::into)) {
+            Some(e) => {
+                for c in 0..3 {
+                    cols[c][k] = T::from_f64(e[c]);
+                }
+            }
             None => return Some(k),
         }
     }
     None
 }
 
-/// The library's batch pdf ([`Sampler::pdf_batch`], the SIMD path of the HDS maps) of every
-/// normalised direction; the first zero or non-finite direction.
-fn pdf_into(s: &dyn Sampler, dirs: &[Vec3], out: &mut [f64]) -> Option<usize> {
-    out.par_chunks_mut(CHUNK)
-        .zip(dirs.par_chunks(CHUNK))
-        .enumerate()
-        .filter_map(|(c, (o, d))| {
-            let mut unit = [[0.0; 3]; CHUNK];
-            let unit = &mut unit[..d.len()];
-            if let Some(k) = normalize_all(d, unit) {
-                return Some(c * CHUNK + k);
+/// The sampler's structure-of-arrays pdf ([`Float::pdf`], the SIMD path of the HDS maps) of
+/// every normalised direction, written straight into `out`; the first zero or non-finite
+/// direction.
+fn pdf_into<T: Float>(s: &dyn Sampler, dirs: &[[T; 3]], out: &mut [T]) -> Option<usize> {
+    par_rows(dirs, out, 1, |first, d, o| {
+        let mut cols = [[T::default(); CHUNK]; 3];
+        for (j, (d, o)) in d.chunks(CHUNK).zip(o.chunks_mut(CHUNK)).enumerate() {
+            let m = d.len();
+            if let Some(k) = first_bad(d, &mut cols) {
+                return Some(first + j * CHUNK + k);
             }
-            s.pdf_batch(unit, o);
-            None
-        })
-        .min()
+            T::pdf(s, [&cols[0][..m], &cols[1][..m], &cols[2][..m]], o);
+        }
+        None
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    //! The package's batch bodies (no Python needed) against the Rust trait's SoA calls, bit for
+    //! bit, in f64 and f32, over several rayon tasks.
+    use super::*;
+    use gonio::synthetic::{example_luminaire, random_hemisphere, Family};
+    use gonio::Domain;
+
+    fn bits<T: Float>(v: &[T]) -> Vec<u64> {
+        v.iter().map(|&x| x.into().to_bits()).collect()
+    }
+
+    fn check<T: Float>(s: &dyn Sampler) {
+        let n = 2 * PAR_CHUNK + 300;
+        let pts: Vec<[T; 2]> = (0..n)
+            .map(|i| {
+                let a = (((i * 7919) % 1000) as f64 + 0.5) / 1000.0;
+                let b = (((i * 104_729) % 997) as f64 + 0.5) / 997.0;
+                [T::from_f64(a), T::from_f64(b)]
+            })
+            .collect();
+        let (mut dirs, mut pdf) = (vec![T::default(); 3 * n], vec![T::default(); n]);
+        assert_eq!(sample_into(s, &pts, &mut dirs, &mut pdf), None);
+        let u: Vec<T> = pts.iter().map(|p| p[0]).collect();
+        let v: Vec<T> = pts.iter().map(|p| p[1]).collect();
+        let mut w: [Vec<T>; 4] = std::array::from_fn(|_| vec![T::default(); n]);
+        let [x, y, z, p] = &mut w;
+        T::sample(s, &u, &v, [x, y, z], p);
+        let rows: Vec<T> = (0..3 * n).map(|k| w[k % 3][k / 3]).collect();
+        assert_eq!(bits(&dirs), bits(&rows), "{}: sample directions", s.name());
+        assert_eq!(bits(&pdf), bits(&w[3]), "{}: sample pdf", s.name());
+
+        // Directions of length 2 over the sphere (normalised by the bodies, in f64, rounded once).
+        let d: Vec<[T; 3]> = (0..n)
+            .map(|i| {
+                let zz = 1.0 - 2.0 * (i as f64 + 0.5) / n as f64;
+                let phi = 2.399_963 * i as f64;
+                let r = (1.0 - zz * zz).sqrt();
+                [2.0 * r * phi.cos(), 2.0 * r * phi.sin(), 2.0 * zz].map(T::from_f64)
+            })
+            .collect();
+        let unit: [Vec<T>; 3] = std::array::from_fn(|c| {
+            d.iter()
+                .map(|r| T::from_f64(normalize(r.map(Into::into)).unwrap()[c]))
+                .collect()
+        });
+        let ur = [&unit[0][..], &unit[1][..], &unit[2][..]];
+        let mut got = vec![T::default(); n];
+        assert_eq!(pdf_into(s, &d, &mut got), None);
+        let mut want = vec![T::default(); n];
+        T::pdf(s, ur, &mut want);
+        assert_eq!(bits(&got), bits(&want), "{}: pdf", s.name());
+        let (mut iu, mut iv) = (vec![T::default(); n], vec![T::default(); n]);
+        T::invert(s, ur, [&mut iu, &mut iv]);
+        let mut back = vec![T::default(); 2 * n];
+        let first_nan = iu.iter().position(|x| (*x).into().is_nan());
+        assert_eq!(invert_into(s, &d, &mut back), first_nan, "{}", s.name());
+        if first_nan.is_none() {
+            let rows: Vec<T> = (0..2 * n)
+                .map(|k| if k % 2 == 0 { iu[k / 2] } else { iv[k / 2] })
+                .collect();
+            assert_eq!(bits(&back), bits(&rows), "{}: invert", s.name());
+        }
+        // A bad row in the last task is reported by its absolute index.
+        let mut bad = d.clone();
+        bad[n - 5] = [T::from_f64(0.0); 3];
+        assert_eq!(pdf_into(s, &bad, &mut got), Some(n - 5));
+        let mut badp = pts.clone();
+        badp[n - 7][1] = T::from_f64(1.5);
+        assert_eq!(sample_into(s, &badp, &mut dirs, &mut pdf), Some(n - 7));
+    }
+
+    #[test]
+    fn batch_bodies_give_the_bits_of_the_trait_calls() {
+        let lum = example_luminaire();
+        let hemi = random_hemisphere(Family::ZeroHeavy, 9, 12, true, 4);
+        for s in [
+            Method::Hds.build(&lum, Domain::Sphere).unwrap(),
+            Method::Bilinear.build(&lum, Domain::Sphere).unwrap(),
+            Method::Hds.build(&hemi, Domain::Hemisphere).unwrap(),
+        ] {
+            check::<f64>(s.as_ref());
+            check::<f32>(s.as_ref());
+        }
+    }
 }

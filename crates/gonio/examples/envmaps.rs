@@ -6,7 +6,10 @@
 //! lat-long peer's density then matches the integrand) and `Lookup::Bilinear` (the interpolant of
 //! the diagram, which the HDS density follows).
 //!
-//! `cargo run --release -p gonio --example envmaps` (set GONIO_ENVMAPS to the maps' folder).
+//! `cargo run --release -p gonio --example envmaps [-- --full]` (set GONIO_ENVMAPS to the maps'
+//! folder): the default run takes the first map and 8 replicates, `--full` every map and 32.
+//! Each sampler runs its fastest path: the batch calls (the HDS map's SIMD kernels; the peers'
+//! scalar loops) and the batch radiance lookup `EnvironmentMap::eval_batch_with`.
 
 #[path = "../tests/common/corpus.rs"]
 mod corpus;
@@ -93,20 +96,40 @@ fn reference(env: &EnvironmentMap, s: &Surface, lookup: Lookup, k: usize) -> f64
     let (w, h) = (env.image().width(), env.image().height());
     let (nt, np) = (h * k, w * k);
     let mut sum = 0.0;
+    let (mut dirs, mut rgb) = (vec![[0.0; 3]; np], vec![[0.0f32; 3]; np]);
     for i in 0..nt {
         let t = (i as f64 + 0.5) / nt as f64;
         let st = (PI * t).sin();
-        for j in 0..np {
-            let d = gonio::envmap::image_direction((j as f64 + 0.5) / np as f64, t);
-            let f = s.f_cos(d);
+        for (j, d) in dirs.iter_mut().enumerate() {
+            *d = gonio::envmap::image_direction((j as f64 + 0.5) / np as f64, t);
+        }
+        // `eval_with` of each direction, bit for bit, on the batch path.
+        env.eval_batch_with(&dirs, lookup, &mut rgb);
+        for (d, c) in dirs.iter().zip(&rgb) {
+            let f = s.f_cos(*d);
             if f > 0.0 {
-                sum += f * f64::from(luminance(env.eval_with(d, lookup))) * st;
+                sum += f * f64::from(luminance(*c)) * st;
             }
         }
     }
     sum * (PI / nt as f64) * (2.0 * PI / np as f64)
 }
 
+/// Reused buffers of [`estimate`].
+#[derive(Default)]
+struct Scratch {
+    dirs: Vec<Vec3>,
+    pdf: Vec<f64>,
+    rgb: Vec<[f32; 3]>,
+    bsdf_dirs: Vec<Vec3>,
+    bsdf_pdf: Vec<f64>,
+    light_pdf: Vec<f64>,
+    bsdf_rgb: Vec<[f32; 3]>,
+}
+
+/// Each sampler's fastest path: the batch calls (`sample_batch_split`, `pdf_batch`: the SIMD
+/// kernels for the HDS map, a loop over the scalar calls for the peers, which have no other) and
+/// the one batch radiance lookup `eval_batch_with` for every sampler's directions.
 #[allow(clippy::too_many_arguments)]
 fn estimate(
     env: &EnvironmentMap,
@@ -116,34 +139,92 @@ fn estimate(
     mis: bool,
     pts: &[Point2],
     pts2: &[Point2],
+    b: &mut Scratch,
 ) -> f64 {
+    let n = pts.len();
+    b.dirs.resize(n, [0.0; 3]);
+    b.pdf.resize(n, 0.0);
+    b.rgb.resize(n, [0.0; 3]);
+    light.sample_batch_split(pts, &mut b.dirs, &mut b.pdf);
+    env.eval_batch_with(&b.dirs, lookup, &mut b.rgb);
+    if mis {
+        b.bsdf_dirs.resize(n, [0.0; 3]);
+        b.bsdf_pdf.resize(n, 0.0);
+        b.light_pdf.resize(n, 0.0);
+        b.bsdf_rgb.resize(n, [0.0; 3]);
+        for ((d, p), &u) in b.bsdf_dirs.iter_mut().zip(&mut b.bsdf_pdf).zip(pts2) {
+            (*d, *p) = s.sample(u);
+        }
+        light.pdf_batch(&b.bsdf_dirs, &mut b.light_pdf);
+        env.eval_batch_with(&b.bsdf_dirs, lookup, &mut b.bsdf_rgb);
+    }
     let mut sum = 0.0;
-    for (k, &u) in pts.iter().enumerate() {
-        let smp = light.sample(u);
-        if smp.pdf > 0.0 {
-            let f = s.f_cos(smp.direction);
+    for k in 0..n {
+        let (d, p) = (b.dirs[k], b.pdf[k]);
+        if p > 0.0 {
+            let f = s.f_cos(d);
             if f > 0.0 {
-                let l = f64::from(luminance(env.eval_with(smp.direction, lookup)));
-                let w = if mis {
-                    smp.pdf / (smp.pdf + s.pdf(smp.direction))
-                } else {
-                    1.0
-                };
-                sum += w * f * l / smp.pdf;
+                let l = f64::from(luminance(b.rgb[k]));
+                let w = if mis { p / (p + s.pdf(d)) } else { 1.0 };
+                sum += w * f * l / p;
             }
         }
         if mis {
-            let (d, pb) = s.sample(pts2[k]);
+            let (d, pb) = (b.bsdf_dirs[k], b.bsdf_pdf[k]);
             if pb > 0.0 {
                 let f = s.f_cos(d);
                 if f > 0.0 {
-                    let l = f64::from(luminance(env.eval_with(d, lookup)));
-                    sum += pb / (pb + light.pdf(d)) * f * l / pb;
+                    let l = f64::from(luminance(b.bsdf_rgb[k]));
+                    sum += pb / (pb + b.light_pdf[k]) * f * l / pb;
                 }
             }
         }
     }
-    sum / pts.len() as f64
+    sum / n as f64
+}
+
+/// Median of 5 timings (after one warm-up) of `f` over `n` items, in ns per item.
+fn ns_per(n: usize, mut f: impl FnMut()) -> f64 {
+    f();
+    let mut t: Vec<f64> = (0..5)
+        .map(|_| {
+            let s = Instant::now();
+            f();
+            s.elapsed().as_secs_f64() * 1e9 / n as f64
+        })
+        .collect();
+    t.sort_by(f64::total_cmp);
+    t[2]
+}
+
+/// One thread's cost per point of each part of light sampling on 2¹⁸ iid points: the HDS map's
+/// SIMD batch (`sample_batch_split`), the scalar `sample`, the batch and the scalar radiance
+/// lookups (nearest), `sample_batch_rgb` (both together), `pdf_batch`, and the peers' batch calls.
+fn speed(name: &str, env: &EnvironmentMap, ll: &dyn Sampler, pb: &dyn Sampler) {
+    let n = 1 << 18;
+    let mut u = vec![[0.0; 2]; n];
+    Random::new(7).fill(0, &mut u);
+    let (mut d, mut p, mut c) = (vec![[0.0; 3]; n], vec![0.0; n], vec![[0.0f32; 3]; n]);
+    let t_batch = ns_per(n, || env.sample_batch_split(&u, &mut d, &mut p));
+    let t_scalar = ns_per(n, || {
+        for k in 0..n {
+            let s = Sampler::sample(env, u[k]);
+            (d[k], p[k]) = (s.direction, s.pdf);
+        }
+    });
+    let t_eval_batch = ns_per(n, || env.eval_batch(&d, &mut c));
+    let t_eval = ns_per(n, || {
+        for k in 0..n {
+            c[k] = env.eval(d[k]);
+        }
+    });
+    let t_rgb = ns_per(n, || env.sample_batch_rgb(&u, &mut d, &mut p, &mut c));
+    let t_pdf = ns_per(n, || env.pdf_batch(&d, &mut p));
+    let t_ll = ns_per(n, || ll.sample_batch_split(&u, &mut d, &mut p));
+    let t_pb = ns_per(n, || pb.sample_batch_split(&u, &mut d, &mut p));
+    eprintln!(
+        "{name} speed (ns per point, one thread, 2^18 iid points, median of 5): HDS sample batch {t_batch:.0}, scalar {t_scalar:.0}; eval batch {t_eval_batch:.0}, scalar {t_eval:.0}; sample_batch_rgb {t_rgb:.0}; pdf batch {t_pdf:.0}; lat-long sample {t_ll:.0}; pbrt-v4 style sample {t_pb:.0}"
+    );
 }
 
 fn main() {
@@ -191,8 +272,19 @@ fn main() {
     let view = normalize([0.3, -0.4, 1.0]).unwrap();
     let normals = [[0.0, 0.0, 1.0], normalize([1.0, 0.3, 0.4]).unwrap()];
     let counts = [64usize, 256, 1024, 4096];
-    let reps = 32u64;
+    // The default run is short (the first map, 8 replicates); `--full` is the docs' run.
+    let full = std::env::args().any(|a| a == "--full");
+    let reps = if full { 32u64 } else { 8 };
+    if !full {
+        files.truncate(1);
+        eprintln!(
+            "short run: {:?}, {reps} replicates (`-- --full`: every map, 32 replicates)",
+            files
+        );
+    }
     println!("map,radiance,surface,normal,estimator,points,sampler,ns_per_sample,rmse@64,rmse@256,rmse@1024,rmse@4096,slope,rel_rmse@4096,rel_rmse@4096_equal_time");
+    // Buffers reused by every estimate (grown once, outside the timed calls after the first).
+    let mut scratch = Scratch::default();
     for f in &files {
         let name = f.file_stem().unwrap().to_string_lossy().to_string();
         let env = EnvironmentMap::new(Image::read(f).unwrap()).unwrap();
@@ -206,6 +298,7 @@ fn main() {
             "{name}: peers built in {t_ll:.0} ms (lat-long), {t_pb:.0} ms (pbrt-v4 style, {}^2)",
             pb.resolution()
         );
+        speed(&name, &env, &ll, &pb);
         let samplers: [(&str, &dyn Sampler); 3] =
             [("hds", &env), ("latlong-pc", &ll), ("pbrt-v4-pc", &pb)];
         for (ni, &n) in normals.iter().enumerate() {
@@ -249,7 +342,16 @@ fn main() {
                                             Random::new(5000 + rep).fill(0, &mut p2);
                                         }
                                         let t = Instant::now();
-                                        let v = estimate(&env, lookup, light, &surf, mis, &p1, &p2);
+                                        let v = estimate(
+                                            &env,
+                                            lookup,
+                                            light,
+                                            &surf,
+                                            mis,
+                                            &p1,
+                                            &p2,
+                                            &mut scratch,
+                                        );
                                         if c == 4096 {
                                             ns += t.elapsed().as_secs_f64() * 1e9 / c as f64;
                                         }

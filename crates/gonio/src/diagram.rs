@@ -689,7 +689,7 @@ fn deg(d: f64) -> f64 {
 
 /// Index k of the segment [a_k, a_{k+1}] that holds `x`, for strictly increasing `a` with at least two
 /// entries: the largest k ≤ len−2 with a_k ≤ x (k = 0 when x < a_0).
-pub(crate) fn segment(a: &[f64], x: f64) -> usize {
+pub(crate) fn segment<T: Copy + PartialOrd>(a: &[T], x: T) -> usize {
     let k = a.partition_point(|&v| v <= x);
     k.saturating_sub(1).min(a.len() - 2)
 }

@@ -31,6 +31,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod baselines;
+pub mod batch;
 pub mod brdf;
 pub mod check;
 pub mod clock;

@@ -5,7 +5,7 @@
 //! Directions are unit vectors `[x, y, z]` in the sampler's frame; densities are **per steradian**
 //! with respect to solid angle; points of the unit square are `[u, v]` with 0 ≤ u, v ≤ 1.
 
-pub use crate::method::{BuildError, BuildOptions, Method};
+use crate::batch::{check_len, CHUNK, PAR_CHUNK};
 use rayon::prelude::*;
 
 /// A unit direction `[x, y, z]`.
@@ -192,7 +192,7 @@ pub trait Sampler: Send + Sync {
     /// [`Sampler::sample_batch`] with the directions and the densities in separate slices (the
     /// layout of the Python package's and the C API's outputs): sample k goes to `dirs[k]` and
     /// `pdf[k]`, the same values as `sample_batch`. Allocates nothing. The default goes through
-    /// `sample_batch` 256 points at a time; the HDS maps write their SIMD batch path's results
+    /// `sample_batch` [`CHUNK`] points at a time; the HDS maps write their SIMD batch path's results
     /// directly.
     ///
     /// # Panics
@@ -202,11 +202,11 @@ pub trait Sampler: Send + Sync {
             u.len() == dirs.len() && u.len() == pdf.len(),
             "sample_batch_split: slices differ in length"
         );
-        let mut buf = [Sample::default(); 256];
+        let mut buf = [Sample::default(); CHUNK];
         for ((u, d), p) in u
-            .chunks(256)
-            .zip(dirs.chunks_mut(256))
-            .zip(pdf.chunks_mut(256))
+            .chunks(CHUNK)
+            .zip(dirs.chunks_mut(CHUNK))
+            .zip(pdf.chunks_mut(CHUNK))
         {
             let b = &mut buf[..u.len()];
             self.sample_batch(u, b);
@@ -244,10 +244,225 @@ pub trait Sampler: Send + Sync {
             *o = self.invert(d);
         }
     }
+
+    // Structure-of-arrays batches: the calls the C ABI and the Python package make. Every
+    // default below runs the methods above on at most [`CHUNK`] points at a time in buffers on
+    // the stack; the HDS maps override all six with their vector kernels
+    // ([`crate::mapping::batch::SoaSampler`]), with no transposes.
+
+    /// Maps the points `(u[k], v[k])` of the unit square to directions
+    /// `(dir[0][k], dir[1][k], dir[2][k])` and their densities `pdf[k]` (per steradian): the
+    /// values of [`Sampler::sample_batch`]. Allocates nothing.
+    ///
+    /// The default transposes [`CHUNK`] points at a time through stack buffers into
+    /// `sample_batch` (so it equals the scalar [`Sampler::sample`] bit for bit unless
+    /// `sample_batch` is overridden). The HDS maps run their vector kernels on the slices
+    /// directly ([`crate::mapping::batch::SoaSampler::sample_soa`], bit for bit).
+    ///
+    /// # Panics
+    /// If the slices differ in length (a programming error, not an input error).
+    fn sample_batch_soa(&self, u: &[f64], v: &[f64], dir: [&mut [f64]; 3], pdf: &mut [f64]) {
+        let [x, y, z] = dir;
+        let n = u.len();
+        check_len(
+            "sample_batch_soa",
+            n,
+            &[v.len(), x.len(), y.len(), z.len(), pdf.len()],
+        );
+        let mut pts = [[0.0f64; 2]; CHUNK];
+        let mut out = [Sample::default(); CHUNK];
+        for start in (0..n).step_by(CHUNK) {
+            let m = CHUNK.min(n - start);
+            for (k, p) in pts[..m].iter_mut().enumerate() {
+                *p = [u[start + k], v[start + k]];
+            }
+            self.sample_batch(&pts[..m], &mut out[..m]);
+            for (k, o) in out[..m].iter().enumerate() {
+                let i = start + k;
+                [x[i], y[i], z[i]] = o.direction;
+                pdf[i] = o.pdf;
+            }
+        }
+    }
+
+    /// The density (per steradian) of [`Sampler::sample`] at each unit direction
+    /// `(dir[0][k], dir[1][k], dir[2][k])` into `pdf[k]`: the values of [`Sampler::pdf_batch`].
+    /// Allocates nothing. The default transposes [`CHUNK`] directions at a time into `pdf_batch`;
+    /// the HDS maps call [`crate::mapping::batch::SoaSampler::pdf_soa`] (bit for bit).
+    ///
+    /// # Panics
+    /// If the slices differ in length.
+    fn pdf_batch_soa(&self, dir: [&[f64]; 3], pdf: &mut [f64]) {
+        let n = pdf.len();
+        check_len(
+            "pdf_batch_soa",
+            n,
+            &[dir[0].len(), dir[1].len(), dir[2].len()],
+        );
+        let mut d = [[0.0f64; 3]; CHUNK];
+        for start in (0..n).step_by(CHUNK) {
+            let m = CHUNK.min(n - start);
+            for (k, d) in d[..m].iter_mut().enumerate() {
+                let i = start + k;
+                *d = [dir[0][i], dir[1][i], dir[2][i]];
+            }
+            self.pdf_batch(&d[..m], &mut pdf[start..start + m]);
+        }
+    }
+
+    /// The point `(uv[0][k], uv[1][k])` of the unit square that [`Sampler::sample`] maps to each
+    /// unit direction `(dir[0][k], dir[1][k], dir[2][k])`: the values of
+    /// [`Sampler::invert_batch`], with NaN in both coordinates where it gives an error (outside
+    /// the domain, density 0, or no inverse at all). Allocates nothing.
+    ///
+    /// The default transposes [`CHUNK`] directions at a time into `invert_batch`; the HDS maps
+    /// call [`crate::mapping::batch::SoaSampler::invert_soa`] and write NaN where
+    /// [`crate::mapping::batch::SoaSampler::pdf_soa`] is 0 (the rule of every sampler: no
+    /// preimage where the density is 0).
+    ///
+    /// # Panics
+    /// If the slices differ in length.
+    fn invert_batch_soa(&self, dir: [&[f64]; 3], uv: [&mut [f64]; 2]) {
+        let [u, v] = uv;
+        let n = u.len();
+        check_len(
+            "invert_batch_soa",
+            n,
+            &[v.len(), dir[0].len(), dir[1].len(), dir[2].len()],
+        );
+        let mut d = [[0.0f64; 3]; CHUNK];
+        let mut res = [Ok([0.0f64; 2]); CHUNK];
+        for start in (0..n).step_by(CHUNK) {
+            let m = CHUNK.min(n - start);
+            for (k, d) in d[..m].iter_mut().enumerate() {
+                let i = start + k;
+                *d = [dir[0][i], dir[1][i], dir[2][i]];
+            }
+            self.invert_batch(&d[..m], &mut res[..m]);
+            for (k, r) in res[..m].iter().enumerate() {
+                let p = r.unwrap_or([f64::NAN; 2]);
+                u[start + k] = p[0];
+                v[start + k] = p[1];
+            }
+        }
+    }
+
+    /// [`Sampler::sample_batch_soa`] in float32: the sampler's float32 map where it has one,
+    /// else the f64 map rounded once.
+    ///
+    /// The default widens [`CHUNK`] points at a time to f64, runs the f64 map and rounds every
+    /// result once to f32. The HDS maps override it with their float32 map
+    /// ([`crate::mapping::Float32Map`]: f32 tables and arithmetic, its own exact density; built
+    /// on the first call, [`crate::HemisphereMap::float32`]).
+    ///
+    /// # Panics
+    /// If the slices differ in length.
+    fn sample_batch_soa_f32(&self, u: &[f32], v: &[f32], dir: [&mut [f32]; 3], pdf: &mut [f32]) {
+        let [x, y, z] = dir;
+        let n = u.len();
+        check_len(
+            "sample_batch_soa_f32",
+            n,
+            &[v.len(), x.len(), y.len(), z.len(), pdf.len()],
+        );
+        let (mut bu, mut bv) = ([0.0f64; CHUNK], [0.0f64; CHUNK]);
+        let mut bo = [[0.0f64; CHUNK]; 4];
+        for start in (0..n).step_by(CHUNK) {
+            let m = CHUNK.min(n - start);
+            let r = start..start + m;
+            widen(&u[r.clone()], &mut bu);
+            widen(&v[r.clone()], &mut bv);
+            let [bx, by, bz, bp] = &mut bo;
+            self.sample_batch_soa(
+                &bu[..m],
+                &bv[..m],
+                [&mut bx[..m], &mut by[..m], &mut bz[..m]],
+                &mut bp[..m],
+            );
+            narrow(&bx[..m], &mut x[r.clone()]);
+            narrow(&by[..m], &mut y[r.clone()]);
+            narrow(&bz[..m], &mut z[r.clone()]);
+            narrow(&bp[..m], &mut pdf[r]);
+        }
+    }
+
+    /// [`Sampler::pdf_batch_soa`] in float32 at f32 unit directions (unit to within f32
+    /// rounding): the sampler's float32 map where it has one, else the f64 map rounded once.
+    ///
+    /// The default widens [`CHUNK`] directions at a time to f64, scales each to unit length in
+    /// f64 (an f32 unit vector is unit only to ~1e-7, which at the rim of a map would read as
+    /// beyond it), runs the f64 call and rounds each density once. The HDS maps run their
+    /// float32 map (which takes f32 directions as they are; its edge test has f32-sized slack).
+    ///
+    /// # Panics
+    /// If the slices differ in length.
+    fn pdf_batch_soa_f32(&self, dir: [&[f32]; 3], pdf: &mut [f32]) {
+        let n = pdf.len();
+        check_len(
+            "pdf_batch_soa_f32",
+            n,
+            &[dir[0].len(), dir[1].len(), dir[2].len()],
+        );
+        let mut bd = [[0.0f64; CHUNK]; 3];
+        let mut bp = [0.0f64; CHUNK];
+        for start in (0..n).step_by(CHUNK) {
+            let m = CHUNK.min(n - start);
+            let r = start..start + m;
+            for (b, d) in bd.iter_mut().zip(dir) {
+                widen(&d[r.clone()], b);
+            }
+            let [bx, by, bz] = &mut bd;
+            crate::batch::renormalise([&mut bx[..], &mut by[..], &mut bz[..]], m);
+            self.pdf_batch_soa([&bx[..m], &by[..m], &bz[..m]], &mut bp[..m]);
+            narrow(&bp[..m], &mut pdf[r]);
+        }
+    }
+
+    /// [`Sampler::invert_batch_soa`] in float32 (NaN where `invert` fails): the sampler's float32
+    /// map where it has one, else the f64 map rounded once. The default widens and renormalises
+    /// the directions as [`Sampler::pdf_batch_soa_f32`] does and rounds each coordinate once; the
+    /// HDS maps run their float32 map (NaN where its density is 0).
+    ///
+    /// # Panics
+    /// If the slices differ in length.
+    fn invert_batch_soa_f32(&self, dir: [&[f32]; 3], uv: [&mut [f32]; 2]) {
+        let [u, v] = uv;
+        let n = u.len();
+        check_len(
+            "invert_batch_soa_f32",
+            n,
+            &[v.len(), dir[0].len(), dir[1].len(), dir[2].len()],
+        );
+        let mut bd = [[0.0f64; CHUNK]; 3];
+        let (mut bu, mut bv) = ([0.0f64; CHUNK], [0.0f64; CHUNK]);
+        for start in (0..n).step_by(CHUNK) {
+            let m = CHUNK.min(n - start);
+            let r = start..start + m;
+            for (b, d) in bd.iter_mut().zip(dir) {
+                widen(&d[r.clone()], b);
+            }
+            let [bx, by, bz] = &mut bd;
+            crate::batch::renormalise([&mut bx[..], &mut by[..], &mut bz[..]], m);
+            self.invert_batch_soa([&bx[..m], &by[..m], &bz[..m]], [&mut bu[..m], &mut bv[..m]]);
+            narrow(&bu[..m], &mut u[r.clone()]);
+            narrow(&bv[..m], &mut v[r]);
+        }
+    }
 }
 
-/// Points per rayon task in the parallel batch functions.
-const PAR_CHUNK: usize = 4096;
+/// f32 values widened into the first entries of an f64 buffer.
+fn widen(src: &[f32], buf: &mut [f64; CHUNK]) {
+    for (b, &x) in buf.iter_mut().zip(src) {
+        *b = f64::from(x);
+    }
+}
+
+/// f64 values rounded (to nearest) into f32.
+fn narrow(src: &[f64], dst: &mut [f32]) {
+    for (d, &x) in dst.iter_mut().zip(src) {
+        *d = x as f32;
+    }
+}
 
 /// [`Sampler::sample_batch`] on all rayon threads. Each output depends only on its own input point,
 /// so the result is identical for any number of threads.
@@ -297,6 +512,78 @@ pub fn invert_batch_par<S: Sampler + ?Sized>(
     out.par_chunks_mut(PAR_CHUNK)
         .zip(dirs.par_chunks(PAR_CHUNK))
         .for_each(|(o, d)| sampler.invert_batch(d, o));
+}
+
+/// [`Sampler::sample_batch_soa`] on all rayon threads, [`PAR_CHUNK`] points a task. Each output
+/// depends only on its own input point, so the result is identical for any number of threads.
+///
+/// # Panics
+/// If the slices differ in length.
+pub fn sample_batch_soa_par<S: Sampler + ?Sized>(
+    sampler: &S,
+    u: &[f64],
+    v: &[f64],
+    dir: [&mut [f64]; 3],
+    pdf: &mut [f64],
+) {
+    let [x, y, z] = dir;
+    check_len(
+        "sample_batch_soa_par",
+        u.len(),
+        &[v.len(), x.len(), y.len(), z.len(), pdf.len()],
+    );
+    x.par_chunks_mut(PAR_CHUNK)
+        .zip(y.par_chunks_mut(PAR_CHUNK))
+        .zip(z.par_chunks_mut(PAR_CHUNK))
+        .zip(pdf.par_chunks_mut(PAR_CHUNK))
+        .zip(u.par_chunks(PAR_CHUNK).zip(v.par_chunks(PAR_CHUNK)))
+        .for_each(|((((x, y), z), p), (u, v))| sampler.sample_batch_soa(u, v, [x, y, z], p));
+}
+
+/// [`Sampler::pdf_batch_soa`] on all rayon threads (see [`sample_batch_soa_par`]).
+///
+/// # Panics
+/// If the slices differ in length.
+pub fn pdf_batch_soa_par<S: Sampler + ?Sized>(sampler: &S, dir: [&[f64]; 3], pdf: &mut [f64]) {
+    check_len(
+        "pdf_batch_soa_par",
+        pdf.len(),
+        &[dir[0].len(), dir[1].len(), dir[2].len()],
+    );
+    pdf.par_chunks_mut(PAR_CHUNK)
+        .zip(dir[0].par_chunks(PAR_CHUNK))
+        .zip(
+            dir[1]
+                .par_chunks(PAR_CHUNK)
+                .zip(dir[2].par_chunks(PAR_CHUNK)),
+        )
+        .for_each(|((p, x), (y, z))| sampler.pdf_batch_soa([x, y, z], p));
+}
+
+/// [`Sampler::invert_batch_soa`] on all rayon threads (see [`sample_batch_soa_par`]).
+///
+/// # Panics
+/// If the slices differ in length.
+pub fn invert_batch_soa_par<S: Sampler + ?Sized>(
+    sampler: &S,
+    dir: [&[f64]; 3],
+    uv: [&mut [f64]; 2],
+) {
+    let [u, v] = uv;
+    check_len(
+        "invert_batch_soa_par",
+        u.len(),
+        &[v.len(), dir[0].len(), dir[1].len(), dir[2].len()],
+    );
+    u.par_chunks_mut(PAR_CHUNK)
+        .zip(v.par_chunks_mut(PAR_CHUNK))
+        .zip(dir[0].par_chunks(PAR_CHUNK))
+        .zip(
+            dir[1]
+                .par_chunks(PAR_CHUNK)
+                .zip(dir[2].par_chunks(PAR_CHUNK)),
+        )
+        .for_each(|(((u, v), x), (y, z))| sampler.invert_batch_soa([x, y, z], [u, v]));
 }
 
 /// Polar angle θ (radians from +z) and azimuth φ in [0, 2π) (radians from +x toward +y) of a unit

@@ -8,13 +8,13 @@ use crate::progress::Progress;
 use gonio::sampler::sample_batch_par;
 use gonio::sequence::Sequence;
 use gonio::{Point2, Sample};
+// Rows formatted per rayon task: the library's batch task size.
+use gonio::batch::PAR_CHUNK;
 use rayon::prelude::*;
 use std::io::Write;
 
 /// Points sampled and written per batch: memory stays bounded for any N.
 const BATCH: usize = 1 << 16;
-/// Rows formatted per rayon task.
-const FORMAT_CHUNK: usize = 4096;
 
 /// Runs `gonio sample`.
 pub fn run(a: &SampleArgs) -> anyhow::Result<()> {
@@ -109,8 +109,8 @@ fn write_rows(
     env: Option<&gonio::envmap::EnvironmentMap>,
 ) -> anyhow::Result<()> {
     let parts: Vec<Vec<u8>> = pts
-        .par_chunks(FORMAT_CHUNK)
-        .zip(samples.par_chunks(FORMAT_CHUNK))
+        .par_chunks(PAR_CHUNK)
+        .zip(samples.par_chunks(PAR_CHUNK))
         .map(|(p, s)| {
             let mut buf = Vec::with_capacity(p.len() * 96);
             for (p, s) in p.iter().zip(s) {

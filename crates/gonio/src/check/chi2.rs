@@ -337,8 +337,8 @@ pub(crate) fn chi_square_points_with(
     let grid = opts.grid(sampler);
     let mut observed = vec![0u64; grid.len()];
     let mut invalid = 0usize;
-    let mut buf = vec![Sample::default(); super::CHUNK.min(points.len())];
-    for chunk in points.chunks(super::CHUNK) {
+    let mut buf = vec![Sample::default(); super::STREAM_POINTS.min(points.len())];
+    for chunk in points.chunks(super::STREAM_POINTS) {
         let out = &mut buf[..chunk.len()];
         crate::sampler::sample_batch_par(sampler, chunk, out);
         count(&grid, out, &mut observed, &mut invalid);

@@ -120,8 +120,10 @@ pub(crate) fn within(x: f64, limit: f64) -> bool {
     x <= limit
 }
 
-/// Points per chunk when streaming samples (bounds memory for any sample count).
-pub(crate) const CHUNK: usize = 1 << 16;
+/// Points per block when the battery streams samples: bounds its memory for any sample count
+/// (about 2 MiB of samples a block). Not a batch size of the samplers: each block goes through
+/// their batch calls, which work in [`crate::batch::CHUNK`]s.
+pub(crate) const STREAM_POINTS: usize = 1 << 16;
 
 /// What is wrong with a sample, if anything: direction not finite, not unit (|‖d‖² − 1| > 2e-9),
 /// outside the domain (below z = −1e-12 for a hemisphere), or pdf not a finite number ≥ 0.
@@ -143,7 +145,7 @@ pub(crate) fn sample_defect(domain: Domain, s: &Sample) -> Option<&'static str> 
     None
 }
 
-/// Streams points `0 … n − 1` of `seq` through `sampler` in chunks of [`CHUNK`] (filled and sampled
+/// Streams points `0 … n − 1` of `seq` through `sampler` in chunks of [`STREAM_POINTS`] (filled and sampled
 /// on all rayon threads; results are independent of the thread count), calling
 /// `f(first_index, points, samples)` per chunk in order and `progress(fraction)` after each.
 pub(crate) fn for_each_sample_chunk<F>(
@@ -155,11 +157,11 @@ pub(crate) fn for_each_sample_chunk<F>(
 ) where
     F: FnMut(u64, &[Point2], &[Sample]),
 {
-    let mut pts = vec![[0.0; 2]; CHUNK.min(n)];
-    let mut out = vec![Sample::default(); CHUNK.min(n)];
+    let mut pts = vec![[0.0; 2]; STREAM_POINTS.min(n)];
+    let mut out = vec![Sample::default(); STREAM_POINTS.min(n)];
     let mut done = 0usize;
     while done < n {
-        let m = (n - done).min(CHUNK);
+        let m = (n - done).min(STREAM_POINTS);
         seq.fill_par(done as u64, &mut pts[..m]);
         crate::sampler::sample_batch_par(sampler, &pts[..m], &mut out[..m]);
         f(done as u64, &pts[..m], &out[..m]);

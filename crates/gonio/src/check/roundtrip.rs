@@ -199,7 +199,7 @@ pub(crate) fn round_trip_with_progress(
     lines.extend_from_slice(&opts.extra_points);
     let total = opts.points + lines.len();
     let mut acc = Acc::default();
-    let mut pts = vec![[0.0; 2]; super::CHUNK.min(total)];
+    let mut pts = vec![[0.0; 2]; super::STREAM_POINTS.min(total)];
     let mut done = 0usize;
     let run = |u: &[Point2]| {
         u.par_chunks(1024)
@@ -215,7 +215,7 @@ pub(crate) fn round_trip_with_progress(
             .fold(Acc::default(), Acc::merge)
     };
     while done < opts.points && !acc.unsupported {
-        let n = (opts.points - done).min(super::CHUNK);
+        let n = (opts.points - done).min(super::STREAM_POINTS);
         seq.fill_par(done as u64, &mut pts[..n]);
         acc = acc.merge(run(&pts[..n]));
         done += n;

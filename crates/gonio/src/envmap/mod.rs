@@ -59,7 +59,7 @@ pub use peers::LatLongPiecewiseConstant;
 use crate::diagram::{Diagram, DiagramError};
 use crate::image::Image;
 use crate::mapping::SphereMap;
-use crate::sampler::{normalize, spherical, InvertError, Point2, Sampler, Vec3};
+use crate::sampler::{normalize, InvertError, Point2, Sampler, Vec3};
 use std::f64::consts::{PI, TAU};
 
 /// What the sampling density is proportional to, per pixel.
@@ -171,9 +171,20 @@ pub fn column_phi(c: usize, w: usize) -> f64 {
 }
 
 /// The continuous column coordinate s ∈ [0, 1) of azimuth φ: s = ½ − φ/2π (mod 1).
-#[inline]
+#[inline(always)]
 pub fn phi_to_s(phi: f64) -> f64 {
-    let s = (0.5 - phi / TAU).rem_euclid(1.0);
+    let r = 0.5 - phi / TAU;
+    // For φ ∈ [0, 2π) (every azimuth the lookups pass), |r| < 1, where `rem_euclid(1.0)` is r,
+    // or r + 1 for r < 0, exactly: the same bits without the library call.
+    let s = if r.abs() < 1.0 {
+        if r < 0.0 {
+            r + 1.0
+        } else {
+            r
+        }
+    } else {
+        r.rem_euclid(1.0)
+    };
     if s >= 1.0 {
         0.0
     } else {
@@ -272,14 +283,14 @@ impl EnvironmentMap {
     }
 
     /// [`EnvironmentMap::sample`] of every point of `u` through the sphere map's SIMD batch path
-    /// ([`Sampler::sample_batch_split`]): sample k's direction goes to `dirs[k]`, its density to
-    /// `pdf[k]` and the radiance in that direction ([`EnvironmentMap::eval`]) to `rgb[k]`.
-    /// Allocates nothing.
+    /// ([`Sampler::sample_batch_split`]) and the batch radiance lookup
+    /// ([`EnvironmentMap::eval_batch`]): sample k's direction goes to `dirs[k]`, its density to
+    /// `pdf[k]` and the radiance in that direction to `rgb[k]`. Allocates nothing.
     ///
     /// The directions and densities equal the scalar `sample`'s up to the batch path's round-off
     /// (directions within a few 1e-16, densities within 1e-12 relative; `crates/gonio/tests/batch.rs`);
-    /// `rgb[k]` is exactly `eval(dirs[k])`, so a direction within round-off of a pixel edge may read
-    /// the neighbouring pixel where the scalar call reads the other.
+    /// `rgb[k]` is exactly `eval(dirs[k])` (bit for bit), so a direction within round-off of a
+    /// pixel edge may read the neighbouring pixel where the scalar `sample` reads the other.
     ///
     /// # Panics
     /// If the slices differ in length (a programming error, not an input error).
@@ -295,8 +306,71 @@ impl EnvironmentMap {
             "sample_batch_rgb: slices differ in length"
         );
         self.map.sample_batch_split(u, dirs, pdf);
-        for (c, &d) in rgb.iter_mut().zip(dirs.iter()) {
-            *c = self.eval(d);
+        self.eval_batch(dirs, rgb);
+    }
+
+    /// [`EnvironmentMap::eval`] of every direction of `dirs` into `rgb`, **bit for bit**, with
+    /// the angles of the directions computed on the SIMD lanes of the batch kernels (the scalar
+    /// `eval` computes the same operations one direction at a time). Allocates nothing.
+    ///
+    /// # Panics
+    /// If the slices differ in length (a programming error, not an input error).
+    pub fn eval_batch(&self, dirs: &[Vec3], rgb: &mut [[f32; 3]]) {
+        self.eval_batch_with(dirs, self.options.lookup, rgb)
+    }
+
+    /// [`EnvironmentMap::eval_batch`] by the given lookup ([`EnvironmentMap::eval_with`] of each
+    /// direction, bit for bit).
+    ///
+    /// # Panics
+    /// If the slices differ in length (a programming error, not an input error).
+    pub fn eval_batch_with(&self, dirs: &[Vec3], lookup: Lookup, rgb: &mut [[f32; 3]]) {
+        assert_eq!(dirs.len(), rgb.len(), "eval_batch: slices differ in length");
+        const CHUNK: usize = 256;
+        let backend = crate::mapping::simd::Backend::detect();
+        for (dirs, rgb) in dirs.chunks(CHUNK).zip(rgb.chunks_mut(CHUNK)) {
+            let n = dirs.len();
+            let mut b = [[0.0f64; CHUNK]; 3];
+            let mut ok = [false; CHUNK];
+            for (k, &d) in dirs.iter().enumerate() {
+                let u = normalize(d);
+                ok[k] = u.is_some();
+                let u = u.unwrap_or([0.0, 0.0, 1.0]);
+                b[0][k] = u[0];
+                b[1][k] = u[1];
+                b[2][k] = u[2];
+            }
+            let (mut theta, mut phi) = ([0.0f64; CHUNK], [0.0f64; CHUNK]);
+            crate::mapping::simd::dispatch::angles(
+                backend,
+                [&b[0][..n], &b[1][..n], &b[2][..n]],
+                [&mut theta[..n], &mut phi[..n]],
+            );
+            if lookup == Lookup::Nearest {
+                // `lookup_angles`' nearest pixel, inlined (the same operations).
+                let (w, h) = (self.image.width(), self.image.height());
+                let px = self.image.rgb();
+                for k in 0..n {
+                    let s = phi_to_s(phi[k]);
+                    let t = theta[k] / PI;
+                    let x = ((s * w as f64) as usize).min(w - 1);
+                    let y = ((t * h as f64) as usize).min(h - 1);
+                    let i = 3 * (y * w + x);
+                    rgb[k] = if ok[k] {
+                        [px[i], px[i + 1], px[i + 2]]
+                    } else {
+                        [0.0; 3]
+                    };
+                }
+            } else {
+                for k in 0..n {
+                    rgb[k] = if ok[k] {
+                        self.lookup_angles(theta[k], phi[k], lookup)
+                    } else {
+                        [0.0; 3]
+                    };
+                }
+            }
         }
     }
 
@@ -319,12 +393,20 @@ impl EnvironmentMap {
         self.eval_with(direction, self.options.lookup)
     }
 
-    /// The image's RGB radiance in `direction` by the given lookup.
+    /// The image's RGB radiance in `direction` by the given lookup. The direction's angles are
+    /// [`crate::mapping::simd::math::angles`] (branch-free `atan2`, within a few ulps of
+    /// [`crate::sampler::spherical`]), the functions the batch lookup computes on its lanes.
     pub fn eval_with(&self, direction: Vec3, lookup: Lookup) -> [f32; 3] {
         let Some(d) = normalize(direction) else {
             return [0.0; 3];
         };
-        let (theta, phi) = spherical(d);
+        let (theta, phi) = crate::mapping::simd::math::angles(d);
+        self.lookup_angles(theta, phi, lookup)
+    }
+
+    /// The radiance at polar angle `theta` ∈ [0, π] and azimuth `phi` ∈ [0, 2π) by `lookup`.
+    #[inline]
+    fn lookup_angles(&self, theta: f64, phi: f64, lookup: Lookup) -> [f32; 3] {
         let (w, h) = (self.image.width(), self.image.height());
         let s = phi_to_s(phi);
         let t = theta / PI;
@@ -541,6 +623,24 @@ impl Sampler for EnvironmentMap {
     }
     fn invert_batch(&self, dirs: &[Vec3], out: &mut [Result<Point2, InvertError>]) {
         self.map.invert_batch(dirs, out)
+    }
+    fn sample_batch_soa(&self, u: &[f64], v: &[f64], dir: [&mut [f64]; 3], pdf: &mut [f64]) {
+        self.map.sample_batch_soa(u, v, dir, pdf)
+    }
+    fn pdf_batch_soa(&self, dir: [&[f64]; 3], pdf: &mut [f64]) {
+        self.map.pdf_batch_soa(dir, pdf)
+    }
+    fn invert_batch_soa(&self, dir: [&[f64]; 3], uv: [&mut [f64]; 2]) {
+        self.map.invert_batch_soa(dir, uv)
+    }
+    fn sample_batch_soa_f32(&self, u: &[f32], v: &[f32], dir: [&mut [f32]; 3], pdf: &mut [f32]) {
+        self.map.sample_batch_soa_f32(u, v, dir, pdf)
+    }
+    fn pdf_batch_soa_f32(&self, dir: [&[f32]; 3], pdf: &mut [f32]) {
+        self.map.pdf_batch_soa_f32(dir, pdf)
+    }
+    fn invert_batch_soa_f32(&self, dir: [&[f32]; 3], uv: [&mut [f32]; 2]) {
+        self.map.invert_batch_soa_f32(dir, uv)
     }
 }
 

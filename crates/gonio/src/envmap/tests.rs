@@ -4,6 +4,7 @@
 use super::*;
 use crate::check::Status;
 use crate::check::{run_battery, BatteryOptions};
+use crate::sampler::spherical;
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 
@@ -451,5 +452,109 @@ fn batches_agree_with_the_scalar_calls() {
             other_pixel <= 5,
             "{other_pixel} radiances differ from the scalar sample's"
         );
+    }
+}
+
+/// `eval_batch` (the angles on the SIMD lanes) equals the scalar `eval` bit for bit, both lookups,
+/// on every direction of a seeded run of samples, on random directions, on directions exactly at
+/// pixel edges and corners (where any difference in the angles' round-off would show as the
+/// neighbouring pixel), at the poles and the seam, and on vectors that are not unit, zero or not
+/// finite.
+#[test]
+fn eval_batch_equals_eval_bit_for_bit() {
+    let (w, h) = (24usize, 12usize);
+    let env = EnvironmentMap::new(random_image(w, h, 29)).unwrap();
+    let mut seq = Xoshiro256PlusPlus::seed_from_u64(31);
+    let u: Vec<Point2> = (0..4000).map(|_| [seq.gen(), seq.gen()]).collect();
+    let (mut dirs, mut pdf, mut rgb) = (
+        vec![[0.0; 3]; u.len()],
+        vec![0.0; u.len()],
+        vec![[0.0f32; 3]; u.len()],
+    );
+    env.sample_batch_rgb(&u, &mut dirs, &mut pdf, &mut rgb);
+    dirs.extend(random_dirs(4000, 37));
+    // Pixel edges and corners, exactly as `image_direction` gives them (and their pole rows).
+    for r in 0..=h {
+        for c in 0..=w {
+            dirs.push(image_direction(c as f64 / w as f64, r as f64 / h as f64));
+        }
+    }
+    dirs.extend([
+        [0.0, 0.0, 1.0],
+        [-0.0, 0.0, -1.0],
+        [1e-200, -1e-200, 1.0],
+        [-1.0, 1e-300, 0.0],
+        [-1.0, -1e-300, 0.0],
+        [-1.0, 0.0, 0.0],
+        [3.0, -4.0, 12.0],
+        [1e300, 1e300, -1e300],
+        [1e-310, 0.0, 3e-310],
+        [0.0, 0.0, 0.0],
+        [f64::NAN, 0.0, 1.0],
+        [f64::INFINITY, 0.0, 0.0],
+    ]);
+    let mut black = 0;
+    for lookup in [Lookup::Nearest, Lookup::Bilinear] {
+        let mut out = vec![[0.0f32; 3]; dirs.len()];
+        env.eval_batch_with(&dirs, lookup, &mut out);
+        for (k, d) in dirs.iter().enumerate() {
+            let want = env.eval_with(*d, lookup);
+            assert_eq!(
+                out[k].map(f32::to_bits),
+                want.map(f32::to_bits),
+                "{lookup:?} {k}: {d:?}"
+            );
+            black += usize::from(want == [0.0; 3]);
+        }
+    }
+    // The zero and the two non-finite vectors are black (every pixel of the image is not).
+    assert_eq!(black, 2 * 3);
+    // The map's own lookup, and the radiance `sample_batch_rgb` returned.
+    let mut out = vec![[0.0f32; 3]; u.len()];
+    env.eval_batch(&dirs[..u.len()], &mut out);
+    assert_eq!(out, rgb);
+}
+
+/// The batch angles are `math::angles` bit for bit on every backend this CPU has, and within a
+/// few ulps of `spherical` (libm's hypot and atan2).
+#[test]
+fn batch_angles_equal_the_scalar_angles_on_every_backend() {
+    use crate::mapping::simd::{dispatch, math, Backend};
+    let mut dirs = random_dirs(5000, 41);
+    dirs.extend([
+        [0.0, 0.0, 1.0],
+        [-0.0, -0.0, -1.0],
+        [-1.0, 0.0, 0.0],
+        [-1.0, -0.0, 0.0],
+        [-1.0, -1e-17, 0.0],
+        [1.0, -1e-17, 0.0],
+        [1e-9, 1e-9, 1.0],
+    ]);
+    let n = dirs.len();
+    let cols: Vec<Vec<f64>> = (0..3)
+        .map(|i| dirs.iter().map(|d| d[i]).collect())
+        .collect();
+    for b in Backend::available() {
+        let (mut t, mut p) = (vec![0.0; n], vec![0.0; n]);
+        dispatch::angles(b, [&cols[0], &cols[1], &cols[2]], [&mut t, &mut p]);
+        for (k, d) in dirs.iter().enumerate() {
+            let (ts, ps) = math::angles(*d);
+            assert_eq!(
+                (t[k].to_bits(), p[k].to_bits()),
+                (ts.to_bits(), ps.to_bits()),
+                "{b:?} {k}: {d:?}"
+            );
+            assert!(
+                (0.0..=PI).contains(&ts) && (0.0..TAU).contains(&ps),
+                "{d:?}"
+            );
+            let (tl, pl) = crate::sampler::spherical(*d);
+            // φ near 0 and 2π is the same azimuth.
+            let dp = (ps - pl).abs().min(TAU - (ps - pl).abs());
+            assert!(
+                (ts - tl).abs() <= 2e-15 && dp <= 2e-15,
+                "{k}: {d:?}: ({ts}, {ps}) vs libm ({tl}, {pl})"
+            );
+        }
     }
 }

@@ -51,25 +51,25 @@ pub(crate) struct Angular {
 /// (the vector kernels of `mapping::simd`, the blended maps) reads them: a layout change touches
 /// this file only. Fields as in [`Angular`].
 #[derive(Debug, Clone, Copy)]
-pub(crate) struct AngularView<'a> {
+pub(crate) struct AngularView<'a, T = f64> {
     /// M, the number of meridians.
     pub(crate) m: usize,
     /// Meridian azimuths, M + 1 entries with φ_M = 2π.
-    pub(crate) phi: &'a [f64],
+    pub(crate) phi: &'a [T],
     /// Sector widths β_i, M entries.
-    pub(crate) beta: &'a [f64],
+    pub(crate) beta: &'a [T],
     /// 1/β when the meridians are uniform, else 0.
-    pub(crate) inv_uniform_beta: f64,
+    pub(crate) inv_uniform_beta: T,
     /// Squared star radii R_i², M + 1 entries.
-    pub(crate) r2: &'a [f64],
+    pub(crate) r2: &'a [T],
     /// Cumulative wedge angles Γ_i, M + 1 entries.
-    pub(crate) cum: &'a [f64],
+    pub(crate) cum: &'a [T],
     /// Γ_M / Σγ^i.
-    pub(crate) kappa: f64,
+    pub(crate) kappa: T,
     /// Guide table of the wedge search.
     pub(crate) wedge_guide: &'a [u32],
     /// K / 2π for the guide table.
-    pub(crate) guide_scale: f64,
+    pub(crate) guide_scale: T,
 }
 
 impl Angular {

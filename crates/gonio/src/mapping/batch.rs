@@ -37,10 +37,7 @@ use super::simd::{Backend, BatchFloat};
 use crate::sampler::{InvertError, Point2, Sample, Sampler, Vec3};
 use rayon::prelude::*;
 
-/// Points per chunk of the sphere's partition into hemispheres and of the AoS adapters.
-pub(super) const CHUNK: usize = 256;
-/// Points per rayon task in the parallel batch functions.
-const PAR_CHUNK: usize = 4096;
+pub(super) use crate::batch::{check_len, CHUNK, PAR_CHUNK};
 
 pub(super) use super::simd::dispatch::{core_density, core_invert, core_sample};
 
@@ -80,14 +77,7 @@ pub trait SoaSampler: Sampler {
     }
 }
 
-pub(super) fn check_len(what: &str, n: usize, lens: &[usize]) {
-    assert!(
-        lens.iter().all(|&l| l == n),
-        "{what}: slices differ in length"
-    );
-}
-
-/// [`SoaSampler::sample_soa`] on all rayon threads, in chunks of 4096 points. Each output depends
+/// [`SoaSampler::sample_soa`] on all rayon threads, in chunks of [`PAR_CHUNK`] points. Each output depends
 /// only on its own input, so the result is the same for any number of threads.
 ///
 /// # Panics
@@ -292,3 +282,85 @@ fn no_preimage<S: SoaSampler>(s: &S, d: Vec3) -> InvertError {
         Ok(_) => InvertError::OutsideDomain,
     }
 }
+
+/// The HDS maps' [`Sampler::invert_batch_soa`] and [`Sampler::invert_batch_soa_f32`]:
+/// [`SoaSampler::invert_soa`], then NaN in both coordinates wherever [`SoaSampler::pdf_soa`] is 0
+/// (the rule of every sampler, issue 25: no preimage where the density is 0; the map's inverse
+/// there is a boundary point that samples another direction). [`CHUNK`] directions at a time.
+///
+/// # Panics
+/// If the slices differ in length.
+pub(crate) fn invert_soa_nonzero<S: SoaSampler, T: BatchFloat>(
+    s: &S,
+    dir: [&[T]; 3],
+    uv: [&mut [T]; 2],
+) {
+    let [u, v] = uv;
+    let n = u.len();
+    check_len(
+        "invert_batch_soa",
+        n,
+        &[v.len(), dir[0].len(), dir[1].len(), dir[2].len()],
+    );
+    let b = Backend::detect();
+    let mut p = [T::ZERO; CHUNK];
+    for start in (0..n).step_by(CHUNK) {
+        let r = start..(start + CHUNK).min(n);
+        let m = r.len();
+        let d = [&dir[0][r.clone()], &dir[1][r.clone()], &dir[2][r.clone()]];
+        let (u, v) = (&mut u[r.clone()], &mut v[r]);
+        s.invert_soa_with(b, d, [&mut *u, &mut *v]);
+        s.pdf_soa_with(b, d, &mut p[..m]);
+        for ((u, v), &p) in u.iter_mut().zip(v.iter_mut()).zip(&p[..m]) {
+            if p == T::ZERO {
+                *u = T::NAN;
+                *v = T::NAN;
+            }
+        }
+    }
+}
+
+/// The six structure-of-arrays methods of [`Sampler`] for a map that implements [`SoaSampler`]
+/// (the HDS maps): each runs the map's vector kernels on the slices directly, with no transposes.
+/// The `_f32` ones are the single override point of the float32 path: they run the map's
+/// [`crate::mapping::Float32Map`].
+macro_rules! soa_sampler_methods {
+    () => {
+        fn sample_batch_soa(&self, u: &[f64], v: &[f64], dir: [&mut [f64]; 3], pdf: &mut [f64]) {
+            $crate::mapping::batch::SoaSampler::sample_soa(self, u, v, dir, pdf)
+        }
+        fn pdf_batch_soa(&self, dir: [&[f64]; 3], pdf: &mut [f64]) {
+            $crate::mapping::batch::SoaSampler::pdf_soa(self, dir, pdf)
+        }
+        fn invert_batch_soa(&self, dir: [&[f64]; 3], uv: [&mut [f64]; 2]) {
+            $crate::mapping::batch::invert_soa_nonzero(self, dir, uv)
+        }
+        // The float32 map's override point: the map's float32 map (`float32()`, built on the
+        // first call), else (a grid beyond its limits) the f64 map rounded once.
+        fn sample_batch_soa_f32(
+            &self,
+            u: &[f32],
+            v: &[f32],
+            dir: [&mut [f32]; 3],
+            pdf: &mut [f32],
+        ) {
+            match self.float32() {
+                Some(f) => f.sample_soa(u, v, dir, pdf),
+                None => $crate::mapping::batch::SoaSampler::sample_soa(self, u, v, dir, pdf),
+            }
+        }
+        fn pdf_batch_soa_f32(&self, dir: [&[f32]; 3], pdf: &mut [f32]) {
+            match self.float32() {
+                Some(f) => f.pdf_soa(dir, pdf),
+                None => $crate::mapping::batch::SoaSampler::pdf_soa(self, dir, pdf),
+            }
+        }
+        fn invert_batch_soa_f32(&self, dir: [&[f32]; 3], uv: [&mut [f32]; 2]) {
+            match self.float32() {
+                Some(f) => f.invert_soa_nonzero(dir, uv),
+                None => $crate::mapping::batch::invert_soa_nonzero(self, dir, uv),
+            }
+        }
+    };
+}
+pub(crate) use soa_sampler_methods;

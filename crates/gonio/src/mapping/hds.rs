@@ -17,11 +17,11 @@ use std::f64::consts::PI;
 /// The read-only view of one map's tables through which the vector kernels read them (see
 /// [`AngularView`], [`RadialView`]).
 #[derive(Debug, Clone, Copy)]
-pub(crate) struct TablesView<'a> {
+pub(crate) struct TablesView<'a, T = f64> {
     /// M_C's tables.
-    pub(crate) angular: AngularView<'a>,
+    pub(crate) angular: AngularView<'a, T>,
     /// M_D's tables.
-    pub(crate) radial: RadialView<'a>,
+    pub(crate) radial: RadialView<'a, T>,
 }
 
 /// One HDS map (ALGORITHM §4): the tables of its two table-driven stages, M_C ([`Angular`]) and

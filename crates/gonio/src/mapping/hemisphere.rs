@@ -66,9 +66,22 @@ pub struct HemisphereMap {
     /// The data's integral in units of its largest value.
     data_total: f64,
     refinement: Option<Refinement>,
+    /// The float32 map, built on the first float32 batch call ([`HemisphereMap::float32`]).
+    float32: std::sync::OnceLock<Option<super::Float32Map>>,
 }
 
 impl HemisphereMap {
+    /// This map's float32 map ([`super::Float32Map`]), built on the first call and kept (one
+    /// f32 copy of the tables, [`super::Float32Map::memory_bytes`], not counted in
+    /// [`Sampler::memory_bytes`]); `None` for a grid beyond the float32 kernels' limits. The
+    /// float32 batch calls of [`Sampler`] (`sample_batch_soa_f32`, `pdf_batch_soa_f32`,
+    /// `invert_batch_soa_f32`, which the C ABI's and Python's float32 batches call) run it.
+    pub fn float32(&self) -> Option<&super::Float32Map> {
+        self.float32
+            .get_or_init(|| self.float32_map().ok())
+            .as_ref()
+    }
+
     /// Builds the map. The diagram must lie within θ ∈ [0°, 90°].
     pub fn new(diagram: &Diagram) -> Result<Self, DiagramError> {
         let completed = complete(diagram, FRAC_PI_2, false, diagram.max_value())?;
@@ -106,6 +119,7 @@ impl HemisphereMap {
             measured,
             data_total,
             refinement: None,
+            float32: std::sync::OnceLock::new(),
         }
     }
 
@@ -349,4 +363,5 @@ impl Sampler for HemisphereMap {
     fn invert_batch(&self, dirs: &[Vec3], out: &mut [Result<Point2, InvertError>]) {
         super::batch::invert_batch_aos(self, dirs, out)
     }
+    super::batch::soa_sampler_methods!();
 }

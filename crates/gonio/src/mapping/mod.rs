@@ -24,6 +24,7 @@ pub mod blend;
 mod bound;
 mod complete;
 pub mod concentric;
+mod float32;
 mod hds;
 mod hemisphere;
 pub mod lift;
@@ -36,6 +37,7 @@ mod split;
 
 pub use blend::{BlendError, BlendedMap};
 pub use complete::Completion;
+pub use float32::{Float32Exact, Float32Map, Float32MapError, FLOAT32_MAX_NODES};
 pub use hemisphere::HemisphereMap;
 pub use refine::{RefineLimits, RefineStop, Refinement};
 pub use sphere::{SphereLayout, SphereMap};

@@ -17,6 +17,7 @@
 //! The stage maps the constant density s of the C-domain to D: the area ratio is dA_D/dA_C = s/D.
 
 use super::guided_search;
+use super::simd::math::Precision;
 use crate::diagram::segment;
 
 /// Mass ∫_{x0}^{x0+τ} 2x d(x) dx of the density d(x) = d0 + k(x − x0): the radial cumulative
@@ -207,31 +208,57 @@ pub(crate) struct Radial {
     radial_k: usize,
 }
 
+/// The radial guide tables of the cumulative masses `u` (row-major M × N, rows non-decreasing),
+/// K = `radial_k` cells each: entry (i, k) is the largest j ≤ N − 2 with U(i, j) ≤ (k/K)·U(i, N−1)
+/// (see [`Radial`]'s field `radial_guide`).
+pub(crate) fn radial_guides(u: &[f64], n: usize, radial_k: usize) -> Vec<u32> {
+    let m = u.len() / n;
+    let mut radial_guide = Vec::with_capacity(m * (radial_k + 1));
+    for i in 0..m {
+        let row = &u[i * n..(i + 1) * n];
+        // The count of entries ≤ level (`partition_point` on the non-decreasing row), found by
+        // one walk up the row as the levels rise.
+        let mut count = 0;
+        for k in 0..=radial_k {
+            let level = k as f64 / radial_k as f64 * row[n - 1];
+            while count < n && row[count] <= level {
+                count += 1;
+            }
+            let j = count.max(1) - 1;
+            radial_guide.push(j.min(n - 2) as u32);
+        }
+    }
+    radial_guide
+}
+
 /// The read-only view of [`Radial`]'s tables, the one door through which code outside this file
 /// (the vector kernels of `mapping::simd`, the blended maps) reads them: a layout change touches
 /// this file only. Fields as in [`Radial`].
 #[derive(Debug, Clone, Copy)]
-pub(crate) struct RadialView<'a> {
+pub(crate) struct RadialView<'a, T = f64> {
     /// N, the number of parallels.
     pub(crate) n: usize,
     /// Parallel radii x_j, N entries.
-    pub(crate) x: &'a [f64],
+    pub(crate) x: &'a [T],
     /// Nodal disk densities, row-major M × N.
-    pub(crate) d: &'a [f64],
+    pub(crate) d: &'a [T],
     /// Cumulative radial masses U(i, j), row-major M × N.
-    pub(crate) u: &'a [f64],
+    pub(crate) u: &'a [T],
     /// U(i, N−1), M entries.
-    pub(crate) total: &'a [f64],
+    pub(crate) total: &'a [T],
     /// Guide table of the parallel search.
     pub(crate) radius_guide: &'a [u32],
     /// K / x_{N−1} for the parallel guide table.
-    pub(crate) radius_scale: f64,
+    pub(crate) radius_scale: T,
     /// 1 / (x_{j+1} − x_j), N − 1 entries.
-    pub(crate) inv_dx: &'a [f64],
+    pub(crate) inv_dx: &'a [T],
     /// Radial guide tables, row-major M × (K + 1).
     pub(crate) radial_guide: &'a [u32],
     /// K, cells per radial guide table.
     pub(crate) radial_k: usize,
+    /// The radius beyond which the density is 0: x_{N−1} times the element type's
+    /// [`Precision::EDGE`] (slack for the round-off of a direction's disk radius).
+    pub(crate) edge: T,
 }
 
 impl Radial {
@@ -249,6 +276,7 @@ impl Radial {
             inv_dx: &self.inv_dx,
             radial_guide: &self.radial_guide,
             radial_k: self.radial_k,
+            edge: self.x[self.n - 1] * <f64 as Precision>::EDGE,
         }
     }
 }
@@ -282,21 +310,7 @@ impl Radial {
             })
             .collect();
         let radial_k = n.div_ceil(2).max(1);
-        let mut radial_guide = Vec::with_capacity(m * (radial_k + 1));
-        for i in 0..m {
-            let row = &u[i * n..(i + 1) * n];
-            // The count of entries ≤ level (`partition_point` on the non-decreasing row), found by
-            // one walk up the row as the levels rise.
-            let mut count = 0;
-            for k in 0..=radial_k {
-                let level = k as f64 / radial_k as f64 * row[n - 1];
-                while count < n && row[count] <= level {
-                    count += 1;
-                }
-                let j = count.max(1) - 1;
-                radial_guide.push(j.min(n - 2) as u32);
-            }
-        }
+        let radial_guide = radial_guides(&u, n, radial_k);
         let total = (0..m).map(|i| u[i * n + n - 1]).collect();
         Radial {
             n,

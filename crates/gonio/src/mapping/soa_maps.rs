@@ -249,7 +249,7 @@ impl SoaSampler for SphereMap {
 
 /// Splits directions into chunks and each chunk by hemisphere ([`SplitRule::side_of`]); calls
 /// `f(side, dirs, positions)` with the lower side's directions mirrored to z ≥ 0.
-fn split_by_side<T: Elem>(
+pub(super) fn split_by_side<T: Elem>(
     dir: [&[T]; 3],
     rule: SplitRule,
     mut f: impl FnMut(Side, [&[T]; 3], &[usize]),

@@ -128,6 +128,8 @@ pub struct SphereMap {
     /// The measured θ range of the data (radians): the target's support.
     measured: (f64, f64),
     refinement: Option<Refinement>,
+    /// The float32 map, built on the first float32 batch call ([`SphereMap::float32`]).
+    float32: std::sync::OnceLock<Option<super::Float32Map>>,
 }
 
 /// The measured θ range of a diagram (radians).
@@ -137,6 +139,15 @@ fn measured(d: &Diagram) -> (f64, f64) {
 }
 
 impl SphereMap {
+    /// This map's float32 map ([`super::Float32Map`]), built on the first call and kept (as
+    /// [`crate::HemisphereMap::float32`]); `None` for a grid beyond the float32 kernels' limits.
+    /// The float32 batch calls of [`Sampler`] run it.
+    pub fn float32(&self) -> Option<&super::Float32Map> {
+        self.float32
+            .get_or_init(|| self.float32_map().ok())
+            .as_ref()
+    }
+
     /// Builds the map with the default [`SphereLayout::Split`] layout.
     ///
     /// Each hemisphere that the diagram reaches into is completed as in
@@ -295,6 +306,7 @@ impl SphereMap {
                     completions,
                     measured: measured(diagram),
                     refinement: None,
+                    float32: std::sync::OnceLock::new(),
                 }
             }
             SphereLayout::Lambert => {
@@ -313,6 +325,7 @@ impl SphereMap {
                     completions,
                     measured: measured(diagram),
                     refinement: None,
+                    float32: std::sync::OnceLock::new(),
                 }
             }
         };
@@ -651,4 +664,5 @@ impl Sampler for SphereMap {
     fn invert_batch(&self, dirs: &[Vec3], out: &mut [Result<Point2, InvertError>]) {
         super::batch::invert_batch_aos(self, dirs, out)
     }
+    super::batch::soa_sampler_methods!();
 }

@@ -49,6 +49,15 @@ impl SplitRule {
         }
     }
 
+    /// The same rule with P_lower rounded to f32 (the float32 map's rule, and that of its exact
+    /// reference, which evaluates it in f64).
+    pub(crate) fn rounded_f32(self) -> Self {
+        SplitRule {
+            p_lower: self.p_lower as f32 as f64,
+            ..self
+        }
+    }
+
     /// The side that serves a direction with this z: the lower map for z < 0, and for z = ±0 (the
     /// horizon, which both maps share with equal values there) when there is no upper map.
     #[inline]

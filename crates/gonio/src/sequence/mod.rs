@@ -95,8 +95,8 @@ pub enum Sequence {
     Random(Random),
 }
 
-/// Points per rayon task in [`Sequence::fill_par`].
-const PAR_CHUNK: usize = 4096;
+// Points per rayon task in [`Sequence::fill_par`]: the crate's batch task size.
+use crate::batch::PAR_CHUNK;
 
 impl Sequence {
     /// The generator of `kind` for `seed`.

@@ -26,11 +26,8 @@
 //! (NaN, infinities, points outside the square) can make a gather read outside a table; the clamp
 //! never changes an index the scalar path would use, since those are in bounds by construction.
 
-use crate::mapping::hds::{HdsCore, TablesView};
-use crate::mapping::simd::math::{
-    ATAN_K8_HI, ATAN_K8_LO, ATAN_TAYLOR, COS_TAYLOR, PIO2_1, PIO2_2, PIO2_3, PIO2_LO, PI_LO,
-    ROUND_MAGIC, SIN_TAYLOR, TWO_OVER_PI,
-};
+use crate::mapping::hds::TablesView;
+use crate::mapping::simd::math::Precision;
 use std::arch::x86_64::*;
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI, TAU};
 
@@ -40,6 +37,8 @@ const K: usize = 4;
 /// Points per block.
 pub(crate) const BLOCK: usize = 4 * K;
 
+/// The element type of the tables and lanes.
+type E = f64;
 /// K vectors of four f64 lanes (a value, or a mask of all-ones / all-zeros lanes).
 #[derive(Clone, Copy)]
 struct F([__m256d; K]);

@@ -4,11 +4,8 @@
 //! ([`super::avx2`], whose documentation gives the design and the exactness argument), so the
 //! results are the same bits on every backend (tested in `tests/batch.rs`).
 
-use crate::mapping::hds::{HdsCore, TablesView};
-use crate::mapping::simd::math::{
-    ATAN_K8_HI, ATAN_K8_LO, ATAN_TAYLOR, COS_TAYLOR, PIO2_1, PIO2_2, PIO2_3, PIO2_LO, PI_LO,
-    ROUND_MAGIC, SIN_TAYLOR, TWO_OVER_PI,
-};
+use crate::mapping::hds::TablesView;
+use crate::mapping::simd::math::Precision;
 use std::arch::x86_64::*;
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI, TAU};
 
@@ -63,6 +60,8 @@ macro_rules! avx512_kernels {
         /// Points per block.
         pub(crate) const BLOCK: usize = 8 * K;
 
+        /// The element type of the tables and lanes.
+        type E = f64;
         /// K vectors of eight f64 lanes.
         #[derive(Clone, Copy)]
         struct F([__m512d; K]);

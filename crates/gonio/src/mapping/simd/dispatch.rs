@@ -3,10 +3,10 @@
 //! impls) sees three functions: [`core_sample`], [`core_density`], [`core_invert`].
 
 use super::{portable, Backend, Elem};
-use crate::mapping::hds::HdsCore;
+use crate::mapping::hds::{HdsCore, TablesView};
 
-/// Points per chunk when an f32 call runs through the f64 kernels.
-const F32_CHUNK: usize = 256;
+// Points per chunk when an f32 call runs through the f64 kernels.
+use crate::batch::CHUNK as F32_CHUNK;
 
 /// The `f64` slice a `T` slice is, when `T` is f64 (the batch paths run f64 kernels only).
 fn as_f64<T: Elem>(s: &[T]) -> Option<&[f64]> {
@@ -29,23 +29,11 @@ fn widen<T: Elem>(src: &[T], buf: &mut [f64; F32_CHUNK]) {
     }
 }
 
-/// f32 directions widened to f64 are unit vectors only to within f32 rounding (~1e-7); the f64
-/// kernels expect them unit to within f64 rounding (a horizon direction rounded to f32 can lie
-/// "beyond the map's edge" by 1e-7 otherwise). Renormalises the first `cnt` widened directions
-/// (those of positive finite length; others pass unchanged).
+/// Renormalises the first `cnt` widened f32 directions in f64 ([`crate::batch::renormalise`]: the
+/// one rule of every f32 batch call).
 fn renormalise(d: &mut [[f64; F32_CHUNK]; 3], cnt: usize) {
-    for k in 0..cnt {
-        let n = (d[0][k] * d[0][k] + d[1][k] * d[1][k] + d[2][k] * d[2][k]).sqrt();
-        // One division per direction (the f32 results do not see the last bits of the scale).
-        let s = if n > 0.0 && n.is_finite() {
-            1.0 / n
-        } else {
-            1.0
-        };
-        for c in d.iter_mut() {
-            c[k] *= s;
-        }
-    }
+    let [x, y, z] = d;
+    crate::batch::renormalise([&mut x[..], &mut y[..], &mut z[..]], cnt);
 }
 
 /// f64 values rounded into `T`.
@@ -103,10 +91,10 @@ pub(crate) fn core_sample<T: Elem>(b: Backend, c: &HdsCore, u: &[T], v: &[T], ou
         // SAFETY (both): `backend_for` returns a backend only when the CPU has its instruction
         // set (`Backend::usable`).
         #[cfg(target_arch = "x86_64")]
-        Backend::Avx512 => unsafe { super::avx512::k2::sample_slices(c, u, v, out) },
+        Backend::Avx512 => unsafe { super::avx512::k2::sample_slices(&c.view(), u, v, out) },
         #[cfg(target_arch = "x86_64")]
-        Backend::Avx2Fma => unsafe { super::avx2::sample_slices(c, u, v, out) },
-        _ => portable::sample_slices(c, u, v, out),
+        Backend::Avx2Fma => unsafe { super::avx2::sample_slices(&c.view(), u, v, out) },
+        _ => portable::sample_slices(&c.view(), u, v, out),
     }
 }
 
@@ -134,10 +122,10 @@ pub(crate) fn core_density<T: Elem>(b: Backend, c: &HdsCore, dir: [&[T]; 3], out
     match backend_for(b, c) {
         // SAFETY (both): as in `core_sample`.
         #[cfg(target_arch = "x86_64")]
-        Backend::Avx512 => unsafe { super::avx512::k4::density_slices(c, [x, y, z], out) },
+        Backend::Avx512 => unsafe { super::avx512::k4::density_slices(&c.view(), [x, y, z], out) },
         #[cfg(target_arch = "x86_64")]
-        Backend::Avx2Fma => unsafe { super::avx2::density_slices(c, [x, y, z], out) },
-        _ => portable::density_slices(c, [x, y, z], out),
+        Backend::Avx2Fma => unsafe { super::avx2::density_slices(&c.view(), [x, y, z], out) },
+        _ => portable::density_slices(&c.view(), [x, y, z], out),
     }
 }
 
@@ -171,9 +159,136 @@ pub(crate) fn core_invert<T: Elem>(b: Backend, c: &HdsCore, dir: [&[T]; 3], out:
     match backend_for(b, c) {
         // SAFETY (both): as in `core_sample`.
         #[cfg(target_arch = "x86_64")]
-        Backend::Avx512 => unsafe { super::avx512::k4::invert_slices(c, [x, y, z], out) },
+        Backend::Avx512 => unsafe { super::avx512::k4::invert_slices(&c.view(), [x, y, z], out) },
         #[cfg(target_arch = "x86_64")]
-        Backend::Avx2Fma => unsafe { super::avx2::invert_slices(c, [x, y, z], out) },
-        _ => portable::invert_slices(c, [x, y, z], out),
+        Backend::Avx2Fma => unsafe { super::avx2::invert_slices(&c.view(), [x, y, z], out) },
+        _ => portable::invert_slices(&c.view(), [x, y, z], out),
+    }
+}
+
+// ---- Tables given as a view: the float32 map's f32 kernels and its exact f64 reference. ----
+
+/// The forward map of the tables `t` in `E`'s kernels (f32: the float32 map; f64: the same
+/// tables evaluated by the f64 kernels), on backend `b` or the fastest below it that the CPU
+/// has. The caller guarantees the 32-bit index limits of the explicit kernels
+/// ([`crate::mapping::Float32Map`] checks them at build).
+pub(crate) fn tables_sample<E: TablesElem>(
+    b: Backend,
+    t: &TablesView<'_, E>,
+    u: &[E],
+    v: &[E],
+    out: [&mut [E]; 4],
+) {
+    E::sample(b.usable(), t, u, v, out)
+}
+
+/// The disk density D of the tables `t` at each direction (see [`tables_sample`]).
+pub(crate) fn tables_density<E: TablesElem>(
+    b: Backend,
+    t: &TablesView<'_, E>,
+    dir: [&[E]; 3],
+    out: &mut [E],
+) {
+    E::density(b.usable(), t, dir, out)
+}
+
+/// The inverse map of the tables `t` at each direction (see [`tables_sample`]).
+pub(crate) fn tables_invert<E: TablesElem>(
+    b: Backend,
+    t: &TablesView<'_, E>,
+    dir: [&[E]; 3],
+    out: [&mut [E]; 2],
+) {
+    E::invert(b.usable(), t, dir, out)
+}
+
+/// An element type whose kernels run on tables given as a view: f32 (the f32 kernels) and f64
+/// (the f64 kernels). `b` is a backend the CPU has.
+pub(crate) trait TablesElem: Elem {
+    /// The forward map.
+    fn sample(b: Backend, t: &TablesView<'_, Self>, u: &[Self], v: &[Self], out: [&mut [Self]; 4]);
+    /// The disk density.
+    fn density(b: Backend, t: &TablesView<'_, Self>, dir: [&[Self]; 3], out: &mut [Self]);
+    /// The inverse map.
+    fn invert(b: Backend, t: &TablesView<'_, Self>, dir: [&[Self]; 3], out: [&mut [Self]; 2]);
+}
+
+impl TablesElem for f64 {
+    fn sample(b: Backend, t: &TablesView<'_>, u: &[f64], v: &[f64], out: [&mut [f64]; 4]) {
+        match b {
+            // SAFETY (both): `b` is a backend the CPU has (the callers pass `Backend::usable`).
+            #[cfg(target_arch = "x86_64")]
+            Backend::Avx512 => unsafe { super::avx512::k2::sample_slices(t, u, v, out) },
+            #[cfg(target_arch = "x86_64")]
+            Backend::Avx2Fma => unsafe { super::avx2::sample_slices(t, u, v, out) },
+            _ => portable::sample_slices(t, u, v, out),
+        }
+    }
+    fn density(b: Backend, t: &TablesView<'_>, dir: [&[f64]; 3], out: &mut [f64]) {
+        match b {
+            // SAFETY (both): as in `sample`.
+            #[cfg(target_arch = "x86_64")]
+            Backend::Avx512 => unsafe { super::avx512::k4::density_slices(t, dir, out) },
+            #[cfg(target_arch = "x86_64")]
+            Backend::Avx2Fma => unsafe { super::avx2::density_slices(t, dir, out) },
+            _ => portable::density_slices(t, dir, out),
+        }
+    }
+    fn invert(b: Backend, t: &TablesView<'_>, dir: [&[f64]; 3], out: [&mut [f64]; 2]) {
+        match b {
+            // SAFETY (both): as in `sample`.
+            #[cfg(target_arch = "x86_64")]
+            Backend::Avx512 => unsafe { super::avx512::k4::invert_slices(t, dir, out) },
+            #[cfg(target_arch = "x86_64")]
+            Backend::Avx2Fma => unsafe { super::avx2::invert_slices(t, dir, out) },
+            _ => portable::invert_slices(t, dir, out),
+        }
+    }
+}
+
+impl TablesElem for f32 {
+    fn sample(b: Backend, t: &TablesView<'_, f32>, u: &[f32], v: &[f32], out: [&mut [f32]; 4]) {
+        match b {
+            // SAFETY (both): as in the f64 `sample`.
+            #[cfg(target_arch = "x86_64")]
+            Backend::Avx512 => unsafe { super::avx512_f32::k4::sample_slices(t, u, v, out) },
+            #[cfg(target_arch = "x86_64")]
+            Backend::Avx2Fma => unsafe { super::avx2_f32::sample_slices(t, u, v, out) },
+            _ => super::portable32::sample_slices(t, u, v, out),
+        }
+    }
+    fn density(b: Backend, t: &TablesView<'_, f32>, dir: [&[f32]; 3], out: &mut [f32]) {
+        match b {
+            // SAFETY (both): as in the f64 `sample`.
+            #[cfg(target_arch = "x86_64")]
+            Backend::Avx512 => unsafe { super::avx512_f32::k4::density_slices(t, dir, out) },
+            #[cfg(target_arch = "x86_64")]
+            Backend::Avx2Fma => unsafe { super::avx2_f32::density_slices(t, dir, out) },
+            _ => super::portable32::density_slices(t, dir, out),
+        }
+    }
+    fn invert(b: Backend, t: &TablesView<'_, f32>, dir: [&[f32]; 3], out: [&mut [f32]; 2]) {
+        match b {
+            // SAFETY (both): as in the f64 `sample`.
+            #[cfg(target_arch = "x86_64")]
+            Backend::Avx512 => unsafe { super::avx512_f32::k4::invert_slices(t, dir, out) },
+            #[cfg(target_arch = "x86_64")]
+            Backend::Avx2Fma => unsafe { super::avx2_f32::invert_slices(t, dir, out) },
+            _ => super::portable32::invert_slices(t, dir, out),
+        }
+    }
+}
+
+/// Polar angle θ (to `out[0]`) and azimuth φ (to `out[1]`) of unit directions on backend `b` (the
+/// fastest below it if the CPU lacks it): [`super::math::angles`] per direction, bit for bit, on
+/// every backend.
+pub(crate) fn angles(b: Backend, dir: [&[f64]; 3], out: [&mut [f64]; 2]) {
+    match b.usable() {
+        // SAFETY (both): `usable` returns a backend only when the CPU has its instruction set.
+        #[cfg(target_arch = "x86_64")]
+        Backend::Avx512 => unsafe { super::avx512::k4::angles_slices(dir, out) },
+        #[cfg(target_arch = "x86_64")]
+        Backend::Avx2Fma => unsafe { super::avx2::angles_slices(dir, out) },
+        _ => portable::angles_slices(dir, out),
     }
 }

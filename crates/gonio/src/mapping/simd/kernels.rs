@@ -1,8 +1,16 @@
 //! The vector kernels of the HDS map (forward map, pdf, inverse), written once over a small
 //! vocabulary of vector operations (`splat`, `add`, `gather`, `sel`, …) that each backend defines
-//! for its own value, index and mask types and then instantiates with [`vector_kernels!`]:
-//! [`super::portable`] (arrays of eight lanes, the baseline instruction set), [`super::avx2`]
-//! (four `__m256d` per value) and [`super::avx512`] (two or four `__m512d`). The macro stamps the
+//! for its own element, value, index and mask types and then instantiates with
+//! [`vector_kernels!`]: in f64 [`super::portable`] (arrays of eight lanes, the baseline
+//! instruction set), [`super::avx2`] (four `__m256d` per value) and [`super::avx512`] (two or
+//! four `__m512d`); in f32 (the float32 map) [`super::portable32`], [`super::avx2_f32`] and
+//! [`super::avx512_f32`].
+//!
+//! The body is generic in the element type `E` that the vocabulary names: tables are `&[E]`,
+//! constants are written as f64 and `splat` rounds them to `E`, and what depends on the precision
+//! (the sin/cos reduction and series lengths, the atan2 series and table, the radial solve's
+//! stopping rules) is read as `E::NAME` from [`crate::mapping::simd::math::Precision`]. The f64
+//! instantiation performs exactly the operations it did before the body became generic. The macro stamps the
 //! backend's `#[target_feature]` attribute on the entry points and small helpers; the bodies are
 //! the same tokens for every backend. See [`super::avx2`] for the design, the exactness argument
 //! and the measurements.
@@ -17,7 +25,12 @@
 /// The scalar search's settling steps after a guided descent (entered only when round-off left
 /// `i` outside its bracket): the largest i ≤ `last` with a_i ≤ x, from a nearby start.
 #[inline(always)]
-pub(crate) fn settle_guided(a: &[f64], mut i: usize, x: f64, last: usize) -> usize {
+pub(crate) fn settle_guided<E: Copy + PartialOrd>(
+    a: &[E],
+    mut i: usize,
+    x: E,
+    last: usize,
+) -> usize {
     while i > 0 && a[i] > x {
         i -= 1;
     }
@@ -31,12 +44,12 @@ pub(crate) fn settle_guided(a: &[f64], mut i: usize, x: f64, last: usize) -> usi
 /// (each entered only when its condition holds, rarely): Ũ_j and Ũ_{j+1} (`ut`) are read once in
 /// the usual case. Returns the segment j and Ũ_j.
 #[inline(always)]
-pub(crate) fn settle_radial(
+pub(crate) fn settle_radial<E: Copy + PartialOrd>(
     mut j: usize,
     n: usize,
-    w: f64,
-    ut: impl Fn(usize) -> f64,
-) -> (usize, f64) {
+    w: E,
+    ut: impl Fn(usize) -> E,
+) -> (usize, E) {
     let (mut uj, mut uj1) = (ut(j), ut(j + 1));
     if j > 0 && uj > w {
         while j > 0 && ut(j) > w {
@@ -119,9 +132,9 @@ macro_rules! vector_kernels {
         /// non-decreasing `a`, from the guide table's bracket, then the settling steps (per lane, only
         /// where the vector check finds one needed).
         #[inline(always)]
-        unsafe fn guided(a: &[f64], guide: &[u32], scale: f64, x: F, last: usize) -> I {
+        unsafe fn guided(a: &[E], guide: &[u32], scale: E, x: F, last: usize) -> I {
             let kmax = guide.len() - 1;
-            let k = to_index(mul(x, splat(scale)), kmax);
+            let k = to_index(mul(x, splat(f64::from(scale))), kmax);
             let lastv = isplat(last);
             let lo = imin(gather_u32(guide, k), lastv);
             let below_top = igt(isplat(kmax), k);
@@ -145,21 +158,21 @@ macro_rules! vector_kernels {
             ifrom(f)
         }
 
-        /// `math::sin_cos` on four lanes, operation for operation.
+        /// `math::sin_cos` on the lanes, operation for operation (in f32 with the f32 reduction
+        /// constants and series lengths of [`crate::mapping::simd::math::Precision`]).
         #[inline(always)]
         unsafe fn sin_cos(x: F) -> (F, F) {
-            let magic = splat(ROUND_MAGIC);
-            let k = sub(add(mul(x, splat(TWO_OVER_PI)), magic), magic);
-            let r = sub(
-                sub(sub(x, mul(k, splat(PIO2_1))), mul(k, splat(PIO2_2))),
-                mul(k, splat(PIO2_3)),
-            );
+            let magic = splat(E::ROUND_MAGIC);
+            let [p1, p2, p3] = E::PIO2_PARTS;
+            let k = sub(add(mul(x, splat(std::f64::consts::FRAC_2_PI)), magic), magic);
+            let r = sub(sub(sub(x, mul(k, splat(p1))), mul(k, splat(p2))), mul(k, splat(p3)));
             let z = mul(r, r);
-            let mut ps = splat(SIN_TAYLOR[7]);
-            let mut pc = splat(COS_TAYLOR[7]);
-            for k in (0..7).rev() {
-                ps = add(mul(ps, z), splat(SIN_TAYLOR[k]));
-                pc = add(mul(pc, z), splat(COS_TAYLOR[k]));
+            let (ss, cs) = (E::SIN_SERIES, E::COS_SERIES);
+            let mut ps = splat(ss[ss.len() - 1]);
+            let mut pc = splat(cs[cs.len() - 1]);
+            for k in (0..ss.len() - 1).rev() {
+                ps = add(mul(ps, z), splat(ss[k]));
+                pc = add(mul(pc, z), splat(cs[k]));
             }
             let s = add(r, mul(mul(r, z), ps));
             let one = splat(1.0);
@@ -187,21 +200,22 @@ macro_rules! vector_kernels {
             let t = sel(gt(den, z0), div(num, den), z0);
             // atan_unit(t)
             let t8 = mul(t, splat(8.0));
-            let magic = splat(ROUND_MAGIC);
+            let magic = splat(E::ROUND_MAGIC);
             let kf = sub(add(t8, magic), magic);
             let kf = sel(gt(kf, t8), sub(kf, one), kf);
             let c = mul(kf, splat(0.125));
             let z = div(sub(t, c), add(one, mul(t, c)));
             let z2 = mul(z, z);
-            let mut p = splat(ATAN_TAYLOR[7]);
-            for k in (0..7).rev() {
-                p = add(mul(p, z2), splat(ATAN_TAYLOR[k]));
+            let at = E::ATAN_SERIES;
+            let mut p = splat(at[at.len() - 1]);
+            for k in (0..at.len() - 1).rev() {
+                p = add(mul(p, z2), splat(at[k]));
             }
             let k = to_index(kf, 8);
-            let (hi, lo) = (gather(&ATAN_K8_HI, k), gather(&ATAN_K8_LO, k));
+            let (hi, lo) = (gather(&E::ATAN_HI, k), gather(&E::ATAN_LO, k));
             let a = add(hi, add(lo, add(z, mul(mul(z, z2), p))));
-            let a = sel(swap, add(sub(splat(FRAC_PI_2), a), splat(PIO2_LO)), a);
-            let a = sel(sign_negative(x), add(sub(splat(PI), a), splat(PI_LO)), a);
+            let a = sel(swap, add(sub(splat(FRAC_PI_2), a), splat(E::HALF_PI_LO)), a);
+            let a = sel(sign_negative(x), add(sub(splat(PI), a), splat(E::PI_LO_PART)), a);
             sel(sign_negative(y), neg(a), a)
         }
 
@@ -287,7 +301,8 @@ macro_rules! vector_kernels {
                 (x0, g)
             };
             let mut tau = clamp(g, z, h);
-            let (stop_step, stop_cubic, halley_small) = (splat(1e-15), splat(1e-17), splat(1e-5));
+            let (stop_step, stop_cubic, halley_small) =
+                (splat(E::STOP_STEP), splat(E::STOP_CUBIC), splat(E::HALLEY_SMALL));
             for _ in 0..60 {
                 if !any(active) {
                     break;
@@ -342,7 +357,7 @@ macro_rules! vector_kernels {
         /// four stages whose costs `docs/PERFORMANCE.md` reports.
         #[inline]
         $(#[target_feature(enable = $feat)])?
-        fn sample_block(c: &TablesView<'_>, u: F, v: F) -> [F; 4] {
+        fn sample_block(c: &TablesView<'_, E>, u: F, v: F) -> [F; 4] {
             let (rb, pb, wi) = sample_stage_disk(c, u, v);
             let (phic, eps, a_off, b_off, j, uj, w) = sample_stage_search(c, rb, pb, wi);
             let seg = sample_stage_solve(c, eps, a_off, b_off, j, uj, w);
@@ -353,7 +368,7 @@ macro_rules! vector_kernels {
         /// Returns r_B, φ_B and the wedge index.
         #[inline]
         $(#[target_feature(enable = $feat)])?
-        fn sample_stage_disk(c: &TablesView<'_>, u: F, v: F) -> (F, F, I) {
+        fn sample_stage_disk(c: &TablesView<'_, E>, u: F, v: F) -> (F, F, I) {
             let ang = &c.angular;
             let (z, one, two) = (zero(), splat(1.0), splat(2.0));
             let a = sub(mul(two, u), one);
@@ -380,7 +395,7 @@ macro_rules! vector_kernels {
         /// offsets, the segment j, its blended cumulative mass Ũ_j and the target mass w.
         #[inline]
         $(#[target_feature(enable = $feat)])?
-        fn sample_stage_search(c: &TablesView<'_>, rb: F, pb: F, wi: I) -> (F, F, I, I, I, F, F) {
+        fn sample_stage_search(c: &TablesView<'_, E>, rb: F, pb: F, wi: I) -> (F, F, I, I, I, F, F) {
             let (ang, rad) = (&c.angular, &c.radial);
             let n = rad.n;
             let (z, one, two, half) = (zero(), splat(1.0), splat(2.0), splat(0.5));
@@ -389,7 +404,7 @@ macro_rules! vector_kernels {
             let rbb = gather(&ang.r2, iadd(wi, isplat(1)));
             let cum = gather(&ang.cum, wi);
             let phi0 = gather(&ang.phi, wi);
-            let kappa = splat(ang.kappa);
+            let kappa = splat(f64::from(ang.kappa));
             let gamma = div(sub(pb, cum), kappa);
             let aa = mul(mul(half, beta), sub(rbb, ra));
             let bb = mul(beta, ra);
@@ -406,7 +421,7 @@ macro_rules! vector_kernels {
             let nv = isplat(n);
             let (a_off, b_off) = (imul(wi, nv), imul(wn, nv));
             let ome = sub(one, eps);
-            let blend = |t: &[f64], j: I| {
+            let blend = |t: &[E], j: I| {
                 add(
                     mul(ome, gather(t, iadd(a_off, j))),
                     mul(eps, gather(t, iadd(b_off, j))),
@@ -462,7 +477,7 @@ macro_rules! vector_kernels {
         #[inline]
         $(#[target_feature(enable = $feat)])?
         fn sample_stage_solve(
-            c: &TablesView<'_>,
+            c: &TablesView<'_, E>,
             eps: F,
             a_off: I,
             b_off: I,
@@ -472,7 +487,7 @@ macro_rules! vector_kernels {
         ) -> [F; 5] {
             let rad = &c.radial;
             let ome = sub(splat(1.0), eps);
-            let blend = |t: &[f64], j: I| {
+            let blend = |t: &[E], j: I| {
                 add(
                     mul(ome, gather(t, iadd(a_off, j))),
                     mul(eps, gather(t, iadd(b_off, j))),
@@ -493,13 +508,13 @@ macro_rules! vector_kernels {
         /// direction and the disk density D at it.
         #[inline]
         $(#[target_feature(enable = $feat)])?
-        fn sample_stage_lift(c: &TablesView<'_>, phic: F, seg: [F; 5]) -> [F; 4] {
+        fn sample_stage_lift(c: &TablesView<'_, E>, phic: F, seg: [F; 5]) -> [F; 4] {
             let [xr, x0, inv_dx, d0, d1] = seg;
             let rad = &c.radial;
             let n = rad.n;
             let (z, one, two) = (zero(), splat(1.0), splat(2.0));
-            let north = fmax(splat(rad.d[0]), z);
-            let south = fmax(splat(rad.d[n - 1]), z);
+            let north = fmax(splat(f64::from(rad.d[0])), z);
+            let south = fmax(splat(f64::from(rad.d[n - 1])), z);
             let r2 = mul(xr, xr);
             let s = mul(xr, sqrt(fmax(sub(two, r2), z)));
             let (sp, cp) = unsafe { sin_cos(phic) };
@@ -539,11 +554,11 @@ macro_rules! vector_kernels {
 
         /// Sector, next meridian and ε of a block of azimuths (`Angular::sector`).
         #[inline(always)]
-        unsafe fn sectors(c: &TablesView<'_>, p: F) -> (I, I, F) {
+        unsafe fn sectors(c: &TablesView<'_, E>, p: F) -> (I, I, F) {
             let ang = &c.angular;
             let m = ang.m;
             let i = if ang.inv_uniform_beta > 0.0 {
-                let i = to_index(mul(p, splat(ang.inv_uniform_beta)), m - 1);
+                let i = to_index(mul(p, splat(f64::from(ang.inv_uniform_beta))), m - 1);
                 // Round-off of the product: one step either way.
                 let down = lt(p, gather(&ang.phi, i));
                 let up = and(
@@ -556,7 +571,7 @@ macro_rules! vector_kernels {
                 let ps = flanes(p);
                 let mut o = [0usize; BLOCK];
                 for l in 0..BLOCK {
-                    o[l] = crate::diagram::segment(&ang.phi, ps[l]);
+                    o[l] = crate::diagram::segment(ang.phi, ps[l]);
                 }
                 ifrom(o)
             };
@@ -571,7 +586,7 @@ macro_rules! vector_kernels {
         /// The disk density D at a block of directions (`HdsCore::density`).
         #[inline]
         $(#[target_feature(enable = $feat)])?
-        fn density_block(c: &TablesView<'_>, x: F, y: F, z: F) -> F {
+        fn density_block(c: &TablesView<'_, E>, x: F, y: F, z: F) -> F {
             let rad = &c.radial;
             let n = rad.n;
             let (z0, one) = (zero(), splat(1.0));
@@ -591,14 +606,14 @@ macro_rules! vector_kernels {
             let ra = add(a0, mul(t, sub(a1, a0)));
             let rb = add(b0, mul(t, sub(b1, b0)));
             let d = fmax(add(mul(sub(one, eps), ra), mul(eps, rb)), z0);
-            let edge = splat(rad.x[n - 1] * (1.0 + 1e-12));
+            let edge = splat(f64::from(rad.edge));
             sel(gt(xr, edge), z0, d)
         }
 
         /// The inverse map on a block of directions (`HdsCore::invert`).
         #[inline]
         $(#[target_feature(enable = $feat)])?
-        fn invert_block(c: &TablesView<'_>, x: F, y: F, z: F) -> (F, F) {
+        fn invert_block(c: &TablesView<'_, E>, x: F, y: F, z: F) -> (F, F) {
             let (ang, rad) = (&c.angular, &c.radial);
             let n = rad.n;
             let (z0, one, half) = (zero(), splat(1.0), splat(0.5));
@@ -627,15 +642,15 @@ macro_rules! vector_kernels {
             let wn = add(mul(ome, uan), mul(e, ubn));
             let rbd = sel(gt(wn, z0), sqrt(clamp(div(w, wn), z0, one)), z0);
             let wedge = mul(mul(beta, e), add(r2a, mul(mul(half, sub(r2b, r2a)), e)));
-            let phib = fmin(add(cum0, mul(splat(ang.kappa), wedge)), cum1);
+            let phib = fmin(add(cum0, mul(splat(f64::from(ang.kappa)), wedge)), cum1);
             unsafe { disk_to_square(rbd, phib) }
         }
 
         /// The block of `col[s..s + cnt]` (cnt ≤ BLOCK), lanes beyond `cnt` set to `pad`. A full
         /// block is loaded in place (no staging copy).
         #[inline(always)]
-        unsafe fn load_block(col: &[f64], s: usize, cnt: usize, pad: f64) -> F {
-            if let Ok(full) = <&[f64; BLOCK]>::try_from(&col[s..s + cnt]) {
+        unsafe fn load_block(col: &[E], s: usize, cnt: usize, pad: E) -> F {
+            if let Ok(full) = <&[E; BLOCK]>::try_from(&col[s..s + cnt]) {
                 fload(full)
             } else {
                 let mut b = [pad; BLOCK];
@@ -646,9 +661,9 @@ macro_rules! vector_kernels {
 
         /// Writes the first `cnt` lanes of `x` to `col[s..s + cnt]` (cnt ≤ BLOCK).
         #[inline(always)]
-        unsafe fn store_block(col: &mut [f64], s: usize, cnt: usize, x: F) {
+        unsafe fn store_block(col: &mut [E], s: usize, cnt: usize, x: F) {
             let lanes = flanes(x);
-            if let Ok(full) = <&mut [f64; BLOCK]>::try_from(&mut col[s..s + cnt]) {
+            if let Ok(full) = <&mut [E; BLOCK]>::try_from(&mut col[s..s + cnt]) {
                 *full = lanes;
             } else {
                 col[s..s + cnt].copy_from_slice(&lanes[..cnt]);
@@ -657,9 +672,7 @@ macro_rules! vector_kernels {
 
         /// [`density_block`] over slices.
         $(#[target_feature(enable = $feat)])?
-        pub(crate) fn density_slices(core: &HdsCore, dir: [&[f64]; 3], out: &mut [f64]) {
-            let tables = core.view();
-            let c = &tables;
+        pub(crate) fn density_slices(c: &TablesView<'_, E>, dir: [&[E]; 3], out: &mut [E]) {
             let len = out.len();
             assert!(dir.iter().all(|c| c.len() == len));
             let mut start = 0;
@@ -680,9 +693,7 @@ macro_rules! vector_kernels {
 
         /// [`invert_block`] over slices.
         $(#[target_feature(enable = $feat)])?
-        pub(crate) fn invert_slices(core: &HdsCore, dir: [&[f64]; 3], out: [&mut [f64]; 2]) {
-            let tables = core.view();
-            let c = &tables;
+        pub(crate) fn invert_slices(c: &TablesView<'_, E>, dir: [&[E]; 3], out: [&mut [E]; 2]) {
             let [u, v] = out;
             let len = u.len();
             assert!(v.len() == len && dir.iter().all(|c| c.len() == len));
@@ -706,12 +717,48 @@ macro_rules! vector_kernels {
             }
         }
 
+        /// Polar angle θ and azimuth φ of a block of directions, operation for operation as
+        /// [`crate::mapping::simd::math::angles`] (so bit-identical to it): θ = atan2(√(x² + y²), z),
+        /// φ = atan2(y, x) moved into [0, 2π), φ = 0 where x = y = 0.
+        // Used by the f64 instantiations only (the environment map's eval); unused in f32.
+        #[allow(dead_code)]
+        #[inline(always)]
+        unsafe fn angles_block(x: F, y: F, z: F) -> (F, F) {
+            let z0 = zero();
+            let rho = sqrt(add(mul(x, x), mul(y, y)));
+            let theta = unsafe { atan2(rho, z) };
+            let phi = unsafe { atan2(y, x) };
+            let phi = sel(lt(phi, z0), add(phi, splat(TAU)), phi);
+            let phi = sel(ge(phi, splat(TAU)), z0, phi);
+            let pole = and(eq(x, z0), eq(y, z0));
+            (theta, sel(pole, z0, phi))
+        }
+
+        /// [`angles_block`] over slices: θ to `out[0]`, φ to `out[1]`.
+        #[allow(dead_code)]
+        $(#[target_feature(enable = $feat)])?
+        pub(crate) fn angles_slices(dir: [&[E]; 3], out: [&mut [E]; 2]) {
+            let [t, p] = out;
+            let len = t.len();
+            assert!(p.len() == len && dir.iter().all(|c| c.len() == len));
+            let mut start = 0;
+            while start < len {
+                let cnt = (len - start).min(BLOCK);
+                let [x, y, z] = [(0, 0.0), (1, 0.0), (2, 1.0)]
+                    .map(|(k, pad)| unsafe { load_block(dir[k], start, cnt, pad) });
+                let (ot, op) = unsafe { angles_block(x, y, z) };
+                unsafe {
+                    store_block(t, start, cnt, ot);
+                    store_block(p, start, cnt, op);
+                }
+                start += cnt;
+            }
+        }
+
         /// [`sample_block`] over slices of any (equal) length; directions to `x, y, z`, the disk
         /// density D to `d`.
         $(#[target_feature(enable = $feat)])?
-        pub(crate) fn sample_slices(core: &HdsCore, u: &[f64], v: &[f64], out: [&mut [f64]; 4]) {
-            let tables = core.view();
-            let c = &tables;
+        pub(crate) fn sample_slices(c: &TablesView<'_, E>, u: &[E], v: &[E], out: [&mut [E]; 4]) {
             let [x, y, z, d] = out;
             let len = u.len();
             assert!(v.len() == len && x.len() == len && y.len() == len);

@@ -14,6 +14,7 @@
 //! | [`sin_cos`] | \|x\| ≤ 2²⁰ (the batch paths use [0, 2π]) | 2 ulp of the result, or 2⁻⁵³ absolute near a zero of the function |
 //! | [`atan2`] | every finite (y, x), signed zeros | 2 ulp |
 //! | square root | everything | 0 ulp (the IEEE instruction) |
+//! | [`angles`] (θ, φ of a direction, from [`atan2`] and a square root) | unit directions | within 2e-15 rad of [`crate::sampler::spherical`] (libm's `hypot` and `atan2`; `envmap` tests) |
 //!
 //! `acos` is not needed by the batch paths: `pdf` and `invert` use only the azimuth and the disk
 //! radius r = √((x² + y²)/(1 + z)), which needs a square root only.
@@ -115,29 +116,6 @@ pub(crate) const ATAN_TAYLOR: [f64; 8] = [
     1.0 / 17.0,
 ];
 
-/// The high parts of [`ATAN_K8`] (atan(k/8), k = 0..=8), as an array of their own for gathers.
-#[cfg(target_arch = "x86_64")]
-pub(crate) const ATAN_K8_HI: [f64; 9] = {
-    let mut a = [0.0; 9];
-    let mut k = 0;
-    while k < 9 {
-        a[k] = ATAN_K8[k].0;
-        k += 1;
-    }
-    a
-};
-/// The low parts of [`ATAN_K8`].
-#[cfg(target_arch = "x86_64")]
-pub(crate) const ATAN_K8_LO: [f64; 9] = {
-    let mut a = [0.0; 9];
-    let mut k = 0;
-    while k < 9 {
-        a[k] = ATAN_K8[k].1;
-        k += 1;
-    }
-    a
-};
-
 /// π/2 and π as double-doubles.
 pub(crate) const PIO2_LO: f64 = 6.123_233_995_736_766e-17;
 pub(crate) const PI_LO: f64 = 1.224_646_799_147_353_2e-16;
@@ -181,6 +159,156 @@ pub fn atan2(y: f64, x: f64) -> f64 {
     } else {
         a
     }
+}
+
+/// The constants of the vector kernels that depend on the element type's precision, one set
+/// per element type (`f64`, `f32`): the kernels of [`super::kernels`] read them as `E::NAME`,
+/// so that one body serves both precisions. The f64 values are the ones the kernels always had
+/// (their f64 results are unchanged bit for bit); the f32 values are derived below, each from
+/// the same rule as its f64 counterpart with the f32 unit roundoff u₃₂ = 2⁻²⁴ in place of
+/// u₆₄ = 2⁻⁵³.
+pub(crate) trait Precision: Copy + PartialOrd + 'static {
+    /// π/2 in three parts for the Cody–Waite reduction of [`sin_cos`]: k·P1 and k·P2 are exact
+    /// for the kernels' |k| ≤ 4 (their azimuths lie in [0, 2π]).
+    const PIO2_PARTS: [f64; 3];
+    /// 1.5·2^(p−1) for a p-bit significand: (x + c) − c rounds |x| < 2^(p−2) to an integer.
+    const ROUND_MAGIC: f64;
+    /// The sine series after r + r³·(…), as many terms as the precision needs for |r| ≤ π/4.
+    const SIN_SERIES: &'static [f64];
+    /// The cosine series after 1 − r²/2 + r⁴·(…).
+    const COS_SERIES: &'static [f64];
+    /// The arctangent series after z + z³·(…), for 0 ≤ z < 1/8.
+    const ATAN_SERIES: &'static [f64];
+    /// atan(k/8), k = 0..=8, high parts (nearest values of the type).
+    const ATAN_HI: [Self; 9];
+    /// atan(k/8) − `ATAN_HI`, rounded to the type.
+    const ATAN_LO: [Self; 9];
+    /// π/2 − (π/2 rounded to the type), rounded to the type.
+    const HALF_PI_LO: f64;
+    /// π − (π rounded to the type), rounded to the type.
+    const PI_LO_PART: f64;
+    /// The radial solve's step rule: stop once a step is below this fraction of the radius.
+    const STOP_STEP: f64;
+    /// The radial solve's predicted-step rule: stop once Halley's next step is predicted below
+    /// this fraction of the radius.
+    const STOP_CUBIC: f64;
+    /// The radial solve uses the prediction only for steps below this fraction of the radius
+    /// (where the cubic model of the error holds).
+    const HALLEY_SMALL: f64;
+    /// The density is 0 beyond the map's edge radius times this factor (the slack absorbs the
+    /// round-off of a direction's disk radius).
+    const EDGE: f64;
+}
+
+impl Precision for f64 {
+    const PIO2_PARTS: [f64; 3] = [PIO2_1, PIO2_2, PIO2_3];
+    const ROUND_MAGIC: f64 = ROUND_MAGIC;
+    const SIN_SERIES: &'static [f64] = &SIN_TAYLOR;
+    const COS_SERIES: &'static [f64] = &COS_TAYLOR;
+    const ATAN_SERIES: &'static [f64] = &ATAN_TAYLOR;
+    const ATAN_HI: [f64; 9] = {
+        let mut a = [0.0; 9];
+        let mut k = 0;
+        while k < 9 {
+            a[k] = ATAN_K8[k].0;
+            k += 1;
+        }
+        a
+    };
+    const ATAN_LO: [f64; 9] = {
+        let mut a = [0.0; 9];
+        let mut k = 0;
+        while k < 9 {
+            a[k] = ATAN_K8[k].1;
+            k += 1;
+        }
+        a
+    };
+    const HALF_PI_LO: f64 = PIO2_LO;
+    const PI_LO_PART: f64 = PI_LO;
+    /// ≈ 9 u₆₄.
+    const STOP_STEP: f64 = 1e-15;
+    /// ≈ 0.09 u₆₄.
+    const STOP_CUBIC: f64 = 1e-17;
+    /// = STOP_STEP^(1/3).
+    const HALLEY_SMALL: f64 = 1e-5;
+    /// ≈ 9000 u₆₄.
+    const EDGE: f64 = 1.0 + 1e-12;
+}
+
+/// π/2 with its low 12 significand bits cleared and rounded to f32: the high part of the f32
+/// reduction (k·P1 exact for |k| < 2¹²).
+const F32_PIO2_1: f64 = 1.570_312_5;
+/// The next 12 bits of π/2 (k·P2 exact for |k| < 2¹²).
+const F32_PIO2_2: f64 = 4.837_512_969_970_703e-4;
+/// The rest of π/2, rounded to f32.
+const F32_PIO2_3: f64 = (FRAC_PI_2 - F32_PIO2_1 - F32_PIO2_2) as f32 as f64;
+
+impl Precision for f32 {
+    const PIO2_PARTS: [f64; 3] = [F32_PIO2_1, F32_PIO2_2, F32_PIO2_3];
+    /// 1.5·2²³.
+    const ROUND_MAGIC: f64 = 12_582_912.0;
+    /// To r⁹: the truncation r¹¹/11! is below 2.5·10⁻⁹ relative for |r| ≤ π/4 (0.04 u₃₂).
+    const SIN_SERIES: &'static [f64] =
+        &[SIN_TAYLOR[0], SIN_TAYLOR[1], SIN_TAYLOR[2], SIN_TAYLOR[3]];
+    /// To r¹⁰: the truncation r¹²/12! is below 1.6·10⁻¹⁰ relative for |r| ≤ π/4.
+    const COS_SERIES: &'static [f64] =
+        &[COS_TAYLOR[0], COS_TAYLOR[1], COS_TAYLOR[2], COS_TAYLOR[3]];
+    /// To z⁷: the truncation z⁹/9 is below 8⁻⁸/9 = 6.7·10⁻⁹ relative for z < 1/8 (0.11 u₃₂).
+    const ATAN_SERIES: &'static [f64] = &[ATAN_TAYLOR[0], ATAN_TAYLOR[1], ATAN_TAYLOR[2]];
+    const ATAN_HI: [f32; 9] = {
+        let mut a = [0.0; 9];
+        let mut k = 0;
+        while k < 9 {
+            a[k] = ATAN_K8[k].0 as f32;
+            k += 1;
+        }
+        a
+    };
+    const ATAN_LO: [f32; 9] = {
+        let mut a = [0.0; 9];
+        let mut k = 0;
+        while k < 9 {
+            a[k] = ((ATAN_K8[k].0 - ATAN_K8[k].0 as f32 as f64) + ATAN_K8[k].1) as f32;
+            k += 1;
+        }
+        a
+    };
+    const HALF_PI_LO: f64 = ((FRAC_PI_2 - FRAC_PI_2 as f32 as f64) + PIO2_LO) as f32 as f64;
+    const PI_LO_PART: f64 = ((PI - PI as f32 as f64) + PI_LO) as f32 as f64;
+    /// 2⁻²¹ = 8 u₃₂ (the f64 rule's ≈ 9 u₆₄, as a power of two).
+    const STOP_STEP: f64 = 4.768_371_582_031_25e-7;
+    /// 2⁻²⁸ ≈ 0.06 u₃₂.
+    const STOP_CUBIC: f64 = 3.725_290_298_461_914e-9;
+    /// 2⁻⁷ = STOP_STEP^(1/3).
+    const HALLEY_SMALL: f64 = 7.812_5e-3;
+    /// 1 + 2⁻¹⁷ (128 u₃₂): a direction of the edge, rounded to f32, has a disk radius within a
+    /// few u₃₂ of the edge's.
+    const EDGE: f64 = 1.0 + 7.629_394_531_25e-6;
+}
+
+/// Polar angle θ (from +z) and azimuth φ ∈ [0, 2π) (from +x toward +y) of a unit direction,
+/// branch-free: θ = [`atan2`](√(x² + y²), z), φ = [`atan2`](y, x) (+ 2π when negative, 0 where it
+/// rounds to 2π), φ = 0 where x = y = 0 (either sign of zero). The batch kernels compute the same
+/// operations on their lanes, so a batch of angles equals this function bit for bit. Compared
+/// with [`crate::sampler::spherical`] (libm's `hypot` and `atan2`): within a few ulps.
+#[inline(always)]
+pub fn angles(d: [f64; 3]) -> (f64, f64) {
+    let [x, y, z] = d;
+    let theta = atan2((x * x + y * y).sqrt(), z);
+    let phi = atan2(y, x);
+    let phi = if phi < 0.0 {
+        phi + std::f64::consts::TAU
+    } else {
+        phi
+    };
+    let phi = if phi >= std::f64::consts::TAU {
+        0.0
+    } else {
+        phi
+    };
+    let phi = if x == 0.0 && y == 0.0 { 0.0 } else { phi };
+    (theta, phi)
 }
 
 #[cfg(test)]

@@ -5,10 +5,13 @@
 //! |---|---|
 //! | [`math`] | branch-free sin/cos and atan2 (the kernels' transcendental functions, also scalar) |
 //! | `kernels.rs` | the forward map, pdf and inverse, **one body each**, over a vocabulary of vector words (`add`, `gather`, `sel`, `descend`, …): the `vector_kernels!` macro, which stamps a backend's `#[target_feature]` on one body |
-//! | `portable.rs` | the vocabulary over arrays of eight lanes (the target's baseline instruction set; the fallback on every CPU and for tables too large for 32-bit index conversions) |
-//! | `avx2.rs` | the vocabulary over four `__m256d` per value (AVX2 + FMA, detected at run time) |
-//! | `avx512.rs` | the vocabulary over `__m512d` (AVX-512 F + DQ, detected at run time), instantiated twice (two vectors per block for the forward map, four for pdf and inverse) |
-//! | `dispatch.rs` | backend choice per call and the f32 calls' widening to the f64 kernels |
+//! | `portable.rs` | the f64 vocabulary over arrays of eight lanes (the target's baseline instruction set; the fallback on every CPU and for tables too large for 32-bit index conversions) |
+//! | `avx2.rs` | the f64 vocabulary over four `__m256d` per value (AVX2 + FMA, detected at run time) |
+//! | `avx512.rs` | the f64 vocabulary over `__m512d` (AVX-512 F + DQ, detected at run time), instantiated twice (two vectors per block for the forward map, four for pdf and inverse) |
+//! | `portable32.rs` | the f32 vocabulary over arrays of sixteen lanes, 32-bit indices (the float32 map's fallback) |
+//! | `avx2_f32.rs` | the f32 vocabulary over two `__m256` per value, 32-bit indices and gathers |
+//! | `avx512_f32.rs` | the f32 vocabulary over four `__m512` per value, 32-bit indices and gathers |
+//! | `dispatch.rs` | backend choice per call, the f32 calls' widening to the f64 kernels (the f64 maps' f32 batches), and the kernels over a table view in f32 or f64 ([`crate::mapping::Float32Map`] and its exact reference) |
 //!
 //! **Why this and not `wide`/`pulp`/`multiversion`.** The kernels need gathers and vector
 //! descents, which `wide` lacks; `pulp` would add a dependency for one instruction set that
@@ -22,18 +25,26 @@
 //! on NaN, infinite and out-of-domain inputs). The f64 kernels perform the scalar path's operations
 //! in its order: they equal [`crate::HemisphereMap`]'s scalar results bit for bit except through
 //! sin/cos and atan2 (see [`math`] for their bounds; `docs/PERFORMANCE.md` for the measured
-//! end-to-end differences). **f32** calls are widened to f64, run through the same kernels and
-//! rounded once (`dispatch.rs`).
+//! end-to-end differences). **f32** calls on the f64 maps are widened to f64, run through the
+//! same kernels and rounded once (`dispatch.rs`). The **float32 map**
+//! ([`crate::mapping::Float32Map`]) runs the same kernel bodies over the f32 vocabularies, with
+//! the f32 values of the precision-dependent constants ([`math::Precision`]): its results, too,
+//! are the same bits on every backend, block size and thread count.
 
 pub mod math;
 
 #[cfg(target_arch = "x86_64")]
 mod avx2;
 #[cfg(target_arch = "x86_64")]
+mod avx2_f32;
+#[cfg(target_arch = "x86_64")]
 mod avx512;
+#[cfg(target_arch = "x86_64")]
+mod avx512_f32;
 pub(crate) mod dispatch;
 mod kernels;
 mod portable;
+mod portable32;
 
 /// The instruction set a batch call runs on.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

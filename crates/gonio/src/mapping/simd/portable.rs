@@ -11,16 +11,15 @@
 // Lane loops index several arrays by the same lane number on purpose (they vectorise).
 #![allow(clippy::needless_range_loop)]
 
-use crate::mapping::hds::{HdsCore, TablesView};
-use crate::mapping::simd::math::{
-    ATAN_K8_HI, ATAN_K8_LO, ATAN_TAYLOR, COS_TAYLOR, PIO2_1, PIO2_2, PIO2_3, PIO2_LO, PI_LO,
-    ROUND_MAGIC, SIN_TAYLOR, TWO_OVER_PI,
-};
+use crate::mapping::hds::TablesView;
+use crate::mapping::simd::math::Precision;
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI, TAU};
 
 /// Points per block.
 pub(crate) const BLOCK: usize = 8;
 
+/// The element type of the tables and lanes.
+type E = f64;
 /// A block of f64 lanes.
 type F = [f64; BLOCK];
 /// A block of table indices (signed, as the vector backends' 64-bit lanes).

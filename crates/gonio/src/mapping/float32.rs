@@ -1,0 +1,739 @@
+//! The float32 map: an HDS map of its own, with f32 tables and f32 arithmetic, for renderers
+//! that work in float32 (issue 24, item 5).
+//!
+//! [`Float32Map`] is built from an f64 map ([`HemisphereMap::float32_map`],
+//! [`SphereMap::float32_map`]). Its tables are the f64 map's tables rounded to f32, with the
+//! tables derived from others recomputed from the rounded ones so that they stay consistent
+//! (sector widths β_i = φ_{i+1} − φ_i, 1/(x_{j+1} − x_j), each meridian's total radial mass = the
+//! last entry of its rounded cumulative row, the guide tables and their scales, the map's edge
+//! radius); the split sphere's P_lower is rounded too. Its batch calls run the **same kernel
+//! bodies** as the f64 maps (`mapping::simd::kernels`) over f32 vocabularies (portable, AVX2+FMA
+//! on `__m256` with 32-bit indices, AVX-512 on `__m512`), with the precision-dependent constants
+//! of `mapping::simd::math::Precision` for f32.
+//!
+//! **Contract** (tested in `tests/float32_map.rs`; the measured figures are in
+//! `docs/API.md`, "Float32 maps"):
+//!
+//! - *Exact density of the float32 map.* The float32 map evaluated exactly is
+//!   [`Float32Map::exact`]: the same tables widened to f64 (exactly) and run through the f64
+//!   kernels. The pdf that [`Float32Map::sample_soa`] returns with a sample is that exact
+//!   density at the returned (f32) direction to within 8 f32 ulps, plus, where the density is
+//!   steep, the change of the density over the f32 round-off of the direction's disk position: a
+//!   conditioning term |∂p/∂x|·δ with δ a few f32 ulps of the disk radius (and the same in
+//!   azimuth).
+//! - *pdf agrees with sample.* [`Float32Map::pdf_soa`] at a sample's direction agrees with the
+//!   sample's pdf to the same bound.
+//! - *Round trip.* [`Float32Map::invert_soa`] of a sample's direction gives its point of the
+//!   square back to within 1e-5 (max norm) where the density is positive.
+//! - *Bits do not depend on the backend*, the block size, the slice length or the number of
+//!   threads: no fused multiply–add, the same operations in the same order on every backend.
+//! - *Close to the f64 map.* The float32 map's pdf over the f64 map's target stays within the
+//!   f64 map's guaranteed [`crate::Sampler::ratio_bound`] widened by a stated f32 margin where
+//!   the target is not steep at the f32 scale (`docs/API.md`).
+//!
+//! Directions are f32 unit vectors as a renderer has them (unit only to f32 round-off): the
+//! float32 map does not renormalise them; its edge test has an f32-sized slack
+//! (`Precision::EDGE`).
+
+use super::angular::AngularView as AngularTablesView;
+use super::hds::{HdsCore, TablesView};
+use super::radial::RadialView as RadialTablesView;
+use super::simd::dispatch::{tables_density, tables_invert, tables_sample, TablesElem};
+use super::simd::math::Precision;
+use super::simd::Backend;
+use super::soa_maps::split_by_side;
+use super::sphere::CoresRef;
+use super::split::{Side, SplitRule};
+use super::{HemisphereMap, SphereMap};
+use crate::diagram::segment;
+use rayon::prelude::*;
+
+/// Points per chunk of the split sphere's partition into hemispheres.
+const CHUNK: usize = 256;
+/// Points per rayon task in the parallel calls.
+const PAR_CHUNK: usize = 4096;
+/// The most meridians or parallels a float32 map takes: its guide tables (2M, 2N entries) must
+/// index exactly through f32 (below 2²⁴).
+pub const FLOAT32_MAX_NODES: usize = 1 << 22;
+
+/// Why an f64 map has no float32 map.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum Float32MapError {
+    /// The grid is too large for the float32 kernels' 32-bit indices and f32 index conversions.
+    #[error(
+        "the map's grid ({meridians} meridians × {parallels} parallels) is too large for a \
+         float32 map: at most {FLOAT32_MAX_NODES} of each and 2^31 table entries"
+    )]
+    TooLarge {
+        /// Meridians of the completed grid.
+        meridians: usize,
+        /// Parallels of the completed grid.
+        parallels: usize,
+    },
+}
+
+/// One map's tables owned in element type `T` (f32: the float32 map; f64: the same values
+/// widened, its exact reference).
+#[derive(Debug, Clone)]
+struct Tables<T> {
+    m: usize,
+    n: usize,
+    phi: Vec<T>,
+    beta: Vec<T>,
+    inv_uniform_beta: T,
+    r2: Vec<T>,
+    cum: Vec<T>,
+    kappa: T,
+    wedge_guide: Vec<u32>,
+    guide_scale: T,
+    x: Vec<T>,
+    d: Vec<T>,
+    u: Vec<T>,
+    total: Vec<T>,
+    radius_guide: Vec<u32>,
+    radius_scale: T,
+    inv_dx: Vec<T>,
+    radial_guide: Vec<u32>,
+    radial_k: usize,
+    edge: T,
+}
+
+/// `x` rounded to the nearest f32, kept in f64.
+#[inline]
+fn r32(x: f64) -> f64 {
+    x as f32 as f64
+}
+
+impl<T: Copy> Tables<T> {
+    /// The read-only view the kernels read.
+    fn view(&self) -> TablesView<'_, T> {
+        TablesView {
+            angular: AngularTablesView {
+                m: self.m,
+                phi: &self.phi,
+                beta: &self.beta,
+                inv_uniform_beta: self.inv_uniform_beta,
+                r2: &self.r2,
+                cum: &self.cum,
+                kappa: self.kappa,
+                wedge_guide: &self.wedge_guide,
+                guide_scale: self.guide_scale,
+            },
+            radial: RadialTablesView {
+                n: self.n,
+                x: &self.x,
+                d: &self.d,
+                u: &self.u,
+                total: &self.total,
+                radius_guide: &self.radius_guide,
+                radius_scale: self.radius_scale,
+                inv_dx: &self.inv_dx,
+                radial_guide: &self.radial_guide,
+                radial_k: self.radial_k,
+                edge: self.edge,
+            },
+        }
+    }
+
+    /// The same tables with every float converted by `f`.
+    fn map<U>(&self, f: impl Fn(T) -> U + Copy) -> Tables<U> {
+        let v = |a: &[T]| a.iter().map(|&x| f(x)).collect::<Vec<U>>();
+        Tables {
+            m: self.m,
+            n: self.n,
+            phi: v(&self.phi),
+            beta: v(&self.beta),
+            inv_uniform_beta: f(self.inv_uniform_beta),
+            r2: v(&self.r2),
+            cum: v(&self.cum),
+            kappa: f(self.kappa),
+            wedge_guide: self.wedge_guide.clone(),
+            guide_scale: f(self.guide_scale),
+            x: v(&self.x),
+            d: v(&self.d),
+            u: v(&self.u),
+            total: v(&self.total),
+            radius_guide: self.radius_guide.clone(),
+            radius_scale: f(self.radius_scale),
+            inv_dx: v(&self.inv_dx),
+            radial_guide: self.radial_guide.clone(),
+            radial_k: self.radial_k,
+            edge: f(self.edge),
+        }
+    }
+
+    /// Bytes of the tables' contents.
+    fn table_bytes(&self) -> usize {
+        let floats = self.phi.len()
+            + self.beta.len()
+            + self.r2.len()
+            + self.cum.len()
+            + self.x.len()
+            + self.d.len()
+            + self.u.len()
+            + self.total.len()
+            + self.inv_dx.len();
+        let guides = self.wedge_guide.len() + self.radius_guide.len() + self.radial_guide.len();
+        floats * std::mem::size_of::<T>() + guides * 4
+    }
+}
+
+impl Tables<f32> {
+    /// The float32 tables of `core` (see the module documentation), or why there are none.
+    fn of(core: &HdsCore) -> Result<Self, Float32MapError> {
+        let v = core.view();
+        let (a, r) = (v.angular, v.radial);
+        let lim = 1usize << 31;
+        if a.m >= FLOAT32_MAX_NODES
+            || r.n >= FLOAT32_MAX_NODES
+            || r.u.len() >= lim
+            || r.radial_guide.len() >= lim
+        {
+            return Err(Float32MapError::TooLarge {
+                meridians: a.m,
+                parallels: r.n,
+            });
+        }
+        let (m, n) = (a.m, r.n);
+        let round = |s: &[f64]| s.iter().map(|&x| r32(x)).collect::<Vec<f64>>();
+        // M_C.
+        let phi = round(a.phi);
+        let beta: Vec<f64> = phi.windows(2).map(|w| r32(w[1] - w[0])).collect();
+        let inv_uniform_beta = r32(a.inv_uniform_beta);
+        let r2 = round(a.r2);
+        let cum = round(a.cum);
+        let guide_len = a.wedge_guide.len();
+        let guide_scale = r32(a.guide_scale);
+        let wedge_guide = (0..guide_len)
+            .map(|k| {
+                let p = k as f64 / guide_scale;
+                (cum.partition_point(|&g| g <= p).clamp(1, m) - 1) as u32
+            })
+            .collect();
+        // M_D.
+        let x = round(r.x);
+        let d = round(r.d);
+        let u = round(r.u);
+        let total = (0..m).map(|i| u[i * n + n - 1]).collect();
+        let radius_len = r.radius_guide.len();
+        let radius_scale = r32(radius_len as f64 / x[n - 1]);
+        let radius_guide = (0..radius_len)
+            .map(|k| segment(&x, k as f64 / radius_scale) as u32)
+            .collect();
+        let inv_dx = x
+            .windows(2)
+            .map(|w| {
+                if w[1] > w[0] {
+                    r32(1.0 / (w[1] - w[0]))
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        let radial_guide = super::radial::radial_guides(&u, n, r.radial_k);
+        let edge = r32(x[n - 1] * <f32 as Precision>::EDGE);
+        let t = Tables {
+            m,
+            n,
+            phi,
+            beta,
+            inv_uniform_beta,
+            r2,
+            cum,
+            kappa: r32(a.kappa),
+            wedge_guide,
+            guide_scale,
+            x,
+            d,
+            u,
+            total,
+            radius_guide,
+            radius_scale,
+            inv_dx,
+            radial_guide,
+            radial_k: r.radial_k,
+            edge,
+        };
+        // Every entry is an f32 value already: the conversion is exact.
+        Ok(t.map(|x| x as f32))
+    }
+}
+
+/// The layout of a float32 map (as the f64 map's), over tables in `T`.
+// One per map, never in a collection: the split variant's size costs nothing.
+#[allow(clippy::large_enum_variant)]
+#[derive(Debug, Clone)]
+enum Layout<T> {
+    /// One hemisphere map (z ≥ 0).
+    Hemisphere(Tables<T>),
+    /// The Lambert sphere: one map over the whole sphere.
+    Lambert(Tables<T>),
+    /// The split sphere: an upper and/or a lower map and the rule between them.
+    Split {
+        upper: Option<Tables<T>>,
+        lower: Option<Tables<T>>,
+        rule: SplitRule,
+    },
+}
+
+/// A float32 map's layout and pdf scale in element type `T`, with the batch calls.
+#[derive(Debug, Clone)]
+struct Maps<T> {
+    layout: Layout<T>,
+    /// 1/(2T): the pdf per unit of disk density (the f64 map's, rounded to f32).
+    inv_2t: T,
+}
+
+impl<T: TablesElem> Maps<T> {
+    fn sample(&self, b: Backend, u: &[T], v: &[T], dir: [&mut [T]; 3], pdf: &mut [T]) {
+        let [x, y, z] = dir;
+        check_len(
+            "sample_soa",
+            u.len(),
+            &[v.len(), x.len(), y.len(), z.len(), pdf.len()],
+        );
+        match &self.layout {
+            Layout::Hemisphere(t) | Layout::Lambert(t) => {
+                tables_sample(b, &t.view(), u, v, [x, y, z, &mut *pdf])
+            }
+            Layout::Split { upper, lower, rule } => {
+                let views = [
+                    lower.as_ref().map(Tables::view),
+                    upper.as_ref().map(Tables::view),
+                ];
+                let mut start = 0;
+                while start < u.len() {
+                    let cnt = (u.len() - start).min(CHUNK);
+                    // Partition the chunk by hemisphere, u rescaled by the rule in T.
+                    let mut idx = [[0u16; CHUNK]; 2];
+                    let mut nn = [0usize; 2];
+                    let mut bu = [[T::ZERO; CHUNK]; 2];
+                    let mut bv = [[T::ZERO; CHUNK]; 2];
+                    for k in 0..cnt {
+                        let (side, w) = rule.split_u(u[start + k]);
+                        let s = side as usize;
+                        let at = nn[s];
+                        idx[s][at] = k as u16;
+                        bu[s][at] = w;
+                        bv[s][at] = v[start + k];
+                        nn[s] += 1;
+                    }
+                    for (s, view) in views.iter().enumerate() {
+                        let cn = nn[s];
+                        if cn == 0 {
+                            continue;
+                        }
+                        let mut o = [[T::ZERO; CHUNK]; 4];
+                        match view {
+                            Some(t) => {
+                                let [ox, oy, oz, od] = &mut o;
+                                tables_sample(
+                                    b,
+                                    t,
+                                    &bu[s][..cn],
+                                    &bv[s][..cn],
+                                    [&mut ox[..cn], &mut oy[..cn], &mut oz[..cn], &mut od[..cn]],
+                                );
+                            }
+                            // The rule sends no point to a side without a map; as the f64 map's
+                            // refusal of such a layout, the pole with density 0 regardless.
+                            None => o[2] = [T::ONE; CHUNK],
+                        }
+                        for q in 0..cn {
+                            let k = start + idx[s][q] as usize;
+                            x[k] = o[0][q];
+                            y[k] = o[1][q];
+                            z[k] = if s == Side::Lower as usize {
+                                -o[2][q]
+                            } else {
+                                o[2][q]
+                            };
+                            pdf[k] = o[3][q];
+                        }
+                    }
+                    start += cnt;
+                }
+            }
+        }
+        let s = self.inv_2t;
+        for p in pdf.iter_mut() {
+            *p = *p * s;
+        }
+    }
+
+    fn pdf(&self, b: Backend, dir: [&[T]; 3], pdf: &mut [T]) {
+        check_len(
+            "pdf_soa",
+            pdf.len(),
+            &[dir[0].len(), dir[1].len(), dir[2].len()],
+        );
+        let s = self.inv_2t;
+        match &self.layout {
+            Layout::Hemisphere(t) => {
+                tables_density(b, &t.view(), dir, pdf);
+                for (p, &z) in pdf.iter_mut().zip(dir[2]) {
+                    *p = if z >= T::ZERO { *p * s } else { T::ZERO };
+                }
+                return;
+            }
+            Layout::Lambert(t) => tables_density(b, &t.view(), dir, pdf),
+            Layout::Split { upper, lower, rule } => {
+                let views = [
+                    lower.as_ref().map(Tables::view),
+                    upper.as_ref().map(Tables::view),
+                ];
+                split_by_side(dir, *rule, |side, d, pos| {
+                    let mut o = [T::ZERO; CHUNK];
+                    let o = &mut o[..pos.len()];
+                    if let Some(t) = &views[side as usize] {
+                        tables_density(b, t, d, o);
+                    }
+                    for (q, &k) in pos.iter().enumerate() {
+                        pdf[k] = o[q];
+                    }
+                });
+            }
+        }
+        for p in pdf.iter_mut() {
+            *p = *p * s;
+        }
+    }
+
+    fn invert(&self, b: Backend, dir: [&[T]; 3], uv: [&mut [T]; 2]) {
+        let [u, v] = uv;
+        check_len(
+            "invert_soa",
+            u.len(),
+            &[v.len(), dir[0].len(), dir[1].len(), dir[2].len()],
+        );
+        let hemisphere = matches!(self.layout, Layout::Hemisphere(_));
+        match &self.layout {
+            Layout::Hemisphere(t) | Layout::Lambert(t) => {
+                tables_invert(b, &t.view(), dir, [&mut *u, &mut *v])
+            }
+            Layout::Split { upper, lower, rule } => {
+                let views = [
+                    lower.as_ref().map(Tables::view),
+                    upper.as_ref().map(Tables::view),
+                ];
+                split_by_side(dir, *rule, |side, d, pos| {
+                    let (mut ou, mut ov) = ([T::NAN; CHUNK], [T::NAN; CHUNK]);
+                    let (ou, ov) = (&mut ou[..pos.len()], &mut ov[..pos.len()]);
+                    if let Some(t) = &views[side as usize] {
+                        tables_invert(b, t, d, [&mut *ou, &mut *ov]);
+                    }
+                    for (q, &k) in pos.iter().enumerate() {
+                        // No preimage stays NaN (`min` in `join_u` would turn NaN into 1).
+                        u[k] = if ou[q].is_finite() {
+                            rule.join_u(side, ou[q])
+                        } else {
+                            T::NAN
+                        };
+                        v[k] = ov[q];
+                    }
+                });
+            }
+        }
+        // No preimage below the horizon of a hemisphere map or for a non-finite direction.
+        for (((u, v), x), (y, z)) in u
+            .iter_mut()
+            .zip(v.iter_mut())
+            .zip(dir[0])
+            .zip(dir[1].iter().zip(dir[2]))
+        {
+            let ok = (!hemisphere || *z >= T::ZERO) & x.is_finite() & y.is_finite() & z.is_finite();
+            if !ok {
+                *u = T::NAN;
+                *v = T::NAN;
+            }
+        }
+    }
+
+    fn table_bytes(&self) -> usize {
+        match &self.layout {
+            Layout::Hemisphere(t) | Layout::Lambert(t) => t.table_bytes(),
+            Layout::Split { upper, lower, .. } => {
+                upper.as_ref().map_or(0, Tables::table_bytes)
+                    + lower.as_ref().map_or(0, Tables::table_bytes)
+            }
+        }
+    }
+}
+
+fn check_len(what: &str, n: usize, lens: &[usize]) {
+    assert!(
+        lens.iter().all(|&l| l == n),
+        "{what}: slices differ in length"
+    );
+}
+
+/// A float32 map: f32 tables, f32 arithmetic, its own exact density (see the module
+/// documentation for how it is made and its tested contract). Built by
+/// [`HemisphereMap::float32_map`] or [`SphereMap::float32_map`].
+///
+/// ```
+/// use gonio::{Diagram, HemisphereMap};
+/// let d = Diagram::from_degrees(&[0.0, 45.0, 90.0], &[0.0], &[vec![1.0, 0.7, 0.0]]).unwrap();
+/// let map = HemisphereMap::new(&d).unwrap().float32_map().unwrap();
+/// let (u, v) = (vec![0.3f32, 0.9], vec![0.7f32, 0.1]);
+/// let (mut x, mut y, mut z, mut pdf) = (vec![0.0f32; 2], vec![0.0; 2], vec![0.0; 2], vec![0.0; 2]);
+/// map.sample_soa(&u, &v, [&mut x, &mut y, &mut z], &mut pdf);
+/// let mut p2 = vec![0.0f32; 2];
+/// map.pdf_soa([&x, &y, &z], &mut p2);
+/// assert!((p2[0] - pdf[0]).abs() <= 8.0 * f32::EPSILON * pdf[0]);
+/// let (mut uu, mut vv) = (vec![0.0f32; 2], vec![0.0; 2]);
+/// map.invert_soa([&x, &y, &z], [&mut uu, &mut vv]);
+/// assert!((uu[0] - 0.3).abs() < 1e-5 && (vv[1] - 0.1).abs() < 1e-5);
+/// ```
+#[derive(Debug, Clone)]
+pub struct Float32Map {
+    maps: Maps<f32>,
+}
+
+/// The float32 map evaluated exactly: its tables widened to f64 (exactly) and run through the f64
+/// kernels, with its split rule evaluated in f64. The reference of the float32 map's contract
+/// (its "exact density"); [`Float32Map::exact`] makes one.
+#[derive(Debug, Clone)]
+pub struct Float32Exact {
+    maps: Maps<f64>,
+}
+
+impl HemisphereMap {
+    /// This map's float32 map (see [`Float32Map`]).
+    ///
+    /// # Errors
+    /// [`Float32MapError::TooLarge`] for a grid beyond the float32 kernels' index limits.
+    pub fn float32_map(&self) -> Result<Float32Map, Float32MapError> {
+        Ok(Float32Map {
+            maps: Maps {
+                layout: Layout::Hemisphere(Tables::of(self.core())?),
+                inv_2t: self.inv_2t() as f32,
+            },
+        })
+    }
+}
+
+impl SphereMap {
+    /// This map's float32 map (see [`Float32Map`]): the same layout, the split layout's rule
+    /// evaluated in f32 with P_lower rounded to f32.
+    ///
+    /// # Errors
+    /// [`Float32MapError::TooLarge`] for a grid beyond the float32 kernels' index limits.
+    pub fn float32_map(&self) -> Result<Float32Map, Float32MapError> {
+        let of = |c: Option<&HdsCore>| c.map(Tables::of).transpose();
+        let layout = match self.cores() {
+            CoresRef::Lambert(c) => Layout::Lambert(Tables::of(c)?),
+            CoresRef::Split { upper, lower, rule } => Layout::Split {
+                upper: of(upper)?,
+                lower: of(lower)?,
+                rule: rule.rounded_f32(),
+            },
+        };
+        Ok(Float32Map {
+            maps: Maps {
+                layout,
+                inv_2t: self.inv_2t() as f32,
+            },
+        })
+    }
+}
+
+impl Float32Map {
+    /// Maps the points `(u[k], v[k])` of the unit square to directions `dir[·][k]` and their
+    /// densities `pdf[k]` (per steradian), on `backend` (or the fastest below it that the CPU
+    /// has).
+    ///
+    /// # Panics
+    /// If the slices differ in length.
+    pub fn sample_soa_with(
+        &self,
+        backend: Backend,
+        u: &[f32],
+        v: &[f32],
+        dir: [&mut [f32]; 3],
+        pdf: &mut [f32],
+    ) {
+        self.maps.sample(backend, u, v, dir, pdf)
+    }
+    /// The density (per steradian) at each direction; 0 outside the domain.
+    ///
+    /// # Panics
+    /// If the slices differ in length.
+    pub fn pdf_soa_with(&self, backend: Backend, dir: [&[f32]; 3], pdf: &mut [f32]) {
+        self.maps.pdf(backend, dir, pdf)
+    }
+    /// The point of the unit square of each direction; NaN outside the domain or for a
+    /// non-finite direction.
+    ///
+    /// # Panics
+    /// If the slices differ in length.
+    pub fn invert_soa_with(&self, backend: Backend, dir: [&[f32]; 3], uv: [&mut [f32]; 2]) {
+        self.maps.invert(backend, dir, uv)
+    }
+    /// [`Float32Map::sample_soa_with`] on the detected backend.
+    pub fn sample_soa(&self, u: &[f32], v: &[f32], dir: [&mut [f32]; 3], pdf: &mut [f32]) {
+        self.sample_soa_with(Backend::detect(), u, v, dir, pdf)
+    }
+    /// [`Float32Map::pdf_soa_with`] on the detected backend.
+    pub fn pdf_soa(&self, dir: [&[f32]; 3], pdf: &mut [f32]) {
+        self.pdf_soa_with(Backend::detect(), dir, pdf)
+    }
+    /// [`Float32Map::invert_soa_with`] on the detected backend.
+    pub fn invert_soa(&self, dir: [&[f32]; 3], uv: [&mut [f32]; 2]) {
+        self.invert_soa_with(Backend::detect(), dir, uv)
+    }
+
+    /// [`Float32Map::sample_soa`] on all rayon threads, in chunks of 4096 points; the same bits
+    /// for any number of threads.
+    ///
+    /// # Panics
+    /// If the slices differ in length.
+    pub fn sample_soa_par(&self, u: &[f32], v: &[f32], dir: [&mut [f32]; 3], pdf: &mut [f32]) {
+        let [x, y, z] = dir;
+        check_len(
+            "sample_soa_par",
+            u.len(),
+            &[v.len(), x.len(), y.len(), z.len(), pdf.len()],
+        );
+        let b = Backend::detect();
+        x.par_chunks_mut(PAR_CHUNK)
+            .zip(y.par_chunks_mut(PAR_CHUNK))
+            .zip(z.par_chunks_mut(PAR_CHUNK))
+            .zip(pdf.par_chunks_mut(PAR_CHUNK))
+            .zip(u.par_chunks(PAR_CHUNK).zip(v.par_chunks(PAR_CHUNK)))
+            .for_each(|((((x, y), z), p), (u, v))| self.sample_soa_with(b, u, v, [x, y, z], p));
+    }
+    /// [`Float32Map::pdf_soa`] on all rayon threads (see [`Float32Map::sample_soa_par`]).
+    ///
+    /// # Panics
+    /// If the slices differ in length.
+    pub fn pdf_soa_par(&self, dir: [&[f32]; 3], pdf: &mut [f32]) {
+        check_len(
+            "pdf_soa_par",
+            pdf.len(),
+            &[dir[0].len(), dir[1].len(), dir[2].len()],
+        );
+        let b = Backend::detect();
+        pdf.par_chunks_mut(PAR_CHUNK)
+            .zip(dir[0].par_chunks(PAR_CHUNK))
+            .zip(
+                dir[1]
+                    .par_chunks(PAR_CHUNK)
+                    .zip(dir[2].par_chunks(PAR_CHUNK)),
+            )
+            .for_each(|((p, x), (y, z))| self.pdf_soa_with(b, [x, y, z], p));
+    }
+    /// [`Float32Map::invert_soa`] on all rayon threads (see [`Float32Map::sample_soa_par`]).
+    ///
+    /// # Panics
+    /// If the slices differ in length.
+    pub fn invert_soa_par(&self, dir: [&[f32]; 3], uv: [&mut [f32]; 2]) {
+        let [u, v] = uv;
+        check_len(
+            "invert_soa_par",
+            u.len(),
+            &[v.len(), dir[0].len(), dir[1].len(), dir[2].len()],
+        );
+        let b = Backend::detect();
+        u.par_chunks_mut(PAR_CHUNK)
+            .zip(v.par_chunks_mut(PAR_CHUNK))
+            .zip(dir[0].par_chunks(PAR_CHUNK))
+            .zip(
+                dir[1]
+                    .par_chunks(PAR_CHUNK)
+                    .zip(dir[2].par_chunks(PAR_CHUNK)),
+            )
+            .for_each(|(((u, v), x), (y, z))| self.invert_soa_with(b, [x, y, z], [u, v]));
+    }
+
+    /// [`Float32Map::invert_soa`], then NaN in both coordinates wherever [`Float32Map::pdf_soa`]
+    /// is 0 (the rule of every sampler's `invert_batch_soa`, issue 25: no preimage where the
+    /// density is 0), on the detected backend, [`CHUNK`] directions at a time: the HDS maps'
+    /// [`crate::Sampler::invert_batch_soa_f32`].
+    ///
+    /// # Panics
+    /// If the slices differ in length.
+    pub fn invert_soa_nonzero(&self, dir: [&[f32]; 3], uv: [&mut [f32]; 2]) {
+        let [u, v] = uv;
+        let n = u.len();
+        check_len(
+            "invert_batch_soa_f32",
+            n,
+            &[v.len(), dir[0].len(), dir[1].len(), dir[2].len()],
+        );
+        let b = Backend::detect();
+        let mut p = [0f32; CHUNK];
+        for start in (0..n).step_by(CHUNK) {
+            let r = start..(start + CHUNK).min(n);
+            let m = r.len();
+            let d = [&dir[0][r.clone()], &dir[1][r.clone()], &dir[2][r.clone()]];
+            let (u, v) = (&mut u[r.clone()], &mut v[r]);
+            self.invert_soa_with(b, d, [&mut *u, &mut *v]);
+            self.pdf_soa_with(b, d, &mut p[..m]);
+            for ((u, v), &p) in u.iter_mut().zip(v.iter_mut()).zip(&p[..m]) {
+                if p == 0.0 {
+                    *u = f32::NAN;
+                    *v = f32::NAN;
+                }
+            }
+        }
+    }
+
+    /// Bytes of the float32 map: its tables' contents (f32 entries and u32 guide entries) and
+    /// the map itself.
+    pub fn memory_bytes(&self) -> usize {
+        self.maps.table_bytes() + std::mem::size_of::<Self>()
+    }
+
+    /// This float32 map evaluated exactly ([`Float32Exact`]).
+    pub fn exact(&self) -> Float32Exact {
+        let widen = |t: &Tables<f32>| t.map(f64::from);
+        let layout = match &self.maps.layout {
+            Layout::Hemisphere(t) => Layout::Hemisphere(widen(t)),
+            Layout::Lambert(t) => Layout::Lambert(widen(t)),
+            Layout::Split { upper, lower, rule } => Layout::Split {
+                upper: upper.as_ref().map(widen),
+                lower: lower.as_ref().map(widen),
+                rule: *rule,
+            },
+        };
+        Float32Exact {
+            maps: Maps {
+                layout,
+                inv_2t: f64::from(self.maps.inv_2t),
+            },
+        }
+    }
+}
+
+impl Float32Exact {
+    /// As [`Float32Map::sample_soa_with`], evaluated exactly (f64 arithmetic on the float32
+    /// map's tables).
+    ///
+    /// # Panics
+    /// If the slices differ in length.
+    pub fn sample_soa_with(
+        &self,
+        backend: Backend,
+        u: &[f64],
+        v: &[f64],
+        dir: [&mut [f64]; 3],
+        pdf: &mut [f64],
+    ) {
+        self.maps.sample(backend, u, v, dir, pdf)
+    }
+    /// As [`Float32Map::pdf_soa_with`], evaluated exactly: the float32 map's exact density.
+    ///
+    /// # Panics
+    /// If the slices differ in length.
+    pub fn pdf_soa_with(&self, backend: Backend, dir: [&[f64]; 3], pdf: &mut [f64]) {
+        self.maps.pdf(backend, dir, pdf)
+    }
+    /// As [`Float32Map::invert_soa_with`], evaluated exactly.
+    ///
+    /// # Panics
+    /// If the slices differ in length.
+    pub fn invert_soa_with(&self, backend: Backend, dir: [&[f64]; 3], uv: [&mut [f64]; 2]) {
+        self.maps.invert(backend, dir, uv)
+    }
+}
