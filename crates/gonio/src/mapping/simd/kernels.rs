@@ -678,8 +678,14 @@ macro_rules! vector_kernels {
             let mut start = 0;
             while start < len {
                 let cnt = (len - start).min(BLOCK);
-                let [x, y, z] = [(0, 0.0), (1, 0.0), (2, 1.0)]
-                    .map(|(k, pad)| unsafe { load_block(dir[k], start, cnt, pad) });
+                // Three calls, not `array::map` (whose closure the portable build left out of line).
+                let (x, y, z) = unsafe {
+                    (
+                        load_block(dir[0], start, cnt, 0.0),
+                        load_block(dir[1], start, cnt, 0.0),
+                        load_block(dir[2], start, cnt, 1.0),
+                    )
+                };
                 unsafe { store_block(out, start, cnt, density_block(c, x, y, z)) };
                 start += cnt;
             }
@@ -694,8 +700,14 @@ macro_rules! vector_kernels {
             let mut start = 0;
             while start < len {
                 let cnt = (len - start).min(BLOCK);
-                let [x, y, z] = [(0, 0.0), (1, 0.0), (2, 1.0)]
-                    .map(|(k, pad)| unsafe { load_block(dir[k], start, cnt, pad) });
+                // Three calls, not `array::map` (whose closure the portable build left out of line).
+                let (x, y, z) = unsafe {
+                    (
+                        load_block(dir[0], start, cnt, 0.0),
+                        load_block(dir[1], start, cnt, 0.0),
+                        load_block(dir[2], start, cnt, 1.0),
+                    )
+                };
                 let (ou, ov) = invert_block(c, x, y, z);
                 unsafe {
                     store_block(u, start, cnt, ou);

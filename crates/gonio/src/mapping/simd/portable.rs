@@ -36,7 +36,7 @@ fn mask(b: bool) -> u64 {
 }
 
 // Every word is an explicit loop over the lanes (not `array::map`/`from_fn`, whose closures the
-// compiler left out of line: a call per gather, 40 % of the forward map's instructions).
+// compiler left out of line: a call per gather, ~30 % of the forward map's instructions).
 macro_rules! lanewise {
     ($($name:ident($($a:ident: $t:ty),*) -> $r:ty => $e:expr;)*) => {$(
         #[inline(always)]
@@ -119,23 +119,44 @@ fn fload(a: &[f64; BLOCK]) -> F {
 /// it: max with 0 (NaN gives 0), min with `kmax`, truncation.
 #[inline(always)]
 fn to_index(x: F, kmax: usize) -> I {
-    let top = kmax as f64;
+    // Every caller's kmax is a table length less one, far below 2⁶² (the bound keeps the
+    // conversion below sound for any argument).
+    let top = (kmax as u64).min(1 << 62) as f64;
     let mut o = [0; BLOCK];
     for l in 0..BLOCK {
         let v = if x[l] > 0.0 { x[l] } else { 0.0 };
-        o[l] = (if v < top { v } else { top }) as i64;
+        let v = if v < top { v } else { top };
+        // SAFETY: v lies in [0, 2⁶²] (a NaN became 0 above), so it truncates to an i64 (the
+        // saturating `as` would add a NaN and overflow check per lane).
+        o[l] = unsafe { v.to_int_unchecked::<i64>() };
     }
     o
+}
+
+/// `t[i]`, the index clamped into `t` first (as the vector backends clamp their gather indices):
+/// in bounds one comparison and one load, the clamp out of line (no index the kernels compute
+/// from valid inputs is out of bounds; NaN or out-of-domain inputs may give one).
+#[inline(always)]
+fn at<T: Copy>(t: &[T], i: i64) -> T {
+    match t.get(i as usize) {
+        Some(&x) => x,
+        None => at_clamped(t, i),
+    }
+}
+
+/// `t[i.clamp(0, t.len() - 1)]` for an index outside `t` (`t` must not be empty).
+#[cold]
+#[inline(never)]
+fn at_clamped<T: Copy>(t: &[T], i: i64) -> T {
+    t[if i < 0 { 0 } else { t.len() - 1 }]
 }
 
 /// `t[idx]` per lane, the index clamped into `t` first (`t` must not be empty).
 #[inline(always)]
 fn gather(t: &[f64], idx: I) -> F {
-    assert!(!t.is_empty());
-    let last = t.len() - 1;
     let mut o = [0.0; BLOCK];
     for l in 0..BLOCK {
-        o[l] = t[(idx[l].max(0) as usize).min(last)];
+        o[l] = at(t, idx[l]);
     }
     o
 }
@@ -143,11 +164,9 @@ fn gather(t: &[f64], idx: I) -> F {
 /// `t[idx] as usize` per lane for a u32 table, the index clamped into `t` first.
 #[inline(always)]
 fn gather_u32(t: &[u32], idx: I) -> I {
-    assert!(!t.is_empty());
-    let last = t.len() - 1;
     let mut o = [0; BLOCK];
     for l in 0..BLOCK {
-        o[l] = t[(idx[l].max(0) as usize).min(last)] as i64;
+        o[l] = at(t, idx[l]) as i64;
     }
     o
 }
