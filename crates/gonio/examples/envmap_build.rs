@@ -3,6 +3,8 @@
 //!
 //! `cargo run --release -p gonio --example envmap_build -- [BUILDS]` (default 5 builds), or under
 //! `valgrind --tool=callgrind target/release/examples/envmap_build 1` for instruction counts.
+//! A second argument `bound` also computes the ratio bound after each build (it is computed on
+//! first use, not by the build): the difference of the two counts is the bound's cost.
 
 use gonio::envmap::EnvironmentMap;
 use gonio::image::Image;
@@ -27,6 +29,7 @@ fn main() {
         .map(|a| a.parse().expect("BUILDS must be a count"))
         .unwrap_or(5)
         .max(1);
+    let with_bound = std::env::args().nth(2).as_deref() == Some("bound");
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(1)
         .build()
@@ -41,6 +44,10 @@ fn main() {
         let env = pool.install(|| EnvironmentMap::new(img).unwrap());
         times.push(t.elapsed().as_secs_f64() * 1e3);
         mem = env.memory_bytes_beyond_image();
+        if with_bound {
+            let (lo, hi) = env.map().ratio_bound();
+            println!("ratio bound [{lo:.17e}, {hi:.17e}]");
+        }
     }
     times.sort_by(f64::total_cmp);
     println!(

@@ -558,3 +558,63 @@ fn batch_angles_equal_the_scalar_angles_on_every_backend() {
         }
     }
 }
+
+/// The ratio bound is not computed by the build but on the first `ratio_bound()` call, and is
+/// then bit for bit the build-time computation; threads sharing one map (`Sync`) all see it.
+#[test]
+fn the_lazy_ratio_bound_is_the_eager_one_and_shared_across_threads() {
+    let maps = [
+        random_image(64, 32, 7),
+        random_image(37, 19, 8),
+        one_bright(32, 16, 5, 0, 0.0),
+        one_bright(40, 20, 0, 10, 0.01),
+    ];
+    for img in maps {
+        let env = EnvironmentMap::new(img).unwrap();
+        let (eager, cached) = env.map().ratio_bound_eager();
+        assert!(!cached, "the build computed the bound");
+        let bits = |b: (f64, f64)| (b.0.to_bits(), b.1.to_bits());
+        let seen: Vec<(u64, u64)> = std::thread::scope(|s| {
+            let hs: Vec<_> = (0..4)
+                .map(|_| s.spawn(|| bits(env.map().ratio_bound())))
+                .collect();
+            hs.into_iter().map(|h| h.join().unwrap()).collect()
+        });
+        assert!(
+            seen.iter().all(|&b| b == bits(eager)),
+            "{seen:?} vs {eager:?}"
+        );
+        assert!(
+            env.map().ratio_bound_eager().1,
+            "the bound is kept after first use"
+        );
+        assert_eq!(bits(Sampler::ratio_bound(env.map()).unwrap()), bits(eager));
+        assert!(eager.0 <= eager.1 && eager.1.is_finite());
+    }
+    // A luminaire's sphere maps, both layouts; a refined map has its bound from the build.
+    let d = Diagram::from_degrees(
+        &[0.0, 40.0, 90.0, 130.0, 180.0],
+        &[0.0, 120.0, 240.0],
+        &[
+            vec![1.0, 0.5, 0.3, 2.0, 4.0],
+            vec![0.7, 0.2, 0.1, 3.0, 1.0],
+            vec![1.0, 0.9, 0.0, 0.5, 2.5],
+        ],
+    )
+    .unwrap();
+    for layout in [crate::SphereLayout::Split, crate::SphereLayout::Lambert] {
+        let map = SphereMap::with_layout(&d, layout).unwrap();
+        let (eager, cached) = map.ratio_bound_eager();
+        assert!(!cached);
+        let b = map.ratio_bound();
+        assert_eq!(
+            (b.0.to_bits(), b.1.to_bits()),
+            (eager.0.to_bits(), eager.1.to_bits())
+        );
+    }
+    let refined = SphereMap::with_tolerance(&d, 0.05).unwrap();
+    assert!(
+        refined.ratio_bound_eager().1,
+        "a refined map's bound is computed by the build"
+    );
+}

@@ -92,8 +92,16 @@ struct Point {
 /// bit-identical to the plain loop; on a fine grid (a 2048 × 1024 environment map) the caps fall
 /// off with the distance from the horizon and only a few segments need the branch and bound.
 pub(crate) fn density_ratio_range(diagram: &Diagram, x: &[f64]) -> (f64, f64) {
-    let (n, m) = (diagram.n_parallels(), diagram.n_meridians());
-    let theta = diagram.theta();
+    density_ratio_range_grid(diagram.theta(), diagram.values(), x)
+}
+
+/// [`density_ratio_range`] of the diagram with parallels `theta` (N entries) and row-major
+/// M × N `values` (value (i, j) at `values[i * N + j]`, as [`Diagram::value`]): the same
+/// computation on a grid held as parts (a sphere map's core keeps only the grid and its tables).
+pub(crate) fn density_ratio_range_grid(theta: &[f64], values: &[f64], x: &[f64]) -> (f64, f64) {
+    let n = theta.len();
+    let m = values.len() / n;
+    let value = |i: usize, j: usize| values[i * n + j];
     let (mut lo, mut hi) = (1.0f64, 1.0f64);
     // The segments that carry a ratio at all, with their caps (see `SegmentGeometry`).
     let segs: Vec<(usize, SegmentGeometry)> = (0..n - 1)
@@ -103,9 +111,8 @@ pub(crate) fn density_ratio_range(diagram: &Diagram, x: &[f64]) -> (f64, f64) {
         .collect();
     let mut scans: Vec<Option<RowScan>> = vec![None; n - 1];
     let mut scan = |j: usize| -> RowScan {
-        *scans[j].get_or_insert_with(|| {
-            RowScan::new((0..m).map(|i| (diagram.value(i, j), diagram.value(i, j + 1))))
-        })
+        *scans[j]
+            .get_or_insert_with(|| RowScan::new((0..m).map(|i| (value(i, j), value(i, j + 1)))))
     };
     let mut order: Vec<usize> = (0..segs.len()).collect();
     order.sort_by(|&a, &b| segs[b].1.hi_cap().total_cmp(&segs[a].1.hi_cap()));

@@ -6,7 +6,7 @@
 //! module complete a user's diagram first (ALGORITHM §10 A15) and then build a core.
 
 use super::angular::{Angular, AngularView};
-use super::bound::density_ratio_range;
+use super::bound::{density_ratio_range, density_ratio_range_grid};
 use super::concentric::{disk_to_square, square_to_disk};
 use super::lift::{disk_to_sphere, parallel_radius, sphere_to_disk_azimuth, sphere_to_disk_radius};
 use super::radial::{Radial, RadialView};
@@ -40,8 +40,10 @@ pub(crate) struct HdsCore {
     diagram: KeptDiagram,
     /// ∫ target dω over the domain (diagram units × sr).
     target_total: f64,
-    /// Guaranteed range of D/B over directions where B > 0 (B: the (θ, φ)-bilinear interpolant).
-    db_range: (f64, f64),
+    /// Guaranteed range of D/B over directions where B > 0 (B: the (θ, φ)-bilinear interpolant):
+    /// set at build time, or on the first [`HdsCore::db_range`] call for a core built by
+    /// [`HdsCore::build_lean`] (the same numbers, from the same grid and values).
+    db_range: std::sync::OnceLock<(f64, f64)>,
 }
 
 /// What an [`HdsCore`] keeps of its completed diagram.
@@ -97,15 +99,15 @@ impl HdsCore {
         diagram: Diagram,
         db_range: (f64, f64),
     ) -> Result<Self, DiagramError> {
-        Self::assemble(diagram, db_range, true)
+        Self::assemble(diagram, Some(db_range), true)
     }
 
     /// As [`HdsCore::build`], without keeping the completed diagram ([`HdsCore::diagram`] is not
     /// available; the target is read from the tables): the sphere maps' cores.
+    /// The range of D/B is not computed here but on the first [`HdsCore::db_range`] call (sampling
+    /// never needs it).
     pub(crate) fn build_lean(diagram: Diagram) -> Result<Self, DiagramError> {
-        let x = parallel_radii(diagram.theta());
-        let db_range = density_ratio_range(&diagram, &x);
-        Self::assemble(diagram, db_range, false)
+        Self::assemble(diagram, None, false)
     }
 
     /// As [`HdsCore::build_with_range`], without keeping the completed diagram (see
@@ -114,11 +116,16 @@ impl HdsCore {
         diagram: Diagram,
         db_range: (f64, f64),
     ) -> Result<Self, DiagramError> {
-        Self::assemble(diagram, db_range, false)
+        Self::assemble(diagram, Some(db_range), false)
     }
 
-    /// The tables of `diagram`; `keep`: whether the core keeps the diagram itself too.
-    fn assemble(diagram: Diagram, db_range: (f64, f64), keep: bool) -> Result<Self, DiagramError> {
+    /// The tables of `diagram`; `keep`: whether the core keeps the diagram itself too; `db_range`:
+    /// the range of D/B if known (else computed on first use).
+    fn assemble(
+        diagram: Diagram,
+        db_range: Option<(f64, f64)>,
+        keep: bool,
+    ) -> Result<Self, DiagramError> {
         let n = diagram.n_parallels();
         debug_assert!(n >= 2 && diagram.theta()[0] == 0.0 && diagram.phi()[0] == 0.0);
         let x = parallel_radii(diagram.theta());
@@ -143,7 +150,10 @@ impl HdsCore {
             total,
             diagram: kept,
             target_total,
-            db_range,
+            db_range: match db_range {
+                Some(r) => std::sync::OnceLock::from(r),
+                None => std::sync::OnceLock::new(),
+            },
         })
     }
 
@@ -221,8 +231,28 @@ impl HdsCore {
         }
     }
     /// Guaranteed (min, max) of D/B over directions where the target is positive.
+    /// Computed on the first call for a core built by [`HdsCore::build_lean`] and kept: the same
+    /// numbers as [`super::bound::density_ratio_range`] of the completed diagram, since the
+    /// parallel radii and the nodal densities are its own (`radial.x`, `radial.d`).
     pub(crate) fn db_range(&self) -> (f64, f64) {
-        self.db_range
+        *self.db_range.get_or_init(|| {
+            let r = self.radial.view();
+            density_ratio_range_grid(self.diagram.theta(), r.d, r.x)
+        })
+    }
+
+    /// The range of D/B computed now from the completed grid, whether or not it is cached (for
+    /// the tests that the lazy bound equals the eager one).
+    #[cfg(test)]
+    pub(crate) fn db_range_eager(&self) -> (f64, f64) {
+        let x = parallel_radii(self.diagram.theta());
+        density_ratio_range_grid(self.diagram.theta(), self.radial.view().d, &x)
+    }
+
+    /// Whether the range of D/B is known (set at build time or computed already).
+    #[cfg(test)]
+    pub(crate) fn db_range_cached(&self) -> bool {
+        self.db_range.get().is_some()
     }
 
     /// Bytes of the precomputed tables (the vectors' lengths, not their capacities), including the
