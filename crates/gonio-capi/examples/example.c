@@ -103,13 +103,17 @@ static void check_sampler(const char *path, const GonioSampler *s) {
                 spdf[i] == pdfs[i];
     CHECK(same, "%s: SoA and AoS batches differ", method);
 
-    /* Float: the double results rounded. */
+    /* Float: the double results rounded; for hds its float32 map (f32 tables and arithmetic), which
+       stays within 1e-6 in direction and 1e-4 relative in pdf of the double map (docs/API.md,
+       "Float32 maps"; measured 1.6e-7 and 3.2e-5). */
     for (int i = 0; i < 2 * N; i++) uf[i] = (float)u[i];
     CHECK(gonio_sample_batch_f32(s, uf, N, dirsf, pdfsf) == GONIO_OK, "%s",
           gonio_last_error_message());
     GonioSample fs;
+    int is_hds = strcmp(method, "hds") == 0;
     CHECK(gonio_sample(s, (double)uf[0], (double)uf[1], &fs) == GONIO_OK &&
-              fabs(dirsf[0] - fs.direction[0]) <= 1e-7 && fabs(pdfsf[0] - fs.pdf) <= 1e-6 * fs.pdf,
+              fabs(dirsf[0] - fs.direction[0]) <= (is_hds ? 1e-6 : 1e-7) &&
+              fabs(pdfsf[0] - fs.pdf) <= (is_hds ? 1e-4 : 1e-6) * fs.pdf,
           "%s: the float batch is not the rounded double result", method);
 
     double lo, hi;
