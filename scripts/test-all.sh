@@ -11,13 +11,14 @@ run_part() {
   local name="$1"; shift
   echo
   echo "==== ${name}: $*"
-  local rc=0
+  local rc=0 t0=$SECONDS
   "$@" || rc=$?
+  local took="$((SECONDS - t0)) s"
   case "$rc" in
-    0) summary+=("${name}: ok") ;;
+    0) summary+=("${name}: ok (${took})") ;;
     # 77: the part cannot run on this machine (it printed why); not a failure.
-    77) summary+=("${name}: SKIPPED (see its output)") ;;
-    *) summary+=("${name}: FAILED")
+    77) summary+=("${name}: SKIPPED (see its output; ${took})") ;;
+    *) summary+=("${name}: FAILED (${took})")
        status=1 ;;
   esac
 }

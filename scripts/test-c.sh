@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# The C ABI from C and C++ (docs/C_API.md): builds crates/gonio-capi in release, compiles the C
+# The C ABI from C and C++ (docs/C_API.md): builds crates/gonio-capi (the test profile, opt-level 2,
+# which `cargo test --workspace` has already built, so only the archive is linked), compiles the C
 # examples (photometry and BRDF) and the C++ RAII example with the system cc/c++ against
 # include/gonio.h and the static library, runs them (on corpus files; the BRDF example on a table
 # it writes itself), then runs both again under valgrind (no error, no leak).
@@ -20,8 +21,8 @@ for tool in cc c++; do
   fi
 done
 
-cargo build --release --locked -p gonio-capi
-lib=target/release/libgonio_capi.a
+cargo build --profile test --locked -p gonio-capi
+lib=target/debug/libgonio_capi.a
 inc=crates/gonio-capi/include
 ex=crates/gonio-capi/examples
 out=target/c-examples
