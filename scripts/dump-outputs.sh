@@ -4,14 +4,17 @@
 #   scripts/dump-outputs.sh target/debug/gonio /tmp/before
 #   (change, rebuild)
 #   scripts/dump-outputs.sh target/debug/gonio /tmp/after && diff -r /tmp/before /tmp/after
+# With the environment maps of the folder beside the corpus (or the 4th argument).
 # `info`'s build-time line is masked (a wall-clock time differs run to run).
 set -u
-bin=${1:?usage: dump-outputs.sh GONIO_BINARY OUT_DIR [CORPUS_DIR]}
-out=${2:?usage: dump-outputs.sh GONIO_BINARY OUT_DIR [CORPUS_DIR]}
+bin=${1:?usage: dump-outputs.sh GONIO_BINARY OUT_DIR [CORPUS_DIR [ENVMAP_DIR]]}
+out=${2:?usage: dump-outputs.sh GONIO_BINARY OUT_DIR [CORPUS_DIR [ENVMAP_DIR]]}
 corpus=${3:-/work/shared/data/photometry}
+envmaps=${4:-$(dirname "$corpus")/envmaps}
 mkdir -p "$out"
 bin=$(cd "$(dirname "$bin")" && pwd)/$(basename "$bin")
 corpus=$(cd "$corpus" && pwd)
+envmaps=$(cd "$envmaps" 2>/dev/null && pwd)
 cd "$out" || exit 1
 out=.
 # Relative, so that warnings naming it are the same whatever OUT_DIR is.
@@ -33,6 +36,14 @@ for f in "${inputs[@]}"; do
     "$bin" pdf "$f" --directions "$dirs" --method "$m" >"$out/$tag.$m.pdf" 2>"$out/$tag.$m.pdf.err"; echo "rc=$?" >>"$out/$tag.$m.pdf.err"
     "$bin" invert "$f" --directions "$dirs" --method "$m" >"$out/$tag.$m.invert" 2>"$out/$tag.$m.invert.err"; echo "rc=$?" >>"$out/$tag.$m.invert.err"
   done
+  "$bin" info "$f" 2>&1 | sed -E 's/[0-9.]+ ?(ms|µs|s)\b/T\1/g' >"$out/$tag.info"; echo "rc=${PIPESTATUS[0]}" >>"$out/$tag.info"
+done
+# The environment maps beside the corpus (../shared/data/envmaps): the HDS sphere map of each.
+for f in ${envmaps:+"$envmaps"/*.hdr}; do
+  tag=env.$(basename "$f")
+  "$bin" sample "$f" -n 2000 >"$out/$tag.sample" 2>"$out/$tag.sample.err"; echo "rc=$?" >>"$out/$tag.sample.err"
+  "$bin" pdf "$f" --directions "$dirs" >"$out/$tag.pdf" 2>"$out/$tag.pdf.err"; echo "rc=$?" >>"$out/$tag.pdf.err"
+  "$bin" invert "$f" --directions "$dirs" >"$out/$tag.invert" 2>"$out/$tag.invert.err"; echo "rc=$?" >>"$out/$tag.invert.err"
   "$bin" info "$f" 2>&1 | sed -E 's/[0-9.]+ ?(ms|µs|s)\b/T\1/g' >"$out/$tag.info"; echo "rc=${PIPESTATUS[0]}" >>"$out/$tag.info"
 done
 echo "$(ls | wc -l) files in $(pwd)"
