@@ -1,7 +1,6 @@
 #!/usr/bin/env bash
 # The Python part of the README's test command (scripts/test-all.sh runs it): builds the package
-# crates/gonio-py as an abi3 wheel (the test profile, opt-level 2: the gonio library is the one
-# `cargo test --workspace` built, not a second release build) into a local virtual environment and runs its pytest suite,
+# crates/gonio-py as a release abi3 wheel into a local virtual environment and runs its pytest suite,
 # including Mitsuba 3's chi-square harness on gonio's samplers.
 #
 #   * the environment is $GONIO_VENV, default .venv/ at the repository root (git-ignored); it is
@@ -63,12 +62,10 @@ if [ -z "${DRJIT_LIBLLVM_PATH:-}" ]; then
   fi
 fi
 
-# The wheel: abi3, installed into the environment. The test profile (opt-level 2, what `cargo test`
-# builds) reuses the gonio library cargo test compiled; a release wheel for users is
-# `maturin build --release -m crates/gonio-py/Cargo.toml`.
+# The wheel: release, abi3, installed into the environment.
 wheels="$root/target/python-wheel"
 rm -rf "$wheels"
-"$venv/bin/maturin" build --profile test --locked -q -m crates/gonio-py/Cargo.toml -o "$wheels" \
+"$venv/bin/maturin" build --release --locked -q -m crates/gonio-py/Cargo.toml -o "$wheels" \
   --interpreter "$vpy"
 "$vpy" -m pip install "${pip_quiet[@]}" --force-reinstall --no-deps "$wheels"/gonio-*.whl
 "$vpy" -c 'import gonio; print("gonio", gonio.__version__, "from", gonio.__file__)'

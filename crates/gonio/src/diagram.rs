@@ -164,6 +164,8 @@ pub struct Diagram {
     theta: Vec<f64>,
     phi: Vec<f64>,
     values: Vec<f64>,
+    /// The largest value, found by `new` in its validation pass (the values never change after).
+    max: f64,
 }
 
 /// The native JSON form: `{"theta_deg": [...], "phi_deg": [...], "values": [[...], ...]}`, where
@@ -264,9 +266,23 @@ impl Diagram {
             });
         }
         // finite and ≥ 0 ⇔ 0 ≤ v ≤ MAX (NaN fails both): a branch-free count (it vectorises);
-        // the first bad value is then located.
+        // the first bad value is then located. The same pass keeps four running maxima (a plain
+        // comparison is `f64::max` once every value is finite and ≥ 0, and the maximum does not
+        // depend on the order).
         let invalid = |v: f64| !(0.0..=f64::MAX).contains(&v);
-        let bad: usize = values.iter().map(|&v| usize::from(invalid(v))).sum();
+        let (mut bad, mut lanes) = (0usize, [0.0f64; 4]);
+        let mut blocks = values.chunks_exact(4);
+        for b in &mut blocks {
+            for (l, &v) in lanes.iter_mut().zip(b) {
+                bad += usize::from(invalid(v));
+                *l = if v > *l { v } else { *l };
+            }
+        }
+        for &v in blocks.remainder() {
+            bad += usize::from(invalid(v));
+            lanes[0] = if v > lanes[0] { v } else { lanes[0] };
+        }
+        let max = lanes.iter().fold(0.0f64, |a, &b| a.max(b));
         if bad > 0 {
             let k = values.iter().position(|&v| invalid(v)).unwrap_or(0);
             return Err(DiagramError::BadValue {
@@ -278,7 +294,12 @@ impl Diagram {
         let Some(first_positive) = values.iter().position(|&v| v > 0.0) else {
             return Err(DiagramError::ZeroPower);
         };
-        let d = Self { theta, phi, values };
+        let d = Self {
+            theta,
+            phi,
+            values,
+            max,
+        };
         // Light on nodes only between parallels closer than an ulp cannot integrate to anything.
         if !d.positive_integral(first_positive / n, first_positive % n) {
             return Err(DiagramError::UnresolvedLight);
@@ -429,17 +450,7 @@ impl Diagram {
     }
     /// The largest value.
     pub fn max_value(&self) -> f64 {
-        // Values are finite and ≥ 0 (checked by `new`), so a plain comparison is `f64::max` and
-        // the maximum does not depend on the order: four running maxima (they vectorise).
-        let mut lanes = [0.0f64; 4];
-        let mut blocks = self.values.chunks_exact(4);
-        for b in &mut blocks {
-            for (l, &v) in lanes.iter_mut().zip(b) {
-                *l = if v > *l { v } else { *l };
-            }
-        }
-        let tail = blocks.remainder().iter().fold(0.0f64, |a, &b| a.max(b));
-        lanes.iter().fold(tail, |a, &b| a.max(b))
+        self.max
     }
 
     /// The diagram interpolated **bilinearly in (θ, φ)** at polar angle `theta` and azimuth `phi`
