@@ -48,8 +48,6 @@ import time
 
 import numpy as np
 
-import gonio
-
 # Dr.Jit 1.x needs LLVM >= 16 for the envmap kernels (LLVM 15 aborts: "Cannot select fmaximum").
 LLVM_CANDIDATES = [
     "/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1",
@@ -63,12 +61,20 @@ if not os.environ.get("DRJIT_LIBLLVM_PATH"):
             os.environ["DRJIT_LIBLLVM_PATH"] = _p
             break
 
+os.environ.setdefault("RAYON_NUM_THREADS", "1")
+import gonio  # noqa: E402 - after RAYON_NUM_THREADS
+
 try:
     import drjit as dr
     import mitsuba as mi
 except ImportError:
     print("skipping: mitsuba is not installed (pip install mitsuba)")
     sys.exit(0)
+
+# gonio's batch calls run on rayon's pool; one thread, so that the one-thread costs are one thread's
+# (the all-threads rows split a batch over Python threads instead).
+os.environ.setdefault("RAYON_NUM_THREADS", "1")
+PEER_NAMES = {"hds": "gonio-hds", "latlong": "latlong", "pbrt-v4": "pbrt-v4-style"}
 
 TO_WORLD = [[0, 0, 1, 0], [1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 0, 1]]
 F32_BELOW_ONE = np.nextafter(np.float32(1), np.float32(0))
@@ -143,12 +149,17 @@ class Mitsuba:
 
 
 class Gonio:
-    """gonio.EnvMap; ``threads(n)`` splits a batch over n Python threads (the GIL is released)."""
+    """gonio.EnvMap, or one of its ``sampler(kind)`` in float64 or float32; ``threads(n)`` splits a
+    batch over n Python threads (the GIL is released; the script runs rayon on one thread)."""
 
-    name = "gonio-hds"
-
-    def __init__(self, path):
-        self.env = gonio.EnvMap(path)
+    def __init__(self, env, kind=None, dtype=np.float64):
+        self.env = env
+        if kind is None:
+            self.name, self.s = "gonio-hds", env
+        else:
+            self.s = env.sampler(kind)
+            self.name = PEER_NAMES[kind] + ("-f32" if dtype == np.float32 else "")
+        self.dtype = dtype
         self.n_threads = 1
         self.pool = None
 
@@ -159,11 +170,12 @@ class Gonio:
         return list(self.pool.map(f, parts))
 
     def sample(self, u):
-        res = self._split(self.env.sample, np.asarray(u, np.float64))
-        return np.concatenate([r[0] for r in res]), np.concatenate([r[1] for r in res])
+        res = self._split(self.s.sample, np.asarray(u, self.dtype))
+        d = np.concatenate([r[0] for r in res]).astype(np.float64, copy=False)
+        return d, np.concatenate([r[1] for r in res]).astype(np.float64, copy=False)
 
     def pdf(self, d):
-        return np.concatenate(self._split(self.env.pdf, np.asarray(d, np.float64)))
+        return np.concatenate(self._split(self.s.pdf, np.asarray(d, self.dtype))).astype(np.float64, copy=False)
 
     def threads(self, n):
         self.n_threads = n
@@ -256,15 +268,17 @@ def slope(counts, rmse):
 def run_map(path, variant, args, out_rows, speed_rows, check_rows):
     name = os.path.splitext(os.path.basename(path))[0]
     t0 = time.perf_counter()
-    g = Gonio(path)
+    g = Gonio(gonio.EnvMap(path))
     t_g = time.perf_counter() - t0
     t0 = time.perf_counter()
     m = Mitsuba(path, variant)
     t_m = time.perf_counter() - t0
     w, h = g.env.width, g.env.height
-    print(f"{name}: {w} x {h}; built in {t_g * 1e3:.0f} ms (gonio), {t_m * 1e3:.0f} ms (Mitsuba, with its file read)",
-          file=sys.stderr)
+    print(f"{name}: {w} x {h}; built in {t_g * 1e3:.0f} ms (gonio, with its file read), {t_m * 1e3:.0f} ms "
+          "(Mitsuba, with its file read)", file=sys.stderr)
     samplers = [g, m]
+    if not args.no_peers:
+        samplers[1:1] = [Gonio(g.env, "hds", np.float32), Gonio(g.env, "latlong"), Gonio(g.env, "pbrt-v4")]
     lookups = {"nearest": g.env, "bilinear": gonio.EnvMap(path, lookup="bilinear")}
 
     # 1. Speed: one batch of n points / directions.
@@ -283,6 +297,8 @@ def run_map(path, variant, args, out_rows, speed_rows, check_rows):
     angle = math.degrees(math.acos(np.clip(a @ b / (np.linalg.norm(a) * np.linalg.norm(b)), -1, 1)))
     check_rows.append((name, angle, np.linalg.norm(a), np.linalg.norm(b),
                        consistency["gonio-hds"], consistency["mitsuba"]))
+    print(f"{name}: max relative |pdf(sample) - sample's pdf|: "
+          + ", ".join(f"{k} {v:.1e}" for k, v in consistency.items()), file=sys.stderr)
     ncores = os.cpu_count() or 1
     cost = {}
     for s in samplers:
@@ -356,6 +372,47 @@ def run_map(path, variant, args, out_rows, speed_rows, check_rows):
                         })
 
 
+def print_all_samplers(groups, names, last):
+    """Every sampler of the run side by side: per case the equal-time RMSE and the slope of each,
+    then the counts of the targets (gonio's map at least as good as the best peer at equal time;
+    with Sobol' points a steeper slope than every discontinuous peer)."""
+    gonios = [n for n in names if n.startswith("gonio")]
+    peers = [n for n in names if not n.startswith("gonio")]
+    print(f"\n### Every sampler in the same run (relative RMSE at equal time, N = {last} for gonio-hds's time; "
+          "slope)\n")
+    print("| map | radiance | surface | normal | estimator | points | " + " | ".join(names)
+          + " | slopes: " + " / ".join(names) + " |")
+    print("|" + "---|" * (7 + len(names)))
+    tally = {}
+    for k, gr in sorted(groups.items()):
+        nrm = "+z" if k[2] == 0 else "(1, 0.3, 0.4)"
+        eq = {n: gr[n]["rel_rmse_last_equal_time"] for n in names}
+        sl = {n: gr[n]["slope"] for n in names}
+        best = min(eq.values())
+        cells = " | ".join(("**%.2e**" if eq[n] == best else "%.2e") % eq[n] for n in names)
+        print(f"| {k[0]} | {k[1]} | {k[3]} | {nrm} | {k[4]} | {k[5]} | {cells} | "
+              + " / ".join(f"{sl[n]:.2f}" for n in names) + " |")
+        t = tally.setdefault((k[1], k[4], k[5]), {})
+        best_peer = min(eq[p] for p in peers)
+        for gname in gonios:
+            t.setdefault(gname + " ≤ best peer", [0, 0])
+            t[gname + " ≤ best peer"][0] += eq[gname] <= best_peer
+            t[gname + " ≤ best peer"][1] += 1
+            t.setdefault(gname + " slope steeper than every peer", [0, 0])
+            t[gname + " slope steeper than every peer"][0] += all(sl[gname] < sl[p] for p in peers)
+            t[gname + " slope steeper than every peer"][1] += 1
+    cols = list(next(iter(tally.values())).keys())
+    print("\n| radiance | estimator | points | " + " | ".join(cols) + " |")
+    print("|" + "---|" * (3 + len(cols)))
+    totals = {c: [0, 0] for c in cols}
+    for wk, t in sorted(tally.items()):
+        for c in cols:
+            totals[c][0] += t[c][0]
+            totals[c][1] += t[c][1]
+        print(f"| {wk[0]} | {wk[1]} | {wk[2]} | " + " | ".join(f"{t[c][0]} of {t[c][1]}" for c in cols) + " |")
+    print("| all | | | " + " | ".join(f"{totals[c][0]} of {totals[c][1]}" for c in cols) + " |")
+
+
 def main():
     here = os.path.dirname(os.path.abspath(__file__))
     shared = os.environ.get("GONIO_ENVMAPS") or os.path.join(here, "..", "..", "..", "shared", "data", "envmaps")
@@ -372,6 +429,8 @@ def main():
                     help="Mitsuba variant: llvm_ad_rgb when libLLVM >= 16 is found (auto), or scalar_rgb")
     ap.add_argument("--speed-only", action="store_true",
                     help="only the frame checks and the speed table (part 1; no RMSE)")
+    ap.add_argument("--no-peers", action="store_true",
+                    help="gonio's float64 map and Mitsuba only (no float32 map, lat-long or pbrt-v4-style rows)")
     ap.add_argument("--csv", help="write every row here")
     ap.add_argument("--checks-json", help="write the frame and pdf checks here (for the smoke test)")
     args = ap.parse_args()
@@ -420,6 +479,10 @@ def main():
     print("\n| radiance | estimator | points | gonio RMSE ≤ Mitsuba's at equal time | gonio slope steeper |\n|---|---|---|---|---|")
     for wk, (eqt, sl, tot) in sorted(wins.items()):
         print(f"| {wk[0]} | {wk[1]} | {wk[2]} | {eqt} of {tot} | {sl} of {tot} |")
+    names = [n for n in ("gonio-hds", "gonio-hds-f32", "latlong", "pbrt-v4-style", "mitsuba")
+             if any(n in gr for gr in groups.values())]
+    if len(names) > 2:
+        print_all_samplers(groups, names, last)
     if args.csv:
         with open(args.csv, "w", newline="") as f:
             wr = csv.DictWriter(f, fieldnames=list(rows[0].keys()))

@@ -13,7 +13,7 @@ use crate::input::read_regular;
 use crate::output::Output;
 use anyhow::Context;
 use gonio::baselines::equal_area::equal_area_square_to_sphere;
-use gonio::envmap::EnvironmentMap;
+use gonio::envmap::{EnvOptions, EnvironmentMap, Lookup, Weight};
 use gonio::image::{Image, ImageFormat};
 use rayon::prelude::*;
 use std::io::Write;
@@ -27,18 +27,146 @@ pub fn is_image_name(name: &str) -> bool {
     ImageFormat::from_path(Path::new(name)).is_some()
 }
 
-/// Reads an image file and builds its environment map; the reader's and the map's warnings go
-/// to standard error. (`load::load` wraps it into its `Loaded`.)
+/// `--weight`: what an environment map's density is proportional to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum WeightArg {
+    /// Rec. 709 luminance 0.2126 R + 0.7152 G + 0.0722 B.
+    Luminance,
+    /// The red channel.
+    Red,
+    /// The green channel.
+    Green,
+    /// The blue channel.
+    Blue,
+}
+
+/// `--lookup`: how an environment map's radiance is read.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum LookupArg {
+    /// The pixel that holds the direction.
+    Nearest,
+    /// Bilinear between pixel centres (continuous across the seam and at the poles).
+    Bilinear,
+}
+
+/// The global environment-map options of this run, as given (None: not given).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+struct EnvCliOptions {
+    weight: Option<WeightArg>,
+    lookup: Option<LookupArg>,
+    mis_compensation: bool,
+}
+
+static OPTIONS: std::sync::OnceLock<EnvCliOptions> = std::sync::OnceLock::new();
+
+/// Sets the global `--weight`, `--lookup` and `--mis-compensation` of this run (once, from
+/// `main`).
+pub fn set_options(weight: Option<WeightArg>, lookup: Option<LookupArg>, mis_compensation: bool) {
+    let _ = OPTIONS.set(EnvCliOptions {
+        weight,
+        lookup,
+        mis_compensation,
+    });
+}
+
+fn cli_options() -> EnvCliOptions {
+    OPTIONS.get().copied().unwrap_or_default()
+}
+
+/// The environment-map options given on the command line, by name, when the input is not an
+/// environment map (they would be ignored: `load` refuses them).
+pub fn options_given() -> Option<&'static str> {
+    let o = cli_options();
+    if o.weight.is_some() {
+        Some("--weight")
+    } else if o.lookup.is_some() {
+        Some("--lookup")
+    } else if o.mis_compensation {
+        Some("--mis-compensation")
+    } else {
+        None
+    }
+}
+
+/// The library's options of this run's `--weight`, `--lookup` and `--mis-compensation`.
+pub fn env_options() -> EnvOptions {
+    let o = cli_options();
+    EnvOptions {
+        weight: match o.weight {
+            None | Some(WeightArg::Luminance) => Weight::Luminance,
+            Some(WeightArg::Red) => Weight::Channel(0),
+            Some(WeightArg::Green) => Weight::Channel(1),
+            Some(WeightArg::Blue) => Weight::Channel(2),
+        },
+        lookup: match o.lookup {
+            None | Some(LookupArg::Nearest) => Lookup::Nearest,
+            Some(LookupArg::Bilinear) => Lookup::Bilinear,
+        },
+        mis_compensation: o.mis_compensation,
+    }
+}
+
+/// Reads an image file and builds its environment map with this run's options
+/// ([`env_options`]); the reader's and the map's warnings go to standard error. (`load::load`
+/// wraps it into its `Loaded`.)
 pub fn load_envmap(name: &str) -> anyhow::Result<EnvironmentMap> {
     let bytes = read_regular(Path::new(name), name, MAX_IMAGE_BYTES)?;
     let format = ImageFormat::sniff(&bytes).or_else(|| ImageFormat::from_path(Path::new(name)));
     let image = Image::from_bytes(&bytes, format).map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
     drop(bytes);
-    let env = EnvironmentMap::new(image).map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
+    let env = EnvironmentMap::with_options(image, env_options())
+        .map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
     for w in env.warnings() {
         eprintln!("gonio: warning: {name}: {w}");
     }
     Ok(env)
+}
+
+/// What `gonio info --json` reports of an environment map (key `envmap`).
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct EnvInfo {
+    /// Image width in pixels.
+    pub width: usize,
+    /// Image height in pixels.
+    pub height: usize,
+    /// `luminance`, `red`, `green`, `blue` or `custom`.
+    pub weight: &'static str,
+    /// `nearest` or `bilinear`.
+    pub lookup: &'static str,
+    /// Whether the weight is MIS-compensated.
+    pub mis_compensation: bool,
+    /// ∫ weight dω over the sphere (image unit × sr).
+    pub weight_power: f64,
+    /// Bytes held beyond the image.
+    pub memory_bytes_beyond_image: usize,
+    /// What was repaired or ignored while reading and building.
+    pub warnings: Vec<String>,
+}
+
+impl EnvInfo {
+    /// The report of `env`.
+    pub fn of(env: &EnvironmentMap) -> Self {
+        let o = env.options();
+        EnvInfo {
+            width: env.image().width(),
+            height: env.image().height(),
+            weight: match o.weight {
+                Weight::Luminance => "luminance",
+                Weight::Channel(0) => "red",
+                Weight::Channel(1) => "green",
+                Weight::Channel(_) => "blue",
+                Weight::Custom(_) => "custom",
+            },
+            lookup: match o.lookup {
+                Lookup::Nearest => "nearest",
+                Lookup::Bilinear => "bilinear",
+            },
+            mis_compensation: o.mis_compensation,
+            weight_power: env.power(),
+            memory_bytes_beyond_image: env.memory_bytes_beyond_image(),
+            warnings: env.warnings().to_vec(),
+        }
+    }
 }
 
 /// The lines `gonio info` adds for an environment map.
@@ -46,9 +174,28 @@ pub fn info_lines(env: &EnvironmentMap) -> String {
     let img = env.image();
     let (w, h) = (img.width(), img.height());
     let mut s = String::new();
-    s += &format!("image            {w} × {h} pixels (RGB), weight: Rec. 709 luminance, radiance lookup: nearest pixel\n");
+    let o = env.options();
+    let weight = match o.weight {
+        Weight::Luminance => "Rec. 709 luminance",
+        Weight::Channel(0) => "red channel",
+        Weight::Channel(1) => "green channel",
+        Weight::Channel(_) => "blue channel",
+        Weight::Custom(_) => "custom",
+    };
+    let lookup = match o.lookup {
+        Lookup::Nearest => "nearest pixel",
+        Lookup::Bilinear => "bilinear between pixel centres",
+    };
+    let mis = if o.mis_compensation {
+        ", MIS compensation (weight − mean, clamped at 0)"
+    } else {
+        ""
+    };
     s += &format!(
-        "luminance power  {} (image unit × sr)\n",
+        "image            {w} × {h} pixels (RGB), weight: {weight}{mis}, radiance lookup: {lookup}\n"
+    );
+    s += &format!(
+        "weight power     {} (image unit × sr)\n",
         gonio::decimal::shortest(env.power())
     );
     s += &format!(

@@ -100,6 +100,11 @@ pub fn input_kind(name: &str) -> anyhow::Result<InputKind> {
 /// Syntax errors come back as a [`LocatedError`] (`FILE:LINE:COLUMN: message`); every other error
 /// names the file.
 pub fn load(name: &str) -> anyhow::Result<Loaded> {
+    if !crate::envmap_in::is_image_name(name) {
+        if let Some(opt) = crate::envmap_in::options_given() {
+            anyhow::bail!("{name}: {opt} applies to environment maps (.hdr, .exr, .pfm) only");
+        }
+    }
     if name == EXAMPLE {
         return Ok(Loaded {
             name: name.to_string(),

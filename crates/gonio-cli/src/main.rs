@@ -25,8 +25,8 @@ use args::{BenchArgs, CheckArgs, ConvertArgs, DirectionsArgs, InfoArgs, PlotArgs
 
 /// Importance sampling of goniometric diagrams (Havran–Dmitriev–Seidel mapping).
 ///
-/// FILE is a native diagram (.json), an IES LM-63 file (.ies), a EULUMDAT file (.ldt), or the
-/// word `example` for the built-in example luminaire.
+/// FILE is a native diagram (.json), an IES LM-63 file (.ies), a EULUMDAT file (.ldt), an
+/// environment map (.hdr, .exr, .pfm), or the word `example` for the built-in example luminaire.
 #[derive(Debug, Parser)]
 #[command(name = "gonio", version, propagate_version = true)]
 struct Cli {
@@ -39,6 +39,19 @@ struct Cli {
     /// every command that builds the HDS map.
     #[arg(long, global = true, value_name = "TOL", value_parser = parse_tolerance)]
     tolerance: Option<f64>,
+    /// Environment maps (.hdr, .exr, .pfm): what the sampling density is proportional to
+    /// (default luminance, Rec. 709).
+    #[arg(long, global = true, value_enum, value_name = "W")]
+    weight: Option<envmap_in::WeightArg>,
+    /// Environment maps: how the radiance columns r,g,b are read (default nearest: the pixel
+    /// holding the direction; bilinear: between pixel centres, the interpolant the density
+    /// follows).
+    #[arg(long, global = true, value_enum, value_name = "L")]
+    lookup: Option<envmap_in::LookupArg>,
+    /// Environment maps: MIS compensation (the weight minus its solid-angle mean, clamped at 0;
+    /// for use with MIS only, docs/ENVMAPS.md).
+    #[arg(long, global = true)]
+    mis_compensation: bool,
     #[command(subcommand)]
     command: Command,
 }
@@ -147,6 +160,7 @@ fn main() -> ExitCode {
     };
     progress::set_quiet(cli.quiet);
     load::set_tolerance(cli.tolerance);
+    envmap_in::set_options(cli.weight, cli.lookup, cli.mis_compensation);
 
     let result = match &cli.command {
         Command::Sample(a) => commands::sample::run(a).map(|()| true),

@@ -139,3 +139,98 @@ fn a_black_map_is_a_clear_error() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("scanline"));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The rows of `gonio sample`'s CSV (header skipped).
+fn rows(csv: &str) -> Vec<Vec<f64>> {
+    csv.lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect()
+}
+
+#[test]
+fn weight_lookup_and_mis_options() {
+    let dir = temp_dir("options");
+    // A blue source at pixel (7, 3) and a red one at (24, 10) on a dim grey sky.
+    let mut img = Image::constant(32, 16, [0.25, 0.25, 0.25]).unwrap();
+    img.set_pixel(7, 3, [1.0, 1.0, 4000.0]);
+    img.set_pixel(24, 10, [4000.0, 1.0, 1.0]);
+    let pfm = dir.join("two.pfm");
+    std::fs::write(&pfm, write_pfm(&img, false, false)).unwrap();
+    let f = pfm.to_str().unwrap();
+    let on = |rows: &[Vec<f64>], rgb: [f64; 3]| rows.iter().filter(|r| r[6..9] == rgb[..]).count();
+    // --weight red / blue send the samples to the red / blue source.
+    let red = rows(&ok(&["sample", f, "-n", "400", "--weight", "red"]));
+    let blue = rows(&ok(&["sample", f, "-n", "400", "--weight", "blue"]));
+    // (The other source's pixel has weight 1 against the sky's 0.25: it gets a few samples.)
+    let (r_on_red, r_on_blue) = (on(&red, [4000.0, 1.0, 1.0]), on(&red, [1.0, 1.0, 4000.0]));
+    let (b_on_red, b_on_blue) = (on(&blue, [4000.0, 1.0, 1.0]), on(&blue, [1.0, 1.0, 4000.0]));
+    assert!(
+        r_on_red > 120 && r_on_red > 20 * r_on_blue,
+        "{r_on_red} {r_on_blue}"
+    );
+    assert!(
+        b_on_blue > 120 && b_on_blue > 20 * b_on_red,
+        "{b_on_blue} {b_on_red}"
+    );
+    // The same points, another weight: other directions and densities.
+    let lum = rows(&ok(&["sample", f, "-n", "400"]));
+    assert!(lum.iter().zip(&red).any(|(a, b)| a[5] != b[5]));
+    // --lookup bilinear: the same directions and densities, radiance between pixel centres (not
+    // only the image's three pixel colours).
+    let bil = rows(&ok(&["sample", f, "-n", "400", "--lookup", "bilinear"]));
+    assert!(lum.iter().zip(&bil).all(|(a, b)| a[..6] == b[..6]));
+    let colours = |r: &Vec<f64>| {
+        [[0.25; 3], [1.0, 1.0, 4000.0], [4000.0, 1.0, 1.0]]
+            .iter()
+            .any(|c| r[6..9] == c[..])
+    };
+    assert!(lum.iter().all(colours));
+    assert!(bil.iter().filter(|r| !colours(r)).count() > 100);
+    // info says what was chosen, as text and as JSON.
+    let info = ok(&[
+        "info",
+        f,
+        "--weight",
+        "green",
+        "--lookup",
+        "bilinear",
+        "--mis-compensation",
+    ]);
+    assert!(
+        info.contains("weight: green channel, MIS compensation")
+            && info.contains("radiance lookup: bilinear"),
+        "{info}"
+    );
+    let json: serde_json::Value =
+        serde_json::from_str(&ok(&["info", f, "--json", "--weight", "blue"])).unwrap();
+    assert_eq!(json["envmap"]["weight"], "blue");
+    assert_eq!(json["envmap"]["lookup"], "nearest");
+    assert_eq!(json["envmap"]["width"], 32);
+    assert!(json["envmap"]["weight_power"].as_f64().unwrap() > 0.0);
+    // MIS compensation moves mass off the dim sky: fewer samples on the grey pixels.
+    let mis = rows(&ok(&["sample", f, "-n", "400", "--mis-compensation"]));
+    assert!(on(&mis, [0.25; 3]) < on(&lum, [0.25; 3]));
+    // The options on other inputs are refused, not ignored.
+    for opt in [
+        &["--weight", "red"][..],
+        &["--lookup", "bilinear"],
+        &["--mis-compensation"],
+    ] {
+        let mut args = vec!["info", "example"];
+        args.extend_from_slice(opt);
+        let o = run(&args);
+        assert!(!o.status.success());
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(err.contains("environment maps"), "{err}");
+    }
+    // A channel that is black everywhere is the clear black-map error.
+    let mut green0 = Image::constant(16, 8, [1.0, 0.0, 1.0]).unwrap();
+    green0.set_pixel(3, 3, [2.0, 0.0, 2.0]);
+    let g = dir.join("nogreen.pfm");
+    std::fs::write(&g, write_pfm(&green0, false, false)).unwrap();
+    let o = run(&["info", g.to_str().unwrap(), "--weight", "green"]);
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("black"));
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -28,7 +28,8 @@ use rayon::prelude::*;
 #[pyclass(name = "Sampler", module = "gonio", frozen)]
 pub(crate) struct PySampler {
     sampler: Box<dyn Sampler>,
-    method: Method,
+    /// The method's name (`Method::as_str`, or an environment map's sampler kind).
+    method: &'static str,
     ratio_bound: Option<(f64, f64)>,
     target_power: f64,
 }
@@ -85,10 +86,22 @@ impl PySampler {
             built.map_err(|e| BuildError::new_err(format!("{what}: {e}")))?;
         Ok(PySampler {
             sampler,
-            method,
+            method: method.as_str(),
             ratio_bound,
             target_power,
         })
+    }
+
+    /// A sampler built elsewhere (an environment map's own map or one of its peers), named
+    /// `method`.
+    pub(crate) fn from_sampler(sampler: Box<dyn Sampler>, method: &'static str) -> Self {
+        let (ratio_bound, target_power) = (sampler.ratio_bound(), sampler.target_power());
+        PySampler {
+            sampler,
+            method,
+            ratio_bound,
+            target_power,
+        }
     }
 
     pub(crate) fn inner(&self) -> &dyn Sampler {
@@ -126,7 +139,7 @@ impl PySampler {
     /// The method's name as the CLI's `--method` spells it.
     #[getter]
     fn method(&self) -> &'static str {
-        self.method.as_str()
+        self.method
     }
 
     /// "hemisphere" (z ≥ 0, 2π sr) or "sphere" (4π sr).
@@ -246,7 +259,7 @@ impl PySampler {
     fn __repr__(&self) -> String {
         format!(
             "gonio.Sampler(method={:?}, domain={:?}, memory_bytes={})",
-            self.method.as_str(),
+            self.method,
             domain_name(self.sampler.domain()),
             self.sampler.memory_bytes()
         )

@@ -113,9 +113,10 @@ def test_peers_script_smoke(tmp_path):
     r = subprocess.run(args, capture_output=True, text=True, timeout=300, env=dict(os.environ))
     assert r.returncode == 0, r.stderr[-3000:]
     rows = list(csv.DictReader(open(out)))
-    # 2 samplers x 2 lookups x 4 surfaces x 2 estimators x 2 point kinds.
-    assert len(rows) == 64
-    assert {x["sampler"] for x in rows} == {"gonio-hds", "mitsuba"}
+    # 5 samplers x 2 lookups x 4 surfaces x 2 estimators x 2 point kinds.
+    assert len(rows) == 160
+    assert {x["sampler"] for x in rows} == {"gonio-hds", "gonio-hds-f32", "latlong", "pbrt-v4-style", "mitsuba"}
+    assert "Every sampler in the same run" in r.stdout
     assert all(math.isfinite(float(x["rel_rmse_last"])) for x in rows)
     (c,) = json.load(open(checks))
     # Most of the power is in the bright pixel: both mean directions point at it.
@@ -154,3 +155,92 @@ def test_batch_equals_single_points(tmp_path):
         assert np.max(np.abs(w - w1)) <= 1e-12
         # The round trip inside the square (the corners are on its boundary, where the map folds).
         assert np.allclose(w[:1001], u[:1001], atol=1e-8)
+
+
+def test_weight_options(tmp_path):
+    """weight= chooses what the density follows: a channel by name or index, or the caller's
+    (height, width) array; an array equal to the luminance (computed in float32 in the library's
+    order) gives the default map bit for bit; bad weights are InputErrors."""
+    rng = np.random.default_rng(4)
+    img = (rng.random((8, 16, 3)) + 0.05).astype(np.float32)
+    img[3, 9] = [40.0, 0.1, 0.1]  # a red source: the red weight puts its mass there
+    p = tmp_path / "w.pfm"
+    write_pfm(p, img)
+    u = rng.random((3000, 2))
+    lum = (np.float32(0.2126) * img[..., 0] + np.float32(0.7152) * img[..., 1]) + np.float32(0.0722) * img[..., 2]
+    default = gonio.EnvMap(p)
+    custom = gonio.EnvMap(p, weight=lum)
+    assert (default.weight, custom.weight) == ("luminance", "custom")
+    d0, p0, _ = default.sample(u)
+    d1, p1, _ = custom.sample(u)
+    assert np.array_equal(d0, d1) and np.array_equal(p0, p1)
+    red, red0 = gonio.EnvMap(p, weight="red"), gonio.EnvMap(p, weight=0)
+    assert red.weight == "red" and red0.weight == "red"
+    dr_, pr, _ = red.sample(u)
+    assert np.array_equal(pr, red0.sample(u)[1])
+    # The red map's density over the luminance map's: largest at the red source.
+    t, s = math.pi * 3.5 / 8, 9.5 / 16
+    ph = math.pi - 2 * math.pi * s
+    src = [[math.sin(t) * math.cos(ph), math.sin(t) * math.sin(ph), math.cos(t)]]
+    ratio_src = red.pdf(src)[0] / default.pdf(src)[0]
+    assert ratio_src > 1.5 and ratio_src > np.max(red.pdf(d0) / default.pdf(d0)) * 0.999
+    assert np.allclose(red.pdf(dr_), pr, rtol=1e-10)
+    # The custom weight of one bright pixel: its pixel holds most of the mass.
+    one = np.full((8, 16), 1e-3)
+    one[6, 2] = 1.0
+    m = gonio.EnvMap(p, weight=one)
+    d, _, _ = m.sample(u)
+    rows = np.floor(np.arccos(np.clip(d[:, 2], -1, 1)) / math.pi * 8)
+    assert np.mean(rows == 6) > 0.5
+    for bad in ("alpha", 3, -1, np.ones((16, 8)), -one, np.where(one > 0.5, np.nan, one), np.full((8, 16), 1e300)):
+        with pytest.raises(gonio.InputError):
+            gonio.EnvMap(p, weight=bad)
+    with pytest.raises(gonio.GonioError, match="black"):
+        gonio.EnvMap(p, weight=np.zeros((8, 16)))
+
+
+def test_samplers_of_an_envmap(tmp_path):
+    """EnvMap.sampler(kind): "hds" is the map itself (the same samples and pdf), float32 arrays reach
+    its float32 map; the lat-long and pbrt-v4-style peers keep the sampler contract (pdf agrees
+    with the sample, the inverse round-trips, the density integrates to 1)."""
+    rng = np.random.default_rng(5)
+    img = (rng.random((16, 32, 3)) + 0.05).astype(np.float32)
+    img[5, 20] = [300.0, 200.0, 100.0]
+    p = tmp_path / "s.pfm"
+    write_pfm(p, img)
+    env = gonio.EnvMap(p)
+    u = rng.random((4000, 2))
+    d, pdf, _ = env.sample(u)
+    hds = env.sampler()
+    assert hds.method == "hds" and hds.domain == "sphere"
+    dh, ph = hds.sample(u)
+    assert np.max(np.abs(dh - d)) <= 1e-15 and np.all(np.abs(ph - pdf) <= 1e-12 * pdf)
+    # The float32 map's contract (docs/API.md, "Float32 maps"): its pdf agrees with its samples,
+    # its inverse round-trips to 1e-5, and its density stays close to the float64 map's.
+    u32 = u.astype(np.float32)
+    d32, p32 = hds.sample(u32)
+    assert d32.dtype == np.float32 and p32.dtype == np.float32
+    assert np.max(np.abs(hds.pdf(d32) / p32 - 1)) < 1e-4
+    assert np.max(np.abs(hds.invert(d32) - u32)) < 1e-5
+    assert np.max(np.abs(env.pdf(d32.astype(np.float64)) / p32 - 1)) < 1e-3
+    # A uniform grid on the sphere to check that each density integrates to 1.
+    nt, nph = 400, 800
+    th = (np.arange(nt) + 0.5) / nt * math.pi
+    phg = (np.arange(nph) + 0.5) / nph * 2 * math.pi
+    T, P = np.meshgrid(th, phg, indexing="ij")
+    grid = np.stack([np.sin(T) * np.cos(P), np.sin(T) * np.sin(P), np.cos(T)], -1).reshape(-1, 3)
+    dA = (np.sin(T) * (math.pi / nt) * (2 * math.pi / nph)).reshape(-1)
+    for kind, res in (("latlong", None), ("pbrt-v4", None), ("pbrt-v4", 16)):
+        s = env.sampler(kind) if res is None else env.sampler(kind, resolution=res)
+        assert s.method == kind
+        dk, pk = s.sample(u)
+        assert np.allclose(np.linalg.norm(dk, axis=1), 1.0, atol=1e-12)
+        ok = pk > 0
+        assert np.all(ok)
+        assert np.allclose(s.pdf(dk), pk, rtol=1e-9)
+        assert np.allclose(s.invert(dk), u, atol=1e-7)
+        assert abs(np.dot(s.pdf(grid), dA) - 1.0) < 5e-3
+    for bad in (lambda: env.sampler("mitsuba"), lambda: env.sampler("latlong", resolution=8),
+                lambda: env.sampler("pbrt-v4", resolution=0)):
+        with pytest.raises(gonio.InputError):
+            bad()

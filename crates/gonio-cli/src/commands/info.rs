@@ -248,6 +248,9 @@ pub struct Info {
     /// Photometric files only.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub photometry: Option<PhotometryInfo>,
+    /// Environment maps only.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub envmap: Option<crate::envmap_in::EnvInfo>,
 }
 
 /// Collects the information about `loaded`.
@@ -316,6 +319,7 @@ pub fn collect(loaded: &Loaded) -> anyhow::Result<Info> {
             .photometry
             .as_deref()
             .map(|p| PhotometryInfo::of(p, integral)),
+        envmap: loaded.envmap.as_deref().map(crate::envmap_in::EnvInfo::of),
     })
 }
 
