@@ -24,7 +24,15 @@ and measures
    iid and Owen-scrambled Sobol' points (``gonio.sequence``, the same points fed to both samplers,
    seeds as in the Rust example); slope = least-squares fit of log RMSE on log N; equal time =
    each sampler's RMSE at gonio's time budget for 4096 samples, from its one-thread cost per sample
-   (sample, + pdf for MIS, + the shared radiance lookups) and its slope.
+   and its slope. The cost: ``sample`` with the radiance of the sample (gonio.EnvMap.sample and
+   Mitsuba's ``sample_direction`` return it; the samplers of ``EnvMap.sampler`` pay one radiance
+   lookup more), and for MIS the light pdf and the radiance of the BSDF sample's direction.
+
+Samplers (``--no-peers``: the first and the last only): gonio's map (``gonio.EnvMap``, float64),
+its float32 map (``EnvMap.sampler("hds")`` on float32 arrays: the precision Mitsuba works in), the
+lat-long piecewise-constant and pbrt-v4-style peers (``EnvMap.sampler("latlong" | "pbrt-v4")``)
+and Mitsuba 3's ``envmap``. The tables compare gonio with Mitsuba, then every sampler side by side
+with the counts of the issue's targets.
 
 Run (about 2-4 minutes on one core):
 
@@ -100,6 +108,7 @@ class Mitsuba:
     """Mitsuba 3's envmap emitter through its Python API, numpy batches in and out."""
 
     name = "mitsuba"
+    with_radiance = True  # sample_direction evaluates the image at the sample (its weight)
 
     def __init__(self, path, variant):
         self.variant = variant
@@ -154,6 +163,8 @@ class Gonio:
 
     def __init__(self, env, kind=None, dtype=np.float64):
         self.env = env
+        # gonio.EnvMap.sample returns the radiance with the sample; a gonio.Sampler does not.
+        self.with_radiance = kind is None
         if kind is None:
             self.name, self.s = "gonio-hds", env
         else:
@@ -356,7 +367,10 @@ def run_map(path, variant, args, out_rows, speed_rows, check_rows):
                         rmse = [math.sqrt(err[[i for i, (c2, _) in enumerate(sets) if c2 == c]].mean())
                                 for c in counts]
                         ts, tp = cost[s.name]
-                        ns = ts + (tp if mis else 0.0) + t_eval * (2 if mis else 1)
+                        # A light sample's radiance: inside `sample` for gonio.EnvMap and for
+                        # Mitsuba's sample_direction (its weight), one lookup more for the others;
+                        # MIS adds the light pdf and the radiance of the BSDF sample's direction.
+                        ns = ts + (0.0 if s.with_radiance else t_eval) + ((tp + t_eval) if mis else 0.0)
                         bias = float(np.mean(est[[i for i, (c2, _) in enumerate(sets) if c2 == counts[-1]]]) - refv)
                         res[s.name] = (ns, rmse, slope(counts, rmse), bias)
                     ns_g = res["gonio-hds"][0]

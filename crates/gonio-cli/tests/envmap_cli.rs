@@ -120,6 +120,61 @@ fn convert_writes_pbrt_v4s_equal_area_image() {
     ]);
     let img = Image::read(&exr).unwrap();
     assert!(img.pixel(8, 8)[0] > 0.9 && img.pixel(0, 0)[0] == 0.0);
+    // pbrt-v4 reads direction w (light space) at pixel ⌊EqualAreaSphereToSquare(w)·N⌋, y from the
+    // top row: a lit cap round an asymmetric direction must come back there, not mirrored or
+    // transposed. The cap: every pixel whose centre is within 25° of d0.
+    let d0 = {
+        let v = [0.6f64, -0.3, 0.45];
+        let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        v.map(|c| c / n)
+    };
+    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    let (w, h) = (64, 32);
+    let mut cap = Image::constant(w, h, [0.0; 3]).unwrap();
+    for y in 0..h {
+        for x in 0..w {
+            let d = gonio::envmap::image_direction(
+                (x as f64 + 0.5) / w as f64,
+                (y as f64 + 0.5) / h as f64,
+            );
+            if dot(d, d0) > 25f64.to_radians().cos() {
+                cap.set_pixel(x, y, [1.0, 2.0, 3.0]);
+            }
+        }
+    }
+    std::fs::write(&hdr, write_hdr(&cap)).unwrap();
+    let n = 48;
+    ok(&[
+        "convert",
+        hdr.to_str().unwrap(),
+        exr.to_str().unwrap(),
+        "--to",
+        "pbrt-v4",
+        "--resolution",
+        &n.to_string(),
+    ]);
+    let img = Image::read(&exr).unwrap();
+    let pbrt_pixel = |d: [f64; 3]| {
+        let uv = gonio::baselines::equal_area::equal_area_sphere_to_square(d);
+        let x = ((uv[0] * n as f64) as usize).min(n - 1);
+        let y = ((uv[1] * n as f64) as usize).min(n - 1);
+        img.pixel(x, y)
+    };
+    assert_eq!(pbrt_pixel(d0), [1.0, 2.0, 3.0]);
+    // Well inside and well outside the cap (clear of its ragged edge of pixels).
+    let mut inside = 0;
+    for i in 0..2000 {
+        let (a, b) = ((i as f64 * 0.618_034) % 1.0, (i as f64 + 0.5) / 2000.0);
+        let d = gonio::baselines::equal_area::equal_area_square_to_sphere([a, b]);
+        let c = dot(d, d0);
+        if c > 18f64.to_radians().cos() {
+            assert_eq!(pbrt_pixel(d), [1.0, 2.0, 3.0], "{d:?} inside the cap");
+            inside += 1;
+        } else if c < 33f64.to_radians().cos() {
+            assert_eq!(pbrt_pixel(d), [0.0; 3], "{d:?} outside the cap");
+        }
+    }
+    assert!(inside > 20, "{inside}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -50,6 +50,14 @@ fn main() {
         }
     }
     times.sort_by(f64::total_cmp);
+    // The float32 map of the same sphere map (what a float32-only environment map would hold):
+    // its tables' bytes per pixel.
+    let env = EnvironmentMap::new(big).unwrap();
+    let f32_bytes = env.map().float32_map().unwrap().memory_bytes();
+    println!(
+        "float32 map of the same map: {f32_bytes} bytes = {:.2} bytes/pixel",
+        f32_bytes as f64 / (w * h) as f64
+    );
     println!(
         "build {w}x{h} on one thread, {builds} builds: median {:.1} ms (min {:.1}, max {:.1}); memory beyond the image {mem} bytes = {:.2} bytes/pixel",
         times[builds / 2],
