@@ -17,7 +17,7 @@ mod pfm;
 mod write;
 
 pub use hdr::read_hdr;
-pub use openexr::read_exr;
+pub use openexr::{read_exr, MAX_EXR_DECODED_BYTES};
 pub use pfm::read_pfm;
 pub use write::{write_hdr, write_hdr_flat, write_pfm};
 

@@ -5,9 +5,13 @@
 //! chosen by name (the part after the last `.`, so `diffuse.R` counts as `R`): `R`, `G`, `B`
 //! when all three exist, else `Y` (greyscale, R = G = B), else the file is refused with the list
 //! of its channels. Other channels (`A`, depth, …) are ignored with a warning. Rows run from the
-//! top of the data window down, as OpenEXR's y axis does. The header is read first, and its data
-//! window is checked against [`super::MAX_PIXELS`] before the pixels are decoded; a panic inside
-//! the decoder (none is known) is caught and returned as [`ImageError::Exr`].
+//! top of the data window down, as OpenEXR's y axis does. The header is read first, and before any
+//! pixel is decoded its data window is checked against [`super::MAX_PIXELS`] and every flat
+//! layer's decoded size (all its channels: the decoder allocates them all) against
+//! [`MAX_EXR_DECODED_BYTES`], so that a small file cannot make the decoder allocate gigabytes. A
+//! panic inside the decoder is caught and returned as [`ImageError::Exr`] (the `exr` crate's B44
+//! decoder overflows an integer subtraction on some blocks, a panic where overflow checks are on:
+//! docs/FUZZING.md).
 
 use super::{check_size, Image, ImageError};
 use exr::image::read::image::ReadLayers;
@@ -16,6 +20,38 @@ use exr::meta::MetaData;
 use std::io::Cursor;
 
 const FORMAT: &str = "OpenEXR";
+
+/// The most bytes the decoder may produce for one layer, every channel at full resolution (it
+/// allocates them all, and decompresses every channel of a block): 1 GiB. An RGBA float image of
+/// [`super::MAX_PIXELS`] pixels is 512 MiB; a file of a few kilobytes can declare hundreds of
+/// channels, which the decoder would allocate before reading a byte of pixel data. (Blocks need no
+/// limit of their own: the decoder clips a tile to the data window.)
+pub const MAX_EXR_DECODED_BYTES: usize = 1 << 30;
+
+/// Refuses a layer whose decoded pixels would exceed [`MAX_EXR_DECODED_BYTES`] (computed without
+/// overflow), before anything is decoded.
+fn check_decoded_bytes(header: &exr::meta::header::Header) -> Result<(), ImageError> {
+    let (w, h) = (header.layer_size.0, header.layer_size.1);
+    let per_pixel: usize = header
+        .channels
+        .list
+        .iter()
+        .map(|c| c.sample_type.bytes_per_sample())
+        .fold(0usize, usize::saturating_add);
+    let layer = w.saturating_mul(h).saturating_mul(per_pixel);
+    if layer > MAX_EXR_DECODED_BYTES {
+        return Err(ImageError::BadSize {
+            format: FORMAT,
+            width: w,
+            height: h,
+            message: format!(
+                "its {} channels ({per_pixel} bytes per pixel) would decode to {layer} bytes, more than the limit of {MAX_EXR_DECODED_BYTES}",
+                header.channels.list.len()
+            ),
+        });
+    }
+    Ok(())
+}
 
 fn exr_err(e: exr::error::Error) -> ImageError {
     ImageError::Exr {
@@ -54,6 +90,10 @@ fn read_exr_inner(bytes: &[u8]) -> Result<Image, ImageError> {
     };
     let (width, height) = (header.layer_size.0, header.layer_size.1);
     check_size(FORMAT, width, height)?;
+    // Every layer the decoder might touch, not only the one read.
+    for h in meta.headers.iter().filter(|h| !h.deep) {
+        check_decoded_bytes(h)?;
+    }
     let names: Vec<String> = header
         .channels
         .list
