@@ -29,7 +29,8 @@ and measures
    lookup more), and for MIS the light pdf and the radiance of the BSDF sample's direction.
 
 Samplers (``--no-peers``: the first and the last only): gonio's map (``gonio.EnvMap``, float64),
-its float32 map (``EnvMap.sampler("hds")`` on float32 arrays: the precision Mitsuba works in), the
+the float32 environment map (``gonio.EnvMap(path, precision="float32")``: the float32 map alone,
+the precision Mitsuba works in, with the radiance in ``sample``), the
 lat-long piecewise-constant and pbrt-v4-style peers (``EnvMap.sampler("latlong" | "pbrt-v4")``)
 and Mitsuba 3's ``envmap``. The tables compare gonio with Mitsuba, then every sampler side by side
 with the counts of the issue's targets.
@@ -161,16 +162,17 @@ class Gonio:
     """gonio.EnvMap, or one of its ``sampler(kind)`` in float64 or float32; ``threads(n)`` splits a
     batch over n Python threads (the GIL is released; the script runs rayon on one thread)."""
 
-    def __init__(self, env, kind=None, dtype=np.float64):
+    def __init__(self, env, kind=None):
         self.env = env
         # gonio.EnvMap.sample returns the radiance with the sample; a gonio.Sampler does not.
         self.with_radiance = kind is None
+        self.dtype = np.float32 if env.precision == "float32" else np.float64
         if kind is None:
-            self.name, self.s = "gonio-hds", env
+            self.name = "gonio-hds" + ("-f32" if self.dtype == np.float32 else "")
+            self.s = env
         else:
             self.s = env.sampler(kind)
-            self.name = PEER_NAMES[kind] + ("-f32" if dtype == np.float32 else "")
-        self.dtype = dtype
+            self.name = PEER_NAMES[kind]
         self.n_threads = 1
         self.pool = None
 
@@ -289,7 +291,11 @@ def run_map(path, variant, args, out_rows, speed_rows, check_rows):
           "(Mitsuba, with its file read)", file=sys.stderr)
     samplers = [g, m]
     if not args.no_peers:
-        samplers[1:1] = [Gonio(g.env, "hds", np.float32), Gonio(g.env, "latlong"), Gonio(g.env, "pbrt-v4")]
+        samplers[1:1] = [Gonio(gonio.EnvMap(path, precision="float32")), Gonio(g.env, "latlong"),
+                         Gonio(g.env, "pbrt-v4")]
+    print(f"{name}: bytes per pixel beyond the image: "
+          + ", ".join(f"{s.name} {s.env.memory_bytes / (w * h):.2f}" for s in samplers
+                      if isinstance(s, Gonio) and s.s is s.env), file=sys.stderr)
     lookups = {"nearest": g.env, "bilinear": gonio.EnvMap(path, lookup="bilinear")}
 
     # 1. Speed: one batch of n points / directions.

@@ -316,14 +316,14 @@ pub(crate) fn zeros<'py, T: Element, D: Dimension>(
     }
 }
 
-/// A new (n, K) float64 array with a copy of a row-major buffer of n·K values.
-pub(crate) fn new_2d<'py>(
+/// A new (n, K) float64 (or float32) array with a copy of a row-major buffer of n·K values.
+pub(crate) fn new_2d<'py, T: Element + Copy>(
     py: Python<'py>,
-    data: &[f64],
+    data: &[T],
     k: usize,
-) -> PyResult<Bound<'py, PyArray2<f64>>> {
+) -> PyResult<Bound<'py, PyArray2<T>>> {
     let n = data.len().checked_div(k).unwrap_or(0);
-    let a = zeros::<f64, numpy::Ix2>(py, &[n, k])?;
+    let a = zeros::<T, numpy::Ix2>(py, &[n, k])?;
     fill(&a, "a new array", |out| {
         out.copy_from_slice(&data[..n * k]);
         Ok(())
@@ -331,9 +331,12 @@ pub(crate) fn new_2d<'py>(
     Ok(a)
 }
 
-/// A new 1-D float64 array with a copy of `data`.
-pub(crate) fn new_1d<'py>(py: Python<'py>, data: &[f64]) -> PyResult<Bound<'py, PyArray1<f64>>> {
-    let a = zeros::<f64, numpy::Ix1>(py, &[data.len()])?;
+/// A new 1-D float64 (or float32) array with a copy of `data`.
+pub(crate) fn new_1d<'py, T: Element + Copy>(
+    py: Python<'py>,
+    data: &[T],
+) -> PyResult<Bound<'py, PyArray1<T>>> {
+    let a = zeros::<T, numpy::Ix1>(py, &[data.len()])?;
     fill(&a, "a new array", |out| {
         out.copy_from_slice(data);
         Ok(())

@@ -3,35 +3,79 @@
 
 use crate::sampler::PySampler;
 use crate::{arrays, detached, no_panic, GonioError, InputError};
-use gonio::envmap::{EnvOptions, EnvironmentMap, Lookup, Weight};
+use gonio::envmap::{EnvOptions, EnvironmentMap, Float32EnvironmentMap, Lookup, Weight};
 use gonio::image::Image;
+use gonio::sampler::normalize;
 use gonio::Sampler;
-use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 
 /// An environment light: an image's luminance as a density per steradian over the sphere,
 /// sampled exactly (``sample``, ``pdf``, ``invert``) and its RGB radiance (``eval``).
 ///
-/// ``EnvMap(path, lookup="nearest", mis_compensation=False, weight="luminance")``. Directions
-/// are gonio's frame: the image's top row is +z, its centre column +x (docs/ENVMAPS.md).
+/// ``EnvMap(path, lookup="nearest", mis_compensation=False, weight="luminance",
+/// precision="float64")``. Directions are gonio's frame: the image's top row is +z, its centre
+/// column +x (docs/ENVMAPS.md). ``precision="float32"`` keeps only the map's float32 map (about
+/// 10 bytes per pixel instead of 18; the float32 map's contract, docs/API.md) and returns float32
+/// arrays.
 /// ``weight`` is what the density is proportional to: ``"luminance"`` (Rec. 709 Y),
 /// ``"red"``/``"green"``/``"blue"`` or 0/1/2 (one channel), or an array of shape
 /// (height, width), row 0 at the top, finite and ≥ 0 (taken as float32, as the C ABI takes it).
 #[pyclass(name = "EnvMap", module = "gonio", frozen)]
 pub struct PyEnvMap {
-    env: EnvironmentMap,
+    inner: Inner,
+}
+
+/// The float64 map, or the float32 one (`precision="float32"`). (Boxed: the two differ in size,
+/// and one is built per object.)
+enum Inner {
+    F64(Box<EnvironmentMap>),
+    F32(Box<Float32EnvironmentMap>),
+}
+
+impl PyEnvMap {
+    fn image(&self) -> &Image {
+        match &self.inner {
+            Inner::F64(e) => e.image(),
+            Inner::F32(e) => e.image(),
+        }
+    }
+    fn options(&self) -> &EnvOptions {
+        match &self.inner {
+            Inner::F64(e) => e.options(),
+            Inner::F32(e) => e.options(),
+        }
+    }
+    /// The float64 map, or an InputError saying that `what` needs it.
+    fn f64_map(&self, what: &str) -> PyResult<&EnvironmentMap> {
+        match &self.inner {
+            Inner::F64(e) => Ok(e),
+            Inner::F32(_) => Err(InputError::new_err(format!(
+                "{what}: needs the float64 map (EnvMap(..., precision=\"float64\"), the default)"
+            ))),
+        }
+    }
 }
 
 #[pymethods]
 impl PyEnvMap {
     #[new]
-    #[pyo3(signature = (path, lookup = "nearest", mis_compensation = false, weight = None))]
+    #[pyo3(signature = (path, lookup = "nearest", mis_compensation = false, weight = None, precision = "float64"))]
     fn new(
         path: std::path::PathBuf,
         lookup: &str,
         mis_compensation: bool,
         weight: Option<&Bound<'_, PyAny>>,
+        precision: &str,
     ) -> PyResult<Self> {
+        let float32 = match precision {
+            "float64" => false,
+            "float32" => true,
+            other => {
+                return Err(InputError::new_err(format!(
+                    "precision: {other:?} is not \"float64\" or \"float32\""
+                )))
+            }
+        };
         let lookup = match lookup {
             "nearest" => Lookup::Nearest,
             "bilinear" => Lookup::Bilinear,
@@ -63,36 +107,56 @@ impl PyEnvMap {
             lookup,
             mis_compensation,
         };
-        let env = no_panic("EnvMap", || {
-            EnvironmentMap::with_options(img, options)
-                .map_err(|e| format!("{}: {e}", path.display()))
+        let inner = no_panic("EnvMap", || {
+            let env = EnvironmentMap::with_options(img, options)
+                .map_err(|e| format!("{}: {e}", path.display()))?;
+            if float32 {
+                env.into_float32()
+                    .map(|e| Inner::F32(Box::new(e)))
+                    .map_err(|e| format!("{}: {e}", path.display()))
+            } else {
+                Ok(Inner::F64(Box::new(env)))
+            }
         })?
         .map_err(GonioError::new_err)?;
-        Ok(Self { env })
+        Ok(Self { inner })
     }
 
     /// Image width in pixels.
     #[getter]
     fn width(&self) -> usize {
-        self.env.image().width()
+        self.image().width()
     }
 
     /// Image height in pixels.
     #[getter]
     fn height(&self) -> usize {
-        self.env.image().height()
+        self.image().height()
     }
 
     /// ∫ luminance dω over the sphere (image unit × sr).
     #[getter]
     fn power(&self) -> f64 {
-        self.env.power()
+        match &self.inner {
+            Inner::F64(e) => e.power(),
+            Inner::F32(e) => e.power(),
+        }
+    }
+
+    /// "float64" or "float32": the precision of the map's tables and arithmetic, and of the
+    /// arrays its methods return.
+    #[getter]
+    fn precision(&self) -> &'static str {
+        match &self.inner {
+            Inner::F64(_) => "float64",
+            Inner::F32(_) => "float32",
+        }
     }
 
     /// What the density is proportional to: "luminance", "red", "green", "blue" or "custom".
     #[getter]
     fn weight(&self) -> &'static str {
-        match self.env.options().weight {
+        match self.options().weight {
             Weight::Luminance => "luminance",
             Weight::Channel(0) => "red",
             Weight::Channel(1) => "green",
@@ -104,7 +168,7 @@ impl PyEnvMap {
     /// How ``eval`` (and ``sample``'s rgb) read the image: "nearest" or "bilinear".
     #[getter]
     fn lookup(&self) -> &'static str {
-        match self.env.options().lookup {
+        match self.options().lookup {
             Lookup::Nearest => "nearest",
             Lookup::Bilinear => "bilinear",
         }
@@ -113,7 +177,10 @@ impl PyEnvMap {
     /// Bytes held beyond the image (the map's tables; docs/ENVMAPS.md, "Build and memory").
     #[getter]
     fn memory_bytes(&self) -> usize {
-        self.env.memory_bytes_beyond_image()
+        match &self.inner {
+            Inner::F64(e) => e.memory_bytes_beyond_image(),
+            Inner::F32(e) => e.memory_bytes_beyond_image(),
+        }
     }
 
     /// ``sampler(kind="hds", *, resolution=None)``: a ``gonio.Sampler`` over this map's weight
@@ -141,7 +208,7 @@ impl PyEnvMap {
         if resolution == Some(0) {
             return Err(InputError::new_err("resolution: must be at least 1"));
         }
-        let env = &self.env;
+        let env = self.f64_map("EnvMap.sampler")?;
         let built: Result<(Box<dyn Sampler>, &'static str), String> =
             detached(py, "EnvMap.sampler", || match kind {
                 "hds" => Ok((Box::new(env.clone()) as Box<dyn Sampler>, "hds")),
@@ -169,20 +236,20 @@ impl PyEnvMap {
     /// What was repaired or ignored while reading and building.
     #[getter]
     fn warnings(&self) -> Vec<String> {
-        self.env.warnings().to_vec()
+        match &self.inner {
+            Inner::F64(e) => e.warnings().to_vec(),
+            Inner::F32(e) => e.warnings().to_vec(),
+        }
     }
 
-    /// ``sample(u)`` for u of shape (n, 2) in [0, 1]²: (directions (n, 3), pdf (n,), rgb (n, 3)).
+    /// ``sample(u)`` for u of shape (n, 2) in [0, 1]²: (directions (n, 3), pdf (n,), rgb (n, 3)),
+    /// float64 arrays, or float32 ones for a float32 map (its points are u rounded to float32).
     #[allow(clippy::type_complexity)]
     fn sample<'py>(
         &self,
         py: Python<'py>,
         u: &Bound<'py, PyAny>,
-    ) -> PyResult<(
-        Bound<'py, PyArray2<f64>>,
-        Bound<'py, PyArray1<f64>>,
-        Bound<'py, PyArray2<f64>>,
-    )> {
+    ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>, Bound<'py, PyAny>)> {
         let rows = arrays::rows::<2>(u, "u")?;
         let pts = rows.as_slice();
         if let Some(k) = pts
@@ -194,87 +261,182 @@ impl PyEnvMap {
                 pts[k][0], pts[k][1]
             )));
         }
-        let env = &self.env;
-        let (d, p, c) = detached(py, "EnvMap.sample", || {
-            // The sphere map's SIMD batch path, then the radiance of each direction.
-            let n = pts.len();
-            let mut d: Vec<[f64; 3]> = arrays::try_vec(n, "directions")?;
-            d.resize(n, [0.0; 3]);
-            let mut p = arrays::try_vec(n, "pdf")?;
-            p.resize(n, 0.0);
-            let mut rgb: Vec<[f32; 3]> = arrays::try_vec(n, "rgb")?;
-            rgb.resize(n, [0.0; 3]);
-            env.sample_batch_rgb(&pts, &mut d, &mut p, &mut rgb);
-            let mut c = arrays::try_vec(3 * n, "rgb")?;
-            c.extend(rgb.iter().flat_map(|v| v.map(f64::from)));
-            PyResult::Ok((d.into_flattened(), p, c))
-        })??;
-        Ok((
-            arrays::new_2d(py, &d, 3)?,
-            arrays::new_1d(py, &p)?,
-            arrays::new_2d(py, &c, 3)?,
-        ))
+        let n = pts.len();
+        match &self.inner {
+            Inner::F64(env) => {
+                let (d, p, c) = detached(py, "EnvMap.sample", || {
+                    // The sphere map's SIMD batch path, then the radiance of each direction.
+                    let mut d: Vec<[f64; 3]> = arrays::try_vec(n, "directions")?;
+                    d.resize(n, [0.0; 3]);
+                    let mut p = arrays::try_vec(n, "pdf")?;
+                    p.resize(n, 0.0);
+                    let mut rgb: Vec<[f32; 3]> = arrays::try_vec(n, "rgb")?;
+                    rgb.resize(n, [0.0; 3]);
+                    env.sample_batch_rgb(&pts, &mut d, &mut p, &mut rgb);
+                    let mut c = arrays::try_vec(3 * n, "rgb")?;
+                    c.extend(rgb.iter().flat_map(|v| v.map(f64::from)));
+                    PyResult::Ok((d.into_flattened(), p, c))
+                })??;
+                Ok((
+                    arrays::new_2d(py, &d, 3)?.into_any(),
+                    arrays::new_1d(py, &p)?.into_any(),
+                    arrays::new_2d(py, &c, 3)?.into_any(),
+                ))
+            }
+            Inner::F32(env) => {
+                let (d, p, c) = detached(py, "EnvMap.sample", || {
+                    let col = |k: usize| -> PyResult<Vec<f32>> {
+                        let mut v = arrays::try_vec(n, "u")?;
+                        v.extend(pts.iter().map(|p| p[k] as f32));
+                        Ok(v)
+                    };
+                    let (u, v) = (col(0)?, col(1)?);
+                    let [mut x, mut y, mut z, mut p] =
+                        [zeros32(n)?, zeros32(n)?, zeros32(n)?, zeros32(n)?];
+                    let mut rgb: Vec<[f32; 3]> = arrays::try_vec(n, "rgb")?;
+                    rgb.resize(n, [0.0; 3]);
+                    env.sample_soa(&u, &v, [&mut x, &mut y, &mut z], &mut p, &mut rgb);
+                    let mut d = arrays::try_vec(3 * n, "directions")?;
+                    d.extend((0..n).flat_map(|k| [x[k], y[k], z[k]]));
+                    PyResult::Ok((d, p, rgb.into_flattened()))
+                })??;
+                Ok((
+                    arrays::new_2d(py, &d, 3)?.into_any(),
+                    arrays::new_1d(py, &p)?.into_any(),
+                    arrays::new_2d(py, &c, 3)?.into_any(),
+                ))
+            }
+        }
     }
 
-    /// ``pdf(directions)`` for directions of shape (n, 3): the density per steradian.
+    /// ``pdf(directions)`` for directions of shape (n, 3): the density per steradian (float32
+    /// for a float32 map, of the directions rounded to float32).
     fn pdf<'py>(
         &self,
         py: Python<'py>,
         directions: &Bound<'py, PyAny>,
-    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    ) -> PyResult<Bound<'py, PyAny>> {
         let rows = arrays::rows::<3>(directions, "directions")?;
         let ds = rows.as_slice();
-        let env = &self.env;
-        let p = detached(py, "EnvMap.pdf", || {
-            let mut p = arrays::try_vec(ds.len(), "pdf")?;
-            p.resize(ds.len(), 0.0);
-            env.pdf_batch(&ds, &mut p);
-            PyResult::Ok(p)
-        })??;
-        arrays::new_1d(py, &p)
+        match &self.inner {
+            Inner::F64(env) => {
+                let p = detached(py, "EnvMap.pdf", || {
+                    let mut p = arrays::try_vec(ds.len(), "pdf")?;
+                    p.resize(ds.len(), 0.0);
+                    env.pdf_batch(&ds, &mut p);
+                    PyResult::Ok(p)
+                })??;
+                Ok(arrays::new_1d(py, &p)?.into_any())
+            }
+            Inner::F32(env) => {
+                let p = detached(py, "EnvMap.pdf", || {
+                    let [x, y, z] = soa32(&ds)?;
+                    let mut p = zeros32(ds.len())?;
+                    env.pdf_soa([&x, &y, &z], &mut p);
+                    PyResult::Ok(p)
+                })??;
+                Ok(arrays::new_1d(py, &p)?.into_any())
+            }
+        }
     }
 
-    /// ``eval(directions)``: the RGB radiance (n, 3) by the map's lookup.
+    /// ``eval(directions)``: the RGB radiance (n, 3) by the map's lookup (a float32 array for a
+    /// float32 map; the directions are not rounded to float32 first).
     fn eval<'py>(
         &self,
         py: Python<'py>,
         directions: &Bound<'py, PyAny>,
-    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    ) -> PyResult<Bound<'py, PyAny>> {
         let rows = arrays::rows::<3>(directions, "directions")?;
         let ds = rows.as_slice();
-        let env = &self.env;
-        let c = detached(py, "EnvMap.eval", || {
-            // The batch lookup (the angles on SIMD lanes): `EnvironmentMap::eval` bit for bit.
-            let mut rgb: Vec<[f32; 3]> = arrays::try_vec(ds.len(), "rgb")?;
-            rgb.resize(ds.len(), [0.0; 3]);
-            env.eval_batch(&ds, &mut rgb);
-            let mut c = arrays::try_vec(3 * ds.len(), "rgb")?;
-            c.extend(rgb.iter().flat_map(|v| v.map(f64::from)));
-            PyResult::Ok(c)
-        })??;
-        arrays::new_2d(py, &c, 3)
+        match &self.inner {
+            Inner::F64(env) => {
+                let c = detached(py, "EnvMap.eval", || {
+                    // The batch lookup (the angles on SIMD lanes): `EnvironmentMap::eval` bit
+                    // for bit.
+                    let mut rgb: Vec<[f32; 3]> = arrays::try_vec(ds.len(), "rgb")?;
+                    rgb.resize(ds.len(), [0.0; 3]);
+                    env.eval_batch(&ds, &mut rgb);
+                    let mut c = arrays::try_vec(3 * ds.len(), "rgb")?;
+                    c.extend(rgb.iter().flat_map(|v| v.map(f64::from)));
+                    PyResult::Ok(c)
+                })??;
+                Ok(arrays::new_2d(py, &c, 3)?.into_any())
+            }
+            Inner::F32(env) => {
+                let c = detached(py, "EnvMap.eval", || {
+                    // The radiance of the directions as given (not rounded to float32): a
+                    // float32 sample's direction reads the radiance `sample` returned with it.
+                    let mut rgb: Vec<[f32; 3]> = arrays::try_vec(ds.len(), "rgb")?;
+                    rgb.resize(ds.len(), [0.0; 3]);
+                    env.eval_batch(&ds, &mut rgb);
+                    PyResult::Ok(rgb.into_flattened())
+                })??;
+                Ok(arrays::new_2d(py, &c, 3)?.into_any())
+            }
+        }
     }
 
     /// ``invert(directions)``: the points (n, 2) of the square that ``sample`` maps to them
-    /// (NaN where the density is 0 or the direction is not a finite non-zero vector).
+    /// (NaN where the density is 0 or the direction is not a finite non-zero vector; float32 for
+    /// a float32 map).
     fn invert<'py>(
         &self,
         py: Python<'py>,
         directions: &Bound<'py, PyAny>,
-    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    ) -> PyResult<Bound<'py, PyAny>> {
         let rows = arrays::rows::<3>(directions, "directions")?;
         let ds = rows.as_slice();
-        let env = &self.env;
-        let u = detached(py, "EnvMap.invert", || {
-            let mut res = arrays::try_vec(ds.len(), "u")?;
-            res.resize(ds.len(), Ok([0.0; 2]));
-            env.invert_batch(&ds, &mut res);
-            let mut u = arrays::try_vec(2 * ds.len(), "u")?;
-            u.extend(res.into_iter().flat_map(|r| r.unwrap_or([f64::NAN; 2])));
-            PyResult::Ok(u)
-        })??;
-        arrays::new_2d(py, &u, 2)
+        match &self.inner {
+            Inner::F64(env) => {
+                let u = detached(py, "EnvMap.invert", || {
+                    let mut res = arrays::try_vec(ds.len(), "u")?;
+                    res.resize(ds.len(), Ok([0.0; 2]));
+                    env.invert_batch(&ds, &mut res);
+                    let mut u = arrays::try_vec(2 * ds.len(), "u")?;
+                    u.extend(res.into_iter().flat_map(|r| r.unwrap_or([f64::NAN; 2])));
+                    PyResult::Ok(u)
+                })??;
+                Ok(arrays::new_2d(py, &u, 2)?.into_any())
+            }
+            Inner::F32(env) => {
+                let u = detached(py, "EnvMap.invert", || {
+                    let [x, y, z] = soa32(&ds)?;
+                    let (mut u, mut v) = (zeros32(ds.len())?, zeros32(ds.len())?);
+                    env.invert_soa([&x, &y, &z], [&mut u, &mut v]);
+                    let mut uv = arrays::try_vec(2 * ds.len(), "u")?;
+                    uv.extend(u.iter().zip(&v).flat_map(|(a, b)| [*a, *b]));
+                    PyResult::Ok(uv)
+                })??;
+                Ok(arrays::new_2d(py, &u, 2)?.into_any())
+            }
+        }
     }
+}
+
+/// `n` zeros, allocated fallibly (MemoryError, never an abort).
+fn zeros32(n: usize) -> PyResult<Vec<f32>> {
+    let mut v = arrays::try_vec(n, "a float32 buffer")?;
+    v.resize(n, 0.0);
+    Ok(v)
+}
+
+/// Directions as three float32 columns: each normalised in float64 and then rounded to float32
+/// (as `gonio.Sampler` passes float32 directions to the float32 map); a zero or non-finite vector
+/// becomes NaN, where the float32 map's pdf is 0, its inverse NaN and the radiance black.
+fn soa32(ds: &[[f64; 3]]) -> PyResult<[Vec<f32>; 3]> {
+    let mut cols = [
+        arrays::try_vec(ds.len(), "directions")?,
+        arrays::try_vec(ds.len(), "directions")?,
+        arrays::try_vec(ds.len(), "directions")?,
+    ];
+    for d in ds {
+        let e = normalize(*d).unwrap_or([f64::NAN; 3]);
+        for c in 0..3 {
+            cols[c].push(e[c] as f32);
+        }
+    }
+    Ok(cols)
 }
 
 /// The `weight` argument of `EnvMap`: the library's [`Weight`] and, for an array, its shape

@@ -52,8 +52,10 @@
 //! nodes (bilinear in (θ, φ) between the pixel centres, wrapping across the seam, towards the
 //! poles' mean colour in the half rows next to them), continuous everywhere.
 
+mod float32;
 mod peers;
 
+pub use float32::Float32EnvironmentMap;
 pub use peers::LatLongPiecewiseConstant;
 
 use crate::diagram::{Diagram, DiagramError};
@@ -114,6 +116,9 @@ pub enum EnvMapError {
     /// The diagram or the map refused the image (e.g. too large).
     #[error(transparent)]
     Diagram(#[from] DiagramError),
+    /// The map has no float32 map ([`Float32EnvironmentMap`]).
+    #[error("no float32 map: {0}")]
+    Float32(#[from] crate::mapping::Float32MapError),
 }
 
 /// One sample of an environment map: a direction, its exact density and the radiance there.
@@ -144,9 +149,7 @@ pub struct EnvSample {
 /// ```
 #[derive(Debug, Clone)]
 pub struct EnvironmentMap {
-    image: Image,
-    /// Mean RGB of the first and last rows (the poles' colour for bilinear lookups).
-    pole_rgb: [[f32; 3]; 2],
+    radiance: Radiance,
     map: SphereMap,
     options: EnvOptions,
     warnings: Vec<String>,
@@ -215,17 +218,14 @@ impl EnvironmentMap {
     /// outside 0..3 or custom weights of the wrong length or with negative or non-finite values;
     /// [`EnvMapError::Diagram`] if the map cannot be built.
     pub fn with_options(image: Image, options: EnvOptions) -> Result<Self, EnvMapError> {
-        let h = image.height();
         let mut warnings = image.warnings().to_vec();
         let diagram = weight_diagram(&image, &options, &mut warnings)?;
         let map = SphereMap::new(&diagram)?;
         // The diagram is not kept: the map's tables hold its values (divided by their largest),
         // and `diagram()` rebuilds it from the image.
         drop(diagram);
-        let pole_rgb = [row_mean_rgb(&image, 0), row_mean_rgb(&image, h - 1)];
         Ok(Self {
-            image,
-            pole_rgb,
+            radiance: Radiance::new(image),
             map,
             options,
             warnings,
@@ -234,14 +234,14 @@ impl EnvironmentMap {
 
     /// The image.
     pub fn image(&self) -> &Image {
-        &self.image
+        &self.radiance.image
     }
 
     /// The diagram the map samples (W meridians × (H + 2) parallels; see the module
     /// documentation), **rebuilt** from the image and the options on each call (the map does not
     /// keep it, to save 8 bytes per pixel; the values are the same as at build time).
     pub fn diagram(&self) -> Diagram {
-        weight_diagram(&self.image, &self.options, &mut Vec::new())
+        weight_diagram(&self.radiance.image, &self.options, &mut Vec::new())
             .expect("the diagram was built from the same image and options before")
     }
 
@@ -325,6 +325,60 @@ impl EnvironmentMap {
     /// # Panics
     /// If the slices differ in length (a programming error, not an input error).
     pub fn eval_batch_with(&self, dirs: &[Vec3], lookup: Lookup, rgb: &mut [[f32; 3]]) {
+        self.radiance.eval_batch_with(dirs, lookup, rgb)
+    }
+
+    /// Density of [`EnvironmentMap::sample`] at a direction, per steradian.
+    pub fn pdf(&self, direction: Vec3) -> f64 {
+        self.map.pdf(direction)
+    }
+
+    /// The point of the unit square that [`EnvironmentMap::sample`] maps to `direction`.
+    ///
+    /// # Errors
+    /// As [`Sampler::invert`].
+    pub fn invert(&self, direction: Vec3) -> Result<Point2, InvertError> {
+        self.map.invert(direction)
+    }
+
+    /// The image's RGB radiance in `direction` (normalised first; black for a zero or non-finite
+    /// vector), by the map's [`Lookup`].
+    pub fn eval(&self, direction: Vec3) -> [f32; 3] {
+        self.eval_with(direction, self.options.lookup)
+    }
+
+    /// The image's RGB radiance in `direction` by the given lookup. The direction's angles are
+    /// [`crate::mapping::simd::math::angles`] (branch-free `atan2`, within a few ulps of
+    /// [`crate::sampler::spherical`]), the functions the batch lookup computes on its lanes.
+    pub fn eval_with(&self, direction: Vec3, lookup: Lookup) -> [f32; 3] {
+        self.radiance.eval_with(direction, lookup)
+    }
+
+    /// The total power of the weight over the sphere, ∫ weight dω (the bilinear diagram's
+    /// integral), e.g. the luminance integrated over solid angle.
+    pub fn power(&self) -> f64 {
+        self.map.target_power()
+    }
+}
+
+/// An image's radiance lookups, the part of an environment light that the float64 and the float32
+/// environment maps share: the image and the mean colours of its first and last rows.
+#[derive(Debug, Clone)]
+pub(crate) struct Radiance {
+    pub(crate) image: Image,
+    /// Mean RGB of the first and last rows (the poles' colour for bilinear lookups).
+    pole_rgb: [[f32; 3]; 2],
+}
+
+impl Radiance {
+    pub(crate) fn new(image: Image) -> Self {
+        let h = image.height();
+        let pole_rgb = [row_mean_rgb(&image, 0), row_mean_rgb(&image, h - 1)];
+        Radiance { image, pole_rgb }
+    }
+
+    /// [`EnvironmentMap::eval_batch_with`].
+    pub(crate) fn eval_batch_with(&self, dirs: &[Vec3], lookup: Lookup, rgb: &mut [[f32; 3]]) {
         assert_eq!(dirs.len(), rgb.len(), "eval_batch: slices differ in length");
         const CHUNK: usize = 256;
         let backend = crate::mapping::simd::Backend::detect();
@@ -374,29 +428,8 @@ impl EnvironmentMap {
         }
     }
 
-    /// Density of [`EnvironmentMap::sample`] at a direction, per steradian.
-    pub fn pdf(&self, direction: Vec3) -> f64 {
-        self.map.pdf(direction)
-    }
-
-    /// The point of the unit square that [`EnvironmentMap::sample`] maps to `direction`.
-    ///
-    /// # Errors
-    /// As [`Sampler::invert`].
-    pub fn invert(&self, direction: Vec3) -> Result<Point2, InvertError> {
-        self.map.invert(direction)
-    }
-
-    /// The image's RGB radiance in `direction` (normalised first; black for a zero or non-finite
-    /// vector), by the map's [`Lookup`].
-    pub fn eval(&self, direction: Vec3) -> [f32; 3] {
-        self.eval_with(direction, self.options.lookup)
-    }
-
-    /// The image's RGB radiance in `direction` by the given lookup. The direction's angles are
-    /// [`crate::mapping::simd::math::angles`] (branch-free `atan2`, within a few ulps of
-    /// [`crate::sampler::spherical`]), the functions the batch lookup computes on its lanes.
-    pub fn eval_with(&self, direction: Vec3, lookup: Lookup) -> [f32; 3] {
+    /// [`EnvironmentMap::eval_with`].
+    pub(crate) fn eval_with(&self, direction: Vec3, lookup: Lookup) -> [f32; 3] {
         let Some(d) = normalize(direction) else {
             return [0.0; 3];
         };
@@ -448,12 +481,6 @@ impl EnvironmentMap {
                 }
             }
         }
-    }
-
-    /// The total power of the weight over the sphere, ∫ weight dω (the bilinear diagram's
-    /// integral), e.g. the luminance integrated over solid angle.
-    pub fn power(&self) -> f64 {
-        self.map.target_power()
     }
 }
 

@@ -618,3 +618,104 @@ fn the_lazy_ratio_bound_is_the_eager_one_and_shared_across_threads() {
         "a refined map's bound is computed by the build"
     );
 }
+
+/// The float32 environment map: its samples, densities and inverses are its float32 map's bit for
+/// bit (so the float32 map's tested contract is its own), its radiance is the float64 lookup of
+/// the widened direction bit for bit, it keeps the float32 map's contract on maps with bright
+/// pixels at the pole, the seam and the horizon, and it holds ≤ 12 bytes per pixel.
+#[test]
+fn the_float32_environment_map_is_its_float32_map_with_radiance() {
+    let images = [
+        random_image(64, 32, 9),
+        one_bright(48, 24, 0, 0, 0.02),
+        one_bright(48, 24, 47, 11, 0.02),
+        one_bright(48, 24, 17, 12, 0.02),
+    ];
+    for (case, img) in images.into_iter().enumerate() {
+        for lookup in [Lookup::Nearest, Lookup::Bilinear] {
+            let opts = EnvOptions {
+                lookup,
+                ..EnvOptions::default()
+            };
+            let env = EnvironmentMap::with_options(img.clone(), opts.clone()).unwrap();
+            let reference = env.map().float32_map().unwrap();
+            let power = env.power();
+            let f32env = env.clone().into_float32().unwrap();
+            assert_eq!(f32env.power(), power);
+            let n = 4099;
+            let mut rng = Xoshiro256PlusPlus::seed_from_u64(case as u64);
+            let u: Vec<f32> = (0..n).map(|_| rng.gen::<f32>()).collect();
+            let v: Vec<f32> = (0..n).map(|_| rng.gen::<f32>()).collect();
+            let bits = |a: &[f32]| a.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            let (mut x, mut y, mut z, mut p) =
+                (vec![0f32; n], vec![0f32; n], vec![0f32; n], vec![0f32; n]);
+            let mut rgb = vec![[0f32; 3]; n];
+            f32env.sample_soa(&u, &v, [&mut x, &mut y, &mut z], &mut p, &mut rgb);
+            let (mut x2, mut y2, mut z2, mut p2) =
+                (vec![0f32; n], vec![0f32; n], vec![0f32; n], vec![0f32; n]);
+            reference.sample_soa(&u, &v, [&mut x2, &mut y2, &mut z2], &mut p2);
+            assert_eq!(bits(&x), bits(&x2));
+            assert_eq!(bits(&y), bits(&y2));
+            assert_eq!(bits(&z), bits(&z2));
+            assert_eq!(bits(&p), bits(&p2));
+            for k in 0..n {
+                let d = [x[k], y[k], z[k]];
+                let want = env.eval_with(d.map(f64::from), lookup);
+                assert_eq!(rgb[k], want, "case {case}, point {k}");
+                assert_eq!(f32env.eval(d), want);
+            }
+            // The float32 map's contract: pdf at the sample agrees, the inverse round-trips,
+            // the density is close to the float64 map's.
+            let mut q = vec![0f32; n];
+            f32env.pdf_soa([&x, &y, &z], &mut q);
+            let (mut iu, mut iv) = (vec![0f32; n], vec![0f32; n]);
+            f32env.invert_soa([&x, &y, &z], [&mut iu, &mut iv]);
+            for k in 0..n {
+                assert!(p[k] > 0.0 && p[k].is_finite());
+                assert!(
+                    (q[k] / p[k] - 1.0).abs() < 1e-4,
+                    "case {case}: {} vs {}",
+                    q[k],
+                    p[k]
+                );
+                assert!((iu[k] - u[k]).abs() < 1e-5 && (iv[k] - v[k]).abs() < 1e-5);
+                let p64 = env.pdf([x[k], y[k], z[k]].map(f64::from));
+                assert!(
+                    (f64::from(p[k]) / p64 - 1.0).abs() < 1e-3,
+                    "case {case}: {} vs {p64}",
+                    p[k]
+                );
+            }
+        }
+    }
+    // A constant sky is uniform to float32 round-off; a black one is the clear error.
+    let sky = Float32EnvironmentMap::new(
+        Image::constant(32, 16, [2.0; 3]).unwrap(),
+        EnvOptions::default(),
+    )
+    .unwrap();
+    let mut q = [0f32; 3];
+    sky.pdf_soa(
+        [&[1.0, 0.0, 0.6], &[0.0, 1.0, 0.0], &[0.0, 0.0, 0.8]],
+        &mut q,
+    );
+    let uniform = 1.0 / (4.0 * std::f32::consts::PI);
+    assert!(
+        q.iter()
+            .all(|&p| (p - uniform).abs() <= 4.0 * f32::EPSILON * uniform),
+        "{q:?}"
+    );
+    assert!(matches!(
+        Float32EnvironmentMap::new(
+            Image::constant(8, 4, [0.0; 3]).unwrap(),
+            EnvOptions::default()
+        ),
+        Err(EnvMapError::Black { .. })
+    ));
+    // Memory: the float32 tables, ≤ 12 bytes per pixel beyond the image (the float64 map: ≈ 18).
+    let (w, h) = (512, 256);
+    let env = EnvironmentMap::new(random_image(w, h, 4)).unwrap();
+    let b64 = env.memory_bytes_beyond_image() as f64 / (w * h) as f64;
+    let b32 = env.into_float32().unwrap().memory_bytes_beyond_image() as f64 / (w * h) as f64;
+    assert!(b32 <= 12.0 && b64 > 16.0, "{b32} {b64} bytes per pixel");
+}
