@@ -144,6 +144,22 @@ int main(int argc, char **argv) {
                 failures++;
             std::printf("environment map with options (bilinear, custom weights): pdf %.6g\n",
                         s.pdf);
+            // The float32 environment map: the uniform density to float round-off.
+            const gonio::EnvMapF32 f32 =
+                gonio::EnvMapF32::from(gonio::EnvMap::read_memory(pfm, "sky.pfm"));
+            std::vector<float> u32, v32, x, y, z, p32, rgb;
+            for (int i = 0; i < 50; i++) {
+                u32.push_back(float((i + 0.5) / 50.0));
+                v32.push_back(float(std::fmod(0.618034 * (i + 0.5), 1.0)));
+            }
+            f32.sample(u32, v32, x, y, z, p32, rgb);
+            const std::vector<float> q32 = f32.pdf(x, y, z);
+            for (int i = 0; i < 50; i++)
+                if (std::fabs(p32[i] - float(uniform)) > 5e-7 * uniform ||
+                    std::fabs(q32[i] - float(uniform)) > 5e-7 * uniform || rgb[3 * i] != level)
+                    failures++;
+            std::printf("float32 environment map: %zu bytes, pdf %.9g\n", f32.memory_bytes(),
+                        double(p32[0]));
         } catch (const gonio::Error &e) {
             if (level != 0.0f || e.status() != GONIO_ERR_BUILD) failures++;
             std::printf("expected error: %s\n", e.what());

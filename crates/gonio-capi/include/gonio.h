@@ -43,6 +43,15 @@ typedef struct GonioDiagram GonioDiagram;
 typedef struct GonioEnvMap GonioEnvMap;
 
 /*
+ An environment light on its float32 map alone (opaque; the library's
+ `Float32EnvironmentMap`, docs/ENVMAPS.md "The float32 environment map": about 10 bytes per
+ pixel beyond the image, float32 in and out, the float32 map's contract). Made from a
+ [`GonioEnvMap`] by [`gonio_envmap_into_float32`], released by [`gonio_envmap_f32_free`].
+ Immutable: may be used from any number of threads at once.
+ */
+typedef struct GonioEnvMapF32 GonioEnvMapF32;
+
+/*
  A sampler of any method and domain (opaque). Created by [`gonio_sampler_build`], released by
  [`gonio_sampler_free`]. Immutable: may be shared between threads and used from all of them at
  once (every function taking `const GonioSampler *` is thread-safe).
@@ -1357,6 +1366,106 @@ GonioStatus gonio_envmap_sample_batch(const struct GonioEnvMap *map,
                                       double *dirs,
                                       double *pdf,
                                       float *rgb);
+
+/*
+ Turns `map` into its float32 environment map: `*out` receives a new handle, released with
+ [`gonio_envmap_f32_free`]. **`map` is consumed**: after the call it is freed, whatever the
+ status (unless `map` or `out` is NULL: then nothing happens). Read its warnings first.
+
+ # Safety
+ `map` must be NULL or a live handle that no other thread is using; `out` NULL or valid for
+ writing a pointer.
+ */
+GonioStatus gonio_envmap_into_float32(struct GonioEnvMap *map, struct GonioEnvMapF32 **out);
+
+/*
+ Releases a float32 environment map handle. NULL is accepted and ignored.
+
+ # Safety
+ `map` must be NULL or a handle from [`gonio_envmap_into_float32`] that was not freed yet, and
+ no other thread may be using it.
+ */
+void gonio_envmap_f32_free(struct GonioEnvMapF32 *map);
+
+/*
+ The bytes the handle holds beyond the image (the float32 map's tables), into `*bytes`.
+
+ # Safety
+ `map` must be NULL or a live handle; `bytes` NULL or valid for writing a `size_t`.
+ */
+GonioStatus gonio_envmap_f32_memory_bytes(const struct GonioEnvMapF32 *map, size_t *bytes);
+
+/*
+ Samples `n` points (`u[i]`, `v[i]`) of the unit square (float): unit directions into `x`,
+ `y`, `z`, densities (per sr) into `pdf`, the RGB radiance into `rgb[3i..3i+3]`: the float32
+ map's samples (its contract, docs/API.md "Float32 maps") with the radiance of each direction.
+ A point outside [0, 1]² (or NaN) stops the batch with `GONIO_ERR_INVALID_ARGUMENT` naming its
+ index; every input is read and checked before any output is written.
+
+ # Safety
+ `map` must be NULL or a live handle; `u`, `v` NULL or valid for reading `n` floats; `x`, `y`,
+ `z`, `pdf` NULL or valid for writing `n` floats; `rgb` NULL or valid for writing `3n` floats.
+ */
+GonioStatus gonio_envmap_f32_sample_batch(const struct GonioEnvMapF32 *map,
+                                          const float *u,
+                                          const float *v,
+                                          size_t n,
+                                          float *x,
+                                          float *y,
+                                          float *z,
+                                          float *pdf,
+                                          float *rgb);
+
+/*
+ The density (per sr) at `n` directions `x[i]`, `y[i]`, `z[i]` (float; normalised in double
+ and rounded to float) into `pdf[i]`: the float32 map's. A zero or non-finite direction stops
+ the batch with `GONIO_ERR_INVALID_ARGUMENT` naming its index.
+
+ # Safety
+ `map` must be NULL or a live handle; `x`, `y`, `z` NULL or valid for reading `n` floats; `pdf`
+ NULL or valid for writing `n` floats.
+ */
+GonioStatus gonio_envmap_f32_pdf_batch(const struct GonioEnvMapF32 *map,
+                                       const float *x,
+                                       const float *y,
+                                       const float *z,
+                                       size_t n,
+                                       float *pdf);
+
+/*
+ The points (`u[i]`, `v[i]`) of the unit square that the map sends to the directions `x[i]`,
+ `y[i]`, `z[i]` (float; normalised in double and rounded to float); NaN in both where the
+ density is 0. A zero or non-finite direction stops the batch with
+ `GONIO_ERR_INVALID_ARGUMENT` naming its index.
+
+ # Safety
+ `map` must be NULL or a live handle; `x`, `y`, `z` NULL or valid for reading `n` floats; `u`,
+ `v` NULL or valid for writing `n` floats.
+ */
+GonioStatus gonio_envmap_f32_invert_batch(const struct GonioEnvMapF32 *map,
+                                          const float *x,
+                                          const float *y,
+                                          const float *z,
+                                          size_t n,
+                                          float *u,
+                                          float *v);
+
+/*
+ The image's linear RGB radiance at `n` directions `x[i]`, `y[i]`, `z[i]` (float, normalised
+ in double) into `rgb[3i..3i+3]`, by the map's lookup; a float32 sample's direction reads the
+ radiance [`gonio_envmap_f32_sample_batch`] returned with it. A zero or non-finite direction
+ stops the batch with `GONIO_ERR_INVALID_ARGUMENT` naming its index.
+
+ # Safety
+ `map` must be NULL or a live handle; `x`, `y`, `z` NULL or valid for reading `n` floats; `rgb`
+ NULL or valid for writing `3n` floats.
+ */
+GonioStatus gonio_envmap_f32_eval_batch(const struct GonioEnvMapF32 *map,
+                                        const float *x,
+                                        const float *y,
+                                        const float *z,
+                                        size_t n,
+                                        float *rgb);
 
 #ifdef __cplusplus
 } /* extern "C" */

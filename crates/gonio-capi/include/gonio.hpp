@@ -206,6 +206,8 @@ class EnvMap {
         return c;
     }
     const GonioEnvMap *get() const noexcept { return ptr_.get(); }
+    /// Gives up the handle (the caller frees it, or passes it to gonio_envmap_into_float32).
+    GonioEnvMap *release() noexcept { return ptr_.release(); }
 
   private:
     explicit EnvMap(GonioEnvMap *p) : ptr_(p) {}
@@ -213,6 +215,51 @@ class EnvMap {
         void operator()(GonioEnvMap *p) const noexcept { gonio_envmap_free(p); }
     };
     std::unique_ptr<GonioEnvMap, Free> ptr_;
+};
+
+/// An environment light on its float32 map alone (gonio_envmap_into_float32): float32 batches
+/// in structure-of-arrays form, about 10 bytes per pixel beyond the image.
+class EnvMapF32 {
+  public:
+    /// Consumes `map` (it is empty afterwards, whatever happens).
+    static EnvMapF32 from(EnvMap &&map) {
+        GonioEnvMapF32 *f = nullptr;
+        check(gonio_envmap_into_float32(map.release(), &f));
+        return EnvMapF32(f);
+    }
+    /// Samples u.size() points: directions into x, y, z, densities into pdf, RGB into rgb
+    /// (3 per point); the vectors are resized.
+    void sample(const std::vector<float> &u, const std::vector<float> &v, std::vector<float> &x,
+                std::vector<float> &y, std::vector<float> &z, std::vector<float> &pdf,
+                std::vector<float> &rgb) const {
+        if (u.size() != v.size()) throw Error(GONIO_ERR_INVALID_ARGUMENT, "u and v differ in size");
+        const size_t n = u.size();
+        x.resize(n), y.resize(n), z.resize(n), pdf.resize(n), rgb.resize(3 * n);
+        check(gonio_envmap_f32_sample_batch(ptr_.get(), u.data(), v.data(), n, x.data(),
+                                            y.data(), z.data(), pdf.data(), rgb.data()));
+    }
+    std::vector<float> pdf(const std::vector<float> &x, const std::vector<float> &y,
+                           const std::vector<float> &z) const {
+        if (x.size() != y.size() || x.size() != z.size())
+            throw Error(GONIO_ERR_INVALID_ARGUMENT, "x, y and z differ in size");
+        std::vector<float> p(x.size());
+        check(gonio_envmap_f32_pdf_batch(ptr_.get(), x.data(), y.data(), z.data(), x.size(),
+                                         p.data()));
+        return p;
+    }
+    std::size_t memory_bytes() const {
+        std::size_t b = 0;
+        check(gonio_envmap_f32_memory_bytes(ptr_.get(), &b));
+        return b;
+    }
+    const GonioEnvMapF32 *get() const noexcept { return ptr_.get(); }
+
+  private:
+    explicit EnvMapF32(GonioEnvMapF32 *p) : ptr_(p) {}
+    struct Free {
+        void operator()(GonioEnvMapF32 *p) const noexcept { gonio_envmap_f32_free(p); }
+    };
+    std::unique_ptr<GonioEnvMapF32, Free> ptr_;
 };
 
 }  // namespace gonio

@@ -10,7 +10,9 @@ use super::{
     too_large, unit, w, Failure, GonioStatus, GONIO_ERR_BUILD, GONIO_ERR_PARSE,
     GONIO_MAX_FILE_BYTES,
 };
-use gonio::envmap::{EnvMapError, EnvOptions, EnvironmentMap, Lookup, Weight};
+use gonio::envmap::{
+    EnvMapError, EnvOptions, EnvironmentMap, Float32EnvironmentMap, Lookup, Weight,
+};
 use gonio::image::{Image, ImageError, ImageFormat};
 use std::ffi::{c_char, CStr, CString};
 use std::path::Path;
@@ -521,6 +523,278 @@ pub unsafe extern "C" fn gonio_envmap_sample_batch(
                 }
                 pdf.add(i).write(p[l]);
             }
+        }
+        Ok(())
+    })
+}
+
+// ---------------------------------------------------------------------------------------------
+// The float32 environment map.
+
+/// An environment light on its float32 map alone (opaque; the library's
+/// `Float32EnvironmentMap`, docs/ENVMAPS.md "The float32 environment map": about 10 bytes per
+/// pixel beyond the image, float32 in and out, the float32 map's contract). Made from a
+/// [`GonioEnvMap`] by [`gonio_envmap_into_float32`], released by [`gonio_envmap_f32_free`].
+/// Immutable: may be used from any number of threads at once.
+pub struct GonioEnvMapF32 {
+    inner: Float32EnvironmentMap,
+}
+
+/// Turns `map` into its float32 environment map: `*out` receives a new handle, released with
+/// [`gonio_envmap_f32_free`]. **`map` is consumed**: after the call it is freed, whatever the
+/// status (unless `map` or `out` is NULL: then nothing happens). Read its warnings first.
+///
+/// # Safety
+/// `map` must be NULL or a live handle that no other thread is using; `out` NULL or valid for
+/// writing a pointer.
+#[no_mangle]
+pub unsafe extern "C" fn gonio_envmap_into_float32(
+    map: *mut GonioEnvMap,
+    out: *mut *mut GonioEnvMapF32,
+) -> GonioStatus {
+    guard(|| {
+        if map.is_null() || !map.is_aligned() {
+            return Err(Failure::null("map"));
+        }
+        check_out(out, "out")?;
+        let m = Box::from_raw(map);
+        let inner = m
+            .inner
+            .into_float32()
+            .map_err(|e| Failure::new(GONIO_ERR_BUILD, format!("no float32 map: {e}")))?;
+        w(
+            out,
+            Box::into_raw(Box::new(GonioEnvMapF32 { inner })),
+            "out",
+        )
+    })
+}
+
+/// Releases a float32 environment map handle. NULL is accepted and ignored.
+///
+/// # Safety
+/// `map` must be NULL or a handle from [`gonio_envmap_into_float32`] that was not freed yet, and
+/// no other thread may be using it.
+#[no_mangle]
+pub unsafe extern "C" fn gonio_envmap_f32_free(map: *mut GonioEnvMapF32) {
+    if !map.is_null() {
+        let _ = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| drop(Box::from_raw(map))));
+    }
+}
+
+/// The bytes the handle holds beyond the image (the float32 map's tables), into `*bytes`.
+///
+/// # Safety
+/// `map` must be NULL or a live handle; `bytes` NULL or valid for writing a `size_t`.
+#[no_mangle]
+pub unsafe extern "C" fn gonio_envmap_f32_memory_bytes(
+    map: *const GonioEnvMapF32,
+    bytes: *mut usize,
+) -> GonioStatus {
+    guard(|| {
+        let m = r(map, "map")?;
+        w(bytes, m.inner.memory_bytes_beyond_image(), "bytes")
+    })
+}
+
+/// `n` floats read from `p` (checked: not NULL, aligned, `n` not too large).
+///
+/// # Safety
+/// `p` valid for reading `n` floats when not NULL.
+unsafe fn read_f32(p: *const f32, n: usize, what: &str) -> Result<Vec<f32>, Failure> {
+    check_in(p, what)?;
+    check_len::<f32>(n, 1)?;
+    Ok(if n == 0 {
+        Vec::new()
+    } else {
+        std::slice::from_raw_parts(p, n).to_vec()
+    })
+}
+
+/// The directions `x[i]`, `y[i]`, `z[i]`, each normalised in double and rounded to float (as the
+/// float32 batches of the sampler ABI do); a zero or non-finite one is an error naming its index.
+///
+/// # Safety
+/// Each pointer valid for reading `n` floats when not NULL.
+unsafe fn read_dirs_f32(
+    x: *const f32,
+    y: *const f32,
+    z: *const f32,
+    n: usize,
+) -> Result<[Vec<f32>; 3], Failure> {
+    let mut d = [
+        read_f32(x, n, "x")?,
+        read_f32(y, n, "y")?,
+        read_f32(z, n, "z")?,
+    ];
+    for i in 0..n {
+        let v = [d[0][i], d[1][i], d[2][i]].map(f64::from);
+        let e = gonio::sampler::normalize(v).ok_or_else(|| {
+            Failure::invalid(format!(
+                "direction #{i} {} is not a finite non-zero vector",
+                super::fmt_row(&v)
+            ))
+        })?;
+        for c in 0..3 {
+            d[c][i] = e[c] as f32;
+        }
+    }
+    Ok(d)
+}
+
+/// Samples `n` points (`u[i]`, `v[i]`) of the unit square (float): unit directions into `x`,
+/// `y`, `z`, densities (per sr) into `pdf`, the RGB radiance into `rgb[3i..3i+3]`: the float32
+/// map's samples (its contract, docs/API.md "Float32 maps") with the radiance of each direction.
+/// A point outside [0, 1]² (or NaN) stops the batch with `GONIO_ERR_INVALID_ARGUMENT` naming its
+/// index; every input is read and checked before any output is written.
+///
+/// # Safety
+/// `map` must be NULL or a live handle; `u`, `v` NULL or valid for reading `n` floats; `x`, `y`,
+/// `z`, `pdf` NULL or valid for writing `n` floats; `rgb` NULL or valid for writing `3n` floats.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn gonio_envmap_f32_sample_batch(
+    map: *const GonioEnvMapF32,
+    u: *const f32,
+    v: *const f32,
+    n: usize,
+    x: *mut f32,
+    y: *mut f32,
+    z: *mut f32,
+    pdf: *mut f32,
+    rgb: *mut f32,
+) -> GonioStatus {
+    guard(|| {
+        let m = r(map, "map")?;
+        let (u, v) = (read_f32(u, n, "u")?, read_f32(v, n, "v")?);
+        for (name, p) in [("x", x), ("y", y), ("z", z), ("pdf", pdf), ("rgb", rgb)] {
+            check_out(p, name)?;
+        }
+        check_len::<f32>(n, 3)?;
+        for i in 0..n {
+            in_square([f64::from(u[i]), f64::from(v[i])])
+                .map_err(|e| Failure::invalid(format!("point #{i}: {}", e.message)))?;
+        }
+        if n == 0 {
+            return Ok(());
+        }
+        let (mut dx, mut dy, mut dz, mut p) =
+            (vec![0f32; n], vec![0f32; n], vec![0f32; n], vec![0f32; n]);
+        let mut c = vec![[0f32; 3]; n];
+        m.inner
+            .sample_soa(&u, &v, [&mut dx, &mut dy, &mut dz], &mut p, &mut c);
+        std::slice::from_raw_parts_mut(x, n).copy_from_slice(&dx);
+        std::slice::from_raw_parts_mut(y, n).copy_from_slice(&dy);
+        std::slice::from_raw_parts_mut(z, n).copy_from_slice(&dz);
+        std::slice::from_raw_parts_mut(pdf, n).copy_from_slice(&p);
+        std::slice::from_raw_parts_mut(rgb, 3 * n).copy_from_slice(c.as_flattened());
+        Ok(())
+    })
+}
+
+/// The density (per sr) at `n` directions `x[i]`, `y[i]`, `z[i]` (float; normalised in double
+/// and rounded to float) into `pdf[i]`: the float32 map's. A zero or non-finite direction stops
+/// the batch with `GONIO_ERR_INVALID_ARGUMENT` naming its index.
+///
+/// # Safety
+/// `map` must be NULL or a live handle; `x`, `y`, `z` NULL or valid for reading `n` floats; `pdf`
+/// NULL or valid for writing `n` floats.
+#[no_mangle]
+pub unsafe extern "C" fn gonio_envmap_f32_pdf_batch(
+    map: *const GonioEnvMapF32,
+    x: *const f32,
+    y: *const f32,
+    z: *const f32,
+    n: usize,
+    pdf: *mut f32,
+) -> GonioStatus {
+    guard(|| {
+        let m = r(map, "map")?;
+        let [dx, dy, dz] = read_dirs_f32(x, y, z, n)?;
+        check_out(pdf, "pdf")?;
+        let mut p = vec![0f32; n];
+        m.inner.pdf_soa([&dx, &dy, &dz], &mut p);
+        if n > 0 {
+            std::slice::from_raw_parts_mut(pdf, n).copy_from_slice(&p);
+        }
+        Ok(())
+    })
+}
+
+/// The points (`u[i]`, `v[i]`) of the unit square that the map sends to the directions `x[i]`,
+/// `y[i]`, `z[i]` (float; normalised in double and rounded to float); NaN in both where the
+/// density is 0. A zero or non-finite direction stops the batch with
+/// `GONIO_ERR_INVALID_ARGUMENT` naming its index.
+///
+/// # Safety
+/// `map` must be NULL or a live handle; `x`, `y`, `z` NULL or valid for reading `n` floats; `u`,
+/// `v` NULL or valid for writing `n` floats.
+#[no_mangle]
+pub unsafe extern "C" fn gonio_envmap_f32_invert_batch(
+    map: *const GonioEnvMapF32,
+    x: *const f32,
+    y: *const f32,
+    z: *const f32,
+    n: usize,
+    u: *mut f32,
+    v: *mut f32,
+) -> GonioStatus {
+    guard(|| {
+        let m = r(map, "map")?;
+        let [dx, dy, dz] = read_dirs_f32(x, y, z, n)?;
+        check_out(u, "u")?;
+        check_out(v, "v")?;
+        let (mut uu, mut vv) = (vec![0f32; n], vec![0f32; n]);
+        m.inner.invert_soa([&dx, &dy, &dz], [&mut uu, &mut vv]);
+        if n > 0 {
+            std::slice::from_raw_parts_mut(u, n).copy_from_slice(&uu);
+            std::slice::from_raw_parts_mut(v, n).copy_from_slice(&vv);
+        }
+        Ok(())
+    })
+}
+
+/// The image's linear RGB radiance at `n` directions `x[i]`, `y[i]`, `z[i]` (float, normalised
+/// in double) into `rgb[3i..3i+3]`, by the map's lookup; a float32 sample's direction reads the
+/// radiance [`gonio_envmap_f32_sample_batch`] returned with it. A zero or non-finite direction
+/// stops the batch with `GONIO_ERR_INVALID_ARGUMENT` naming its index.
+///
+/// # Safety
+/// `map` must be NULL or a live handle; `x`, `y`, `z` NULL or valid for reading `n` floats; `rgb`
+/// NULL or valid for writing `3n` floats.
+#[no_mangle]
+pub unsafe extern "C" fn gonio_envmap_f32_eval_batch(
+    map: *const GonioEnvMapF32,
+    x: *const f32,
+    y: *const f32,
+    z: *const f32,
+    n: usize,
+    rgb: *mut f32,
+) -> GonioStatus {
+    guard(|| {
+        let m = r(map, "map")?;
+        let d = [
+            read_f32(x, n, "x")?,
+            read_f32(y, n, "y")?,
+            read_f32(z, n, "z")?,
+        ];
+        check_out(rgb, "rgb")?;
+        check_len::<f32>(n, 3)?;
+        let mut dirs = Vec::with_capacity(n);
+        for i in 0..n {
+            let v = [d[0][i], d[1][i], d[2][i]].map(f64::from);
+            if gonio::sampler::normalize(v).is_none() {
+                return Err(Failure::invalid(format!(
+                    "direction #{i} {} is not a finite non-zero vector",
+                    super::fmt_row(&v)
+                )));
+            }
+            dirs.push(v);
+        }
+        let mut c = vec![[0f32; 3]; n];
+        m.inner.eval_batch(&dirs, &mut c);
+        if n > 0 {
+            std::slice::from_raw_parts_mut(rgb, 3 * n).copy_from_slice(c.as_flattened());
         }
         Ok(())
     })
@@ -1132,5 +1406,163 @@ mod tests {
         assert_eq!(st, crate::GONIO_ERR_ZERO_DENSITY, "{}", last_error());
         assert!(unsafe { gonio_envmap_pdf(m, 0.0, 0.0, -1.0, &mut p) } == GONIO_OK && p > 0.0);
         unsafe { gonio_envmap_free(m) };
+    }
+
+    /// The float32 environment map through the C ABI: the library's `Float32EnvironmentMap` of
+    /// the same image, bit for bit (samples, densities, inverses, radiance), fewer bytes than the
+    /// float64 handle, and the ABI's errors (NULL handle, a point outside the square, a zero
+    /// direction, each naming its index; outputs untouched on error).
+    #[test]
+    fn float32_envmap_is_the_librarys_bit_for_bit() {
+        let bytes = pfm(32, 16, |c, r| {
+            if (c, r) == (21, 4) {
+                [900.0, 500.0, 200.0]
+            } else {
+                [0.1 + 0.01 * c as f32, 0.2, 0.05 * r as f32 + 0.01]
+            }
+        });
+        let (st, m) = read(&bytes);
+        assert_eq!(st, GONIO_OK, "{}", last_error());
+        let mut b64 = 0usize;
+        {
+            let env = unsafe { &*m };
+            b64 = b64.max(env.inner.memory_bytes_beyond_image());
+        }
+        let mut f = null_mut();
+        assert_eq!(unsafe { gonio_envmap_into_float32(m, &mut f) }, GONIO_OK);
+        let lib = gonio::envmap::Float32EnvironmentMap::new(
+            Image::from_bytes(&bytes, None).unwrap(),
+            EnvOptions::default(),
+        )
+        .unwrap();
+        let n = 1001;
+        let u: Vec<f32> = (0..n)
+            .map(|i| (((i as f32 + 0.5) * 0.618_034) % 1.0))
+            .collect(); // clear of the square's edges, where the map folds
+        let v: Vec<f32> = (0..n).map(|i| (i as f32 + 0.5) / n as f32).collect();
+        let (mut x, mut y, mut z, mut p) =
+            (vec![0f32; n], vec![0f32; n], vec![0f32; n], vec![0f32; n]);
+        let mut rgb = vec![0f32; 3 * n];
+        let st = unsafe {
+            gonio_envmap_f32_sample_batch(
+                f,
+                u.as_ptr(),
+                v.as_ptr(),
+                n,
+                x.as_mut_ptr(),
+                y.as_mut_ptr(),
+                z.as_mut_ptr(),
+                p.as_mut_ptr(),
+                rgb.as_mut_ptr(),
+            )
+        };
+        assert_eq!(st, GONIO_OK, "{}", last_error());
+        let (mut lx, mut ly, mut lz, mut lp) =
+            (vec![0f32; n], vec![0f32; n], vec![0f32; n], vec![0f32; n]);
+        let mut lrgb = vec![[0f32; 3]; n];
+        lib.sample_soa(&u, &v, [&mut lx, &mut ly, &mut lz], &mut lp, &mut lrgb);
+        let bits = |a: &[f32]| a.iter().map(|q| q.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&x), bits(&lx));
+        assert_eq!(bits(&y), bits(&ly));
+        assert_eq!(bits(&z), bits(&lz));
+        assert_eq!(bits(&p), bits(&lp));
+        assert_eq!(bits(&rgb), bits(lrgb.as_flattened()));
+        // pdf, invert and eval of the sampled directions: the library's (which normalises
+        // nothing; the ABI normalises in double and rounds, a no-op or an ulp on these).
+        let mut q = vec![0f32; n];
+        let st = unsafe {
+            gonio_envmap_f32_pdf_batch(f, x.as_ptr(), y.as_ptr(), z.as_ptr(), n, q.as_mut_ptr())
+        };
+        assert_eq!(st, GONIO_OK);
+        let (mut iu, mut iv) = (vec![0f32; n], vec![0f32; n]);
+        let st = unsafe {
+            gonio_envmap_f32_invert_batch(
+                f,
+                x.as_ptr(),
+                y.as_ptr(),
+                z.as_ptr(),
+                n,
+                iu.as_mut_ptr(),
+                iv.as_mut_ptr(),
+            )
+        };
+        assert_eq!(st, GONIO_OK);
+        let mut c = vec![0f32; 3 * n];
+        let st = unsafe {
+            gonio_envmap_f32_eval_batch(f, x.as_ptr(), y.as_ptr(), z.as_ptr(), n, c.as_mut_ptr())
+        };
+        assert_eq!(st, GONIO_OK);
+        assert_eq!(bits(&c), bits(&rgb));
+        for i in 0..n {
+            assert!(
+                (q[i] / p[i] - 1.0).abs() < 1e-3,
+                "{i}: {} vs {}",
+                q[i],
+                p[i]
+            );
+            assert!(
+                (iu[i] - u[i]).abs() < 1e-5 && (iv[i] - v[i]).abs() < 1e-5,
+                "{i}"
+            );
+        }
+        let mut b32 = 0usize;
+        assert_eq!(
+            unsafe { gonio_envmap_f32_memory_bytes(f, &mut b32) },
+            GONIO_OK
+        );
+        assert_eq!(b32, lib.memory_bytes_beyond_image());
+        assert!(b32 < b64, "{b32} vs {b64}");
+        // Errors.
+        let bad_u = [0.5f32, 1.5];
+        let vv = [0.5f32, 0.5];
+        let mut out = [7f32; 6];
+        let st = unsafe {
+            gonio_envmap_f32_sample_batch(
+                f,
+                bad_u.as_ptr(),
+                vv.as_ptr(),
+                2,
+                out.as_mut_ptr(),
+                out.as_mut_ptr(),
+                out.as_mut_ptr(),
+                out.as_mut_ptr(),
+                out.as_mut_ptr(),
+            )
+        };
+        assert_eq!(st, GONIO_ERR_INVALID_ARGUMENT);
+        assert!(last_error().contains("point #1"), "{}", last_error());
+        assert_eq!(out, [7f32; 6]);
+        let zx = [1f32, 0.0];
+        let zy = [0f32, 0.0];
+        let st = unsafe {
+            gonio_envmap_f32_pdf_batch(
+                f,
+                zx.as_ptr(),
+                zy.as_ptr(),
+                zy.as_ptr(),
+                2,
+                out.as_mut_ptr(),
+            )
+        };
+        assert_eq!(st, GONIO_ERR_INVALID_ARGUMENT);
+        assert!(last_error().contains("direction #1"), "{}", last_error());
+        let st = unsafe {
+            gonio_envmap_f32_pdf_batch(
+                null(),
+                zx.as_ptr(),
+                zy.as_ptr(),
+                zy.as_ptr(),
+                1,
+                out.as_mut_ptr(),
+            )
+        };
+        assert_eq!(st, GONIO_ERR_NULL_POINTER);
+        let mut g = null_mut();
+        assert_eq!(
+            unsafe { gonio_envmap_into_float32(null_mut(), &mut g) },
+            GONIO_ERR_NULL_POINTER
+        );
+        unsafe { gonio_envmap_f32_free(f) };
+        unsafe { gonio_envmap_f32_free(null_mut()) };
     }
 }
