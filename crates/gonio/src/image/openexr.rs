@@ -2,9 +2,10 @@
 //! tiled files, `f16`, `f32` and `u32` samples).
 //!
 //! The first layer without deep data is read at its largest resolution level. Its channels are
-//! chosen by name (the part after the last `.`, so `diffuse.R` counts as `R`): `R`, `G`, `B`
-//! when all three exist, else `Y` (greyscale, R = G = B), else the file is refused with the list
-//! of its channels. Other channels (`A`, depth, …) are ignored with a warning. Rows run from the
+//! chosen by name, grouped by their prefix (the part before the last `.`, as in multi-layer files
+//! such as `View Layer.Combined.R`): `R`, `G`, `B` of one group (the unprefixed channels first,
+//! then the groups in file order), else `Y` of one group (greyscale, R = G = B), else the file is
+//! refused with the list of its channels. R, G and B never come from different groups. Other channels (`A`, depth, …) are ignored with a warning. Rows run from the
 //! top of the data window down, as OpenEXR's y axis does. The header is read first, and before any
 //! pixel is decoded its data window is checked against [`super::MAX_PIXELS`] and every flat
 //! layer's decoded size (all its channels: the decoder allocates them all) against
@@ -64,6 +65,42 @@ fn base_name(name: &str) -> &str {
     name.rsplit('.').next().unwrap_or(name)
 }
 
+/// The part of a channel name before its last `.` (empty without a prefix).
+fn prefix(name: &str) -> &str {
+    name.rsplit_once('.').map_or("", |(p, _)| p)
+}
+
+/// The channels read, as indices into `names`: R, G, B of one layer, else Y of one layer
+/// (three times). The layers are the channel-name prefixes (`diffuse.R` is layer `diffuse`);
+/// the unprefixed channels come first, then the layers in the order of their first channel.
+/// R, G and B are never taken from different layers.
+pub(crate) fn pick_channels(names: &[String]) -> Option<Vec<usize>> {
+    let mut layers: Vec<&str> = Vec::new();
+    if names.iter().any(|n| prefix(n).is_empty()) {
+        layers.push("");
+    }
+    for n in names {
+        let p = prefix(n);
+        if !layers.contains(&p) {
+            layers.push(p);
+        }
+    }
+    let find = |layer: &str, want: &str| {
+        names
+            .iter()
+            .position(|n| prefix(n) == layer && base_name(n) == want)
+    };
+    for l in &layers {
+        if let (Some(r), Some(g), Some(b)) = (find(l, "R"), find(l, "G"), find(l, "B")) {
+            return Some(vec![r, g, b]);
+        }
+    }
+    layers
+        .iter()
+        .find_map(|l| find(l, "Y"))
+        .map(|y| vec![y, y, y])
+}
+
 /// Reads an OpenEXR image from the bytes of a `.exr` file.
 ///
 /// # Errors
@@ -100,11 +137,9 @@ fn read_exr_inner(bytes: &[u8]) -> Result<Image, ImageError> {
         .iter()
         .map(|c| c.name.to_string())
         .collect();
-    let find = |want: &str| names.iter().position(|n| base_name(n) == want);
-    let picks: Vec<usize> = match (find("R"), find("G"), find("B"), find("Y")) {
-        (Some(r), Some(g), Some(b), _) => vec![r, g, b],
-        (_, _, _, Some(y)) => vec![y, y, y],
-        _ => {
+    let picks: Vec<usize> = match pick_channels(&names) {
+        Some(p) => p,
+        None => {
             return Err(ImageError::Unsupported {
                 format: FORMAT,
                 message: format!(

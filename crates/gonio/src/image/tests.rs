@@ -469,3 +469,42 @@ fn exr_b44_block_that_overflows_the_decoder_is_no_panic() {
         Err(e) => panic!("unexpected error {e:?}"),
     }
 }
+
+#[test]
+fn exr_channels_come_from_one_layer() {
+    use super::openexr::pick_channels as pick;
+    use exr::prelude::*;
+    let n = |v: &[&str]| v.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+    // Unprefixed RGB wins over layers; a layer missing G is skipped, not mixed with another.
+    assert_eq!(pick(&n(&["A.R", "B", "G", "R", "Z"])), Some(vec![3, 2, 1]));
+    assert_eq!(
+        pick(&n(&[
+            "AO.R",
+            "Combined.B",
+            "Combined.G",
+            "Combined.R",
+            "Depth.Z"
+        ])),
+        Some(vec![3, 2, 1])
+    );
+    assert_eq!(pick(&n(&["a.R", "a.B", "b.G", "Y"])), Some(vec![3, 3, 3]));
+    assert_eq!(pick(&n(&["a.R", "b.G", "c.B"])), None);
+    // A file: the R of a first layer without G must not be read with another layer's G and B.
+    let (w, h) = (4, 2);
+    let ch = |name: &str, v: f32| AnyChannel::new(name, FlatSamples::F32(vec![v; w * h]));
+    let list = vec![
+        ch("AO.R", 9.0),
+        ch("View.B", 3.0),
+        ch("View.G", 2.0),
+        ch("View.R", 1.0),
+    ];
+    let b = exr_bytes(|c| {
+        exr::image::Image::from_channels((w, h), AnyChannels::sort(SmallVec::from_vec(list)))
+            .write()
+            .to_buffered(c)
+            .unwrap()
+    });
+    let img = read_exr(&b).unwrap();
+    assert_eq!(img.pixel(0, 0), [1.0, 2.0, 3.0]);
+    assert!(img.warnings()[0].contains("AO.R"), "{:?}", img.warnings());
+}
