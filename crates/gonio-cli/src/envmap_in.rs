@@ -139,6 +139,8 @@ pub struct EnvInfo {
     pub weight_power: f64,
     /// Bytes held beyond the image.
     pub memory_bytes_beyond_image: usize,
+    /// Bytes its float32 environment map would hold beyond the image (`null` if it has none).
+    pub float32_memory_bytes_beyond_image: Option<usize>,
     /// What was repaired or ignored while reading and building.
     pub warnings: Vec<String>,
 }
@@ -164,6 +166,7 @@ impl EnvInfo {
             mis_compensation: o.mis_compensation,
             weight_power: env.power(),
             memory_bytes_beyond_image: env.memory_bytes_beyond_image(),
+            float32_memory_bytes_beyond_image: env.float32_memory_bytes_beyond_image().ok(),
             warnings: env.warnings().to_vec(),
         }
     }
@@ -203,6 +206,12 @@ pub fn info_lines(env: &EnvironmentMap) -> String {
         env.memory_bytes_beyond_image(),
         env.memory_bytes_beyond_image() as f64 / (w * h) as f64
     );
+    if let Ok(b) = env.float32_memory_bytes_beyond_image() {
+        s += &format!(
+            "float32 map      {b} bytes beyond the image ({:.2} per pixel; Float32EnvironmentMap, gonio.EnvMap(precision=\"float32\"), gonio_envmap_into_float32)\n",
+            b as f64 / (w * h) as f64
+        );
+    }
     s += "envmap frame     top row = zenith +z, centre column = +x, φ decreasing to the right (Mitsuba 3 local = (y, z, x); pbrt-v4 light space = gonio)\n";
     for wn in env.warnings() {
         s += &format!("warning          {wn}\n");

@@ -263,6 +263,15 @@ fn weight_lookup_and_mis_options() {
     assert_eq!(json["envmap"]["lookup"], "nearest");
     assert_eq!(json["envmap"]["width"], 32);
     assert!(json["envmap"]["weight_power"].as_f64().unwrap() > 0.0);
+    let (m64, m32) = (
+        json["envmap"]["memory_bytes_beyond_image"]
+            .as_u64()
+            .unwrap(),
+        json["envmap"]["float32_memory_bytes_beyond_image"]
+            .as_u64()
+            .unwrap(),
+    );
+    assert!(m32 > 0 && m32 < m64, "{m32} {m64}");
     // MIS compensation moves mass off the dim sky: fewer samples on the grey pixels.
     let mis = rows(&ok(&["sample", f, "-n", "400", "--mis-compensation"]));
     assert!(on(&mis, [0.25; 3]) < on(&lum, [0.25; 3]));

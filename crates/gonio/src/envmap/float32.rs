@@ -70,6 +70,24 @@ impl EnvironmentMap {
     }
 }
 
+impl EnvironmentMap {
+    /// The bytes [`EnvironmentMap::into_float32`] would hold beyond the image
+    /// ([`Float32EnvironmentMap::memory_bytes_beyond_image`]), without consuming this map (it
+    /// builds the float32 map once, to count it).
+    ///
+    /// # Errors
+    /// As [`EnvironmentMap::into_float32`].
+    pub fn float32_memory_bytes_beyond_image(&self) -> Result<usize, Float32MapError> {
+        let custom = match &self.options.weight {
+            Weight::Custom(v) => 4 * v.len(),
+            _ => 0,
+        };
+        Ok(self.map.float32_map()?.memory_bytes()
+            + custom
+            + std::mem::size_of::<Float32EnvironmentMap>())
+    }
+}
+
 impl Float32EnvironmentMap {
     /// The float32 environment light of `image`: [`EnvironmentMap::with_options`], then
     /// [`EnvironmentMap::into_float32`].

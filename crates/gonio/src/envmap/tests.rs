@@ -716,6 +716,9 @@ fn the_float32_environment_map_is_its_float32_map_with_radiance() {
     let (w, h) = (512, 256);
     let env = EnvironmentMap::new(random_image(w, h, 4)).unwrap();
     let b64 = env.memory_bytes_beyond_image() as f64 / (w * h) as f64;
-    let b32 = env.into_float32().unwrap().memory_bytes_beyond_image() as f64 / (w * h) as f64;
+    let predicted = env.float32_memory_bytes_beyond_image().unwrap();
+    let f = env.into_float32().unwrap();
+    assert_eq!(predicted, f.memory_bytes_beyond_image());
+    let b32 = f.memory_bytes_beyond_image() as f64 / (w * h) as f64;
     assert!(b32 <= 12.0 && b64 > 16.0, "{b32} {b64} bytes per pixel");
 }
