@@ -222,8 +222,22 @@ fn speed(name: &str, env: &EnvironmentMap, ll: &dyn Sampler, pb: &dyn Sampler) {
     let t_pdf = ns_per(n, || env.pdf_batch(&d, &mut p));
     let t_ll = ns_per(n, || ll.sample_batch_split(&u, &mut d, &mut p));
     let t_pb = ns_per(n, || pb.sample_batch_split(&u, &mut d, &mut p));
+    // The float32 environment map: its float32 map alone, with the radiance, its pdf.
+    let f32env = env.clone().into_float32().unwrap();
+    let u0: Vec<f32> = u.iter().map(|q| q[0] as f32).collect();
+    let u1: Vec<f32> = u.iter().map(|q| q[1] as f32).collect();
+    let (mut x, mut y, mut z, mut q) = (vec![0f32; n], vec![0f32; n], vec![0f32; n], vec![0f32; n]);
+    let t32 = ns_per(n, || {
+        f32env
+            .map()
+            .sample_soa(&u0, &u1, [&mut x, &mut y, &mut z], &mut q)
+    });
+    let t32_rgb = ns_per(n, || {
+        f32env.sample_soa(&u0, &u1, [&mut x, &mut y, &mut z], &mut q, &mut c)
+    });
+    let t32_pdf = ns_per(n, || f32env.pdf_soa([&x, &y, &z], &mut q));
     eprintln!(
-        "{name} speed (ns per point, one thread, 2^18 iid points, median of 5): HDS sample batch {t_batch:.0}, scalar {t_scalar:.0}; eval batch {t_eval_batch:.0}, scalar {t_eval:.0}; sample_batch_rgb {t_rgb:.0}; pdf batch {t_pdf:.0}; lat-long sample {t_ll:.0}; pbrt-v4 style sample {t_pb:.0}"
+        "{name} speed (ns per point, one thread, 2^18 iid points, median of 5): HDS sample batch {t_batch:.0}, scalar {t_scalar:.0}; eval batch {t_eval_batch:.0}, scalar {t_eval:.0}; sample_batch_rgb {t_rgb:.0}; pdf batch {t_pdf:.0}; float32 map sample {t32:.0}, with radiance {t32_rgb:.0}, pdf {t32_pdf:.0}; lat-long sample {t_ll:.0}; pbrt-v4 style sample {t_pb:.0}"
     );
 }
 
