@@ -616,6 +616,7 @@ unsafe fn read_f32(p: *const f32, n: usize, what: &str) -> Result<Vec<f32>, Fail
 ///
 /// # Safety
 /// Each pointer valid for reading `n` floats when not NULL.
+#[allow(clippy::needless_range_loop)] // three columns indexed by the same i
 unsafe fn read_dirs_f32(
     x: *const f32,
     y: *const f32,
@@ -763,6 +764,7 @@ pub unsafe extern "C" fn gonio_envmap_f32_invert_batch(
 /// `map` must be NULL or a live handle; `x`, `y`, `z` NULL or valid for reading `n` floats; `rgb`
 /// NULL or valid for writing `3n` floats.
 #[no_mangle]
+#[allow(clippy::needless_range_loop)] // three columns indexed by the same i
 pub unsafe extern "C" fn gonio_envmap_f32_eval_batch(
     map: *const GonioEnvMapF32,
     x: *const f32,
@@ -1437,7 +1439,7 @@ mod tests {
         .unwrap();
         let n = 1001;
         let u: Vec<f32> = (0..n)
-            .map(|i| (((i as f32 + 0.5) * 0.618_034) % 1.0))
+            .map(|i| ((i as f32 + 0.5) * 0.618_034) % 1.0)
             .collect(); // clear of the square's edges, where the map folds
         let v: Vec<f32> = (0..n).map(|i| (i as f32 + 0.5) / n as f32).collect();
         let (mut x, mut y, mut z, mut p) =
