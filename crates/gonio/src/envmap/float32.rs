@@ -186,21 +186,7 @@ impl Float32EnvironmentMap {
     /// # Panics
     /// If the slices differ in length.
     pub fn eval_soa_with(&self, dir: [&[f32]; 3], lookup: Lookup, rgb: &mut [[f32; 3]]) {
-        let n = rgb.len();
-        assert!(
-            dir.iter().all(|c| c.len() == n),
-            "eval_soa: slices differ in length"
-        );
-        const CHUNK: usize = 256;
-        let mut d = [[0f64; 3]; CHUNK];
-        for start in (0..n).step_by(CHUNK) {
-            let m = CHUNK.min(n - start);
-            for (k, dk) in d[..m].iter_mut().enumerate() {
-                *dk = [0, 1, 2].map(|c| f64::from(dir[c][start + k]));
-            }
-            self.radiance
-                .eval_batch_with(&d[..m], lookup, &mut rgb[start..start + m]);
-        }
+        self.radiance.eval_soa_f32(dir, lookup, rgb)
     }
 
     /// The radiance of float64 directions ([`EnvironmentMap::eval_batch`], bit for bit; the

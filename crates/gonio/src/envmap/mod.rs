@@ -380,14 +380,37 @@ impl Radiance {
     /// [`EnvironmentMap::eval_batch_with`].
     pub(crate) fn eval_batch_with(&self, dirs: &[Vec3], lookup: Lookup, rgb: &mut [[f32; 3]]) {
         assert_eq!(dirs.len(), rgb.len(), "eval_batch: slices differ in length");
+        self.eval_from(|k| dirs[k], lookup, rgb)
+    }
+
+    /// [`Radiance::eval_batch_with`] of the float32 directions `dir[·][k]` widened to f64 (the
+    /// same operations on the same f64 values, without a copy of the widened directions).
+    pub(crate) fn eval_soa_f32(&self, dir: [&[f32]; 3], lookup: Lookup, rgb: &mut [[f32; 3]]) {
+        let n = rgb.len();
+        assert!(
+            dir.iter().all(|c| c.len() == n),
+            "eval_soa: slices differ in length"
+        );
+        let [x, y, z] = dir;
+        self.eval_from(
+            |k| [f64::from(x[k]), f64::from(y[k]), f64::from(z[k])],
+            lookup,
+            rgb,
+        )
+    }
+
+    /// The radiance of direction `dir_at(k)` into `rgb[k]` for every k < `rgb.len()`, in chunks
+    /// through the SIMD angles kernel.
+    #[inline(always)]
+    fn eval_from(&self, dir_at: impl Fn(usize) -> Vec3, lookup: Lookup, rgb: &mut [[f32; 3]]) {
         const CHUNK: usize = 256;
         let backend = crate::mapping::simd::Backend::detect();
-        for (dirs, rgb) in dirs.chunks(CHUNK).zip(rgb.chunks_mut(CHUNK)) {
-            let n = dirs.len();
+        for (j, rgb) in rgb.chunks_mut(CHUNK).enumerate() {
+            let n = rgb.len();
             let mut b = [[0.0f64; CHUNK]; 3];
             let mut ok = [false; CHUNK];
-            for (k, &d) in dirs.iter().enumerate() {
-                let u = normalize(d);
+            for k in 0..n {
+                let u = normalize(dir_at(j * CHUNK + k));
                 ok[k] = u.is_some();
                 let u = u.unwrap_or([0.0, 0.0, 1.0]);
                 b[0][k] = u[0];
