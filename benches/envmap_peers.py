@@ -13,9 +13,9 @@ script loads the same image file twice:
 and measures
 
 1. **speed**: time per sample and per pdf of one vectorised batch (numpy in, numpy out, median of
-   ``--repeats`` after a warm-up that also compiles Mitsuba's kernels), on one thread (gonio's batch
-   is one thread; Mitsuba with ``dr.set_thread_count(1)``) and on all threads (gonio: the batch
-   split over one Python thread per core, the GIL released; Mitsuba: Dr.Jit's pool);
+   ``--repeats`` after a warm-up that also compiles Mitsuba's kernels), on one thread (gonio's
+   batches on a one-thread rayon pool, ``RAYON_NUM_THREADS=1``; Mitsuba with
+   ``dr.set_thread_count(1)``), and Mitsuba also on all threads (Dr.Jit's pool);
 2. **direct illumination RMSE** as ``crates/gonio/examples/envmaps.rs`` computes it: a diffuse and
    a normalised-Phong (e = 200) surface, normals +z and (1, 0.3, 0.4)/|.|, light sampling alone
    and MIS (balance heuristic, one light and one BSDF sample per count), luminance radiance read by
@@ -48,7 +48,6 @@ alone: ``--speed-only --repeats 7``).
 """
 
 import argparse
-import concurrent.futures
 import csv
 import math
 import os
@@ -159,8 +158,8 @@ class Mitsuba:
 
 
 class Gonio:
-    """gonio.EnvMap, or one of its ``sampler(kind)`` in float64 or float32; ``threads(n)`` splits a
-    batch over n Python threads (the GIL is released; the script runs rayon on one thread)."""
+    """gonio.EnvMap, or one of its ``sampler(kind)``, in the map's precision; its batches run on
+    rayon's pool (one thread in this script)."""
 
     def __init__(self, env, kind=None):
         self.env = env
@@ -173,28 +172,16 @@ class Gonio:
         else:
             self.s = env.sampler(kind)
             self.name = PEER_NAMES[kind]
-        self.n_threads = 1
-        self.pool = None
-
-    def _split(self, f, x):
-        if self.n_threads == 1:
-            return [f(x)]
-        parts = np.array_split(x, self.n_threads)
-        return list(self.pool.map(f, parts))
 
     def sample(self, u):
-        res = self._split(self.s.sample, np.asarray(u, self.dtype))
-        d = np.concatenate([r[0] for r in res]).astype(np.float64, copy=False)
-        return d, np.concatenate([r[1] for r in res]).astype(np.float64, copy=False)
+        d, p = self.s.sample(np.asarray(u, self.dtype))[:2]
+        return d.astype(np.float64, copy=False), p.astype(np.float64, copy=False)
 
     def pdf(self, d):
-        return np.concatenate(self._split(self.s.pdf, np.asarray(d, self.dtype))).astype(np.float64, copy=False)
+        return self.s.pdf(np.asarray(d, self.dtype)).astype(np.float64, copy=False)
 
     def threads(self, n):
-        self.n_threads = n
-        if self.pool is not None:
-            self.pool.shutdown()
-        self.pool = concurrent.futures.ThreadPoolExecutor(n) if n > 1 else None
+        """One thread only (see the speed loop)."""
 
 
 def median_time(f, repeats):
@@ -319,7 +306,11 @@ def run_map(path, variant, args, out_rows, speed_rows, check_rows):
     ncores = os.cpu_count() or 1
     cost = {}
     for s in samplers:
-        for threads in sorted({1, ncores}):
+        # gonio's batches run on rayon's pool, which this script holds to one thread (for the
+        # one-thread costs): Python threads would only queue on it, so gonio is timed on one
+        # thread; Mitsuba also on all (Dr.Jit's pool). benches/python_batches.py times gonio's
+        # batches on all threads.
+        for threads in sorted({1, ncores}) if isinstance(s, Mitsuba) else [1]:
             s.threads(threads)
             ts = median_time(lambda: s.sample(u), args.repeats)
             tp = median_time(lambda: s.pdf(dirs), args.repeats)

@@ -3,17 +3,20 @@
 
 use crate::sampler::PySampler;
 use crate::{arrays, detached, no_panic, GonioError, InputError};
+use gonio::batch::PAR_CHUNK;
 use gonio::envmap::{EnvOptions, EnvironmentMap, Float32EnvironmentMap, Lookup, Weight};
 use gonio::image::Image;
 use gonio::sampler::normalize;
 use gonio::Sampler;
 use pyo3::prelude::*;
+use rayon::prelude::*;
 
 /// An environment light: an image's luminance as a density per steradian over the sphere,
 /// sampled exactly (``sample``, ``pdf``, ``invert``) and its RGB radiance (``eval``).
 ///
 /// ``EnvMap(path, lookup="nearest", mis_compensation=False, weight="luminance",
-/// precision="float64")``. Directions are gonio's frame: the image's top row is +z, its centre
+/// precision="float64")``. Batches run on all threads with the GIL released; each output row
+/// depends only on its input row, so results do not depend on the number of threads. Directions are gonio's frame: the image's top row is +z, its centre
 /// column +x (docs/ENVMAPS.md). ``precision="float32"`` keeps only the map's float32 map (about
 /// 10 bytes per pixel instead of 18; the float32 map's contract, docs/API.md) and returns float32
 /// arrays.
@@ -272,7 +275,11 @@ impl PyEnvMap {
                     p.resize(n, 0.0);
                     let mut rgb: Vec<[f32; 3]> = arrays::try_vec(n, "rgb")?;
                     rgb.resize(n, [0.0; 3]);
-                    env.sample_batch_rgb(&pts, &mut d, &mut p, &mut rgb);
+                    d.par_chunks_mut(PAR_CHUNK)
+                        .zip(p.par_chunks_mut(PAR_CHUNK))
+                        .zip(rgb.par_chunks_mut(PAR_CHUNK))
+                        .zip(pts.par_chunks(PAR_CHUNK))
+                        .for_each(|(((d, p), c), u)| env.sample_batch_rgb(u, d, p, c));
                     let mut c = arrays::try_vec(3 * n, "rgb")?;
                     c.extend(rgb.iter().flat_map(|v| v.map(f64::from)));
                     PyResult::Ok((d.into_flattened(), p, c))
@@ -295,7 +302,15 @@ impl PyEnvMap {
                         [zeros32(n)?, zeros32(n)?, zeros32(n)?, zeros32(n)?];
                     let mut rgb: Vec<[f32; 3]> = arrays::try_vec(n, "rgb")?;
                     rgb.resize(n, [0.0; 3]);
-                    env.sample_soa(&u, &v, [&mut x, &mut y, &mut z], &mut p, &mut rgb);
+                    x.par_chunks_mut(PAR_CHUNK)
+                        .zip(y.par_chunks_mut(PAR_CHUNK))
+                        .zip(z.par_chunks_mut(PAR_CHUNK))
+                        .zip(p.par_chunks_mut(PAR_CHUNK))
+                        .zip(rgb.par_chunks_mut(PAR_CHUNK))
+                        .zip(u.par_chunks(PAR_CHUNK).zip(v.par_chunks(PAR_CHUNK)))
+                        .for_each(|(((((x, y), z), p), c), (u, v))| {
+                            env.sample_soa(u, v, [x, y, z], p, c)
+                        });
                     let mut d = arrays::try_vec(3 * n, "directions")?;
                     d.extend((0..n).flat_map(|k| [x[k], y[k], z[k]]));
                     PyResult::Ok((d, p, rgb.into_flattened()))
@@ -323,7 +338,9 @@ impl PyEnvMap {
                 let p = detached(py, "EnvMap.pdf", || {
                     let mut p = arrays::try_vec(ds.len(), "pdf")?;
                     p.resize(ds.len(), 0.0);
-                    env.pdf_batch(&ds, &mut p);
+                    p.par_chunks_mut(PAR_CHUNK)
+                        .zip(ds.par_chunks(PAR_CHUNK))
+                        .for_each(|(p, d)| env.pdf_batch(d, p));
                     PyResult::Ok(p)
                 })??;
                 Ok(arrays::new_1d(py, &p)?.into_any())
@@ -332,7 +349,10 @@ impl PyEnvMap {
                 let p = detached(py, "EnvMap.pdf", || {
                     let [x, y, z] = soa32(&ds)?;
                     let mut p = zeros32(ds.len())?;
-                    env.pdf_soa([&x, &y, &z], &mut p);
+                    p.par_chunks_mut(PAR_CHUNK)
+                        .zip(x.par_chunks(PAR_CHUNK))
+                        .zip(y.par_chunks(PAR_CHUNK).zip(z.par_chunks(PAR_CHUNK)))
+                        .for_each(|((p, x), (y, z))| env.pdf_soa([x, y, z], p));
                     PyResult::Ok(p)
                 })??;
                 Ok(arrays::new_1d(py, &p)?.into_any())
@@ -356,7 +376,9 @@ impl PyEnvMap {
                     // for bit.
                     let mut rgb: Vec<[f32; 3]> = arrays::try_vec(ds.len(), "rgb")?;
                     rgb.resize(ds.len(), [0.0; 3]);
-                    env.eval_batch(&ds, &mut rgb);
+                    rgb.par_chunks_mut(PAR_CHUNK)
+                        .zip(ds.par_chunks(PAR_CHUNK))
+                        .for_each(|(c, d)| env.eval_batch(d, c));
                     let mut c = arrays::try_vec(3 * ds.len(), "rgb")?;
                     c.extend(rgb.iter().flat_map(|v| v.map(f64::from)));
                     PyResult::Ok(c)
@@ -369,7 +391,9 @@ impl PyEnvMap {
                     // float32 sample's direction reads the radiance `sample` returned with it.
                     let mut rgb: Vec<[f32; 3]> = arrays::try_vec(ds.len(), "rgb")?;
                     rgb.resize(ds.len(), [0.0; 3]);
-                    env.eval_batch(&ds, &mut rgb);
+                    rgb.par_chunks_mut(PAR_CHUNK)
+                        .zip(ds.par_chunks(PAR_CHUNK))
+                        .for_each(|(c, d)| env.eval_batch(d, c));
                     PyResult::Ok(rgb.into_flattened())
                 })??;
                 Ok(arrays::new_2d(py, &c, 3)?.into_any())
@@ -392,7 +416,9 @@ impl PyEnvMap {
                 let u = detached(py, "EnvMap.invert", || {
                     let mut res = arrays::try_vec(ds.len(), "u")?;
                     res.resize(ds.len(), Ok([0.0; 2]));
-                    env.invert_batch(&ds, &mut res);
+                    res.par_chunks_mut(PAR_CHUNK)
+                        .zip(ds.par_chunks(PAR_CHUNK))
+                        .for_each(|(r, d)| env.invert_batch(d, r));
                     let mut u = arrays::try_vec(2 * ds.len(), "u")?;
                     u.extend(res.into_iter().flat_map(|r| r.unwrap_or([f64::NAN; 2])));
                     PyResult::Ok(u)
@@ -403,7 +429,11 @@ impl PyEnvMap {
                 let u = detached(py, "EnvMap.invert", || {
                     let [x, y, z] = soa32(&ds)?;
                     let (mut u, mut v) = (zeros32(ds.len())?, zeros32(ds.len())?);
-                    env.invert_soa([&x, &y, &z], [&mut u, &mut v]);
+                    u.par_chunks_mut(PAR_CHUNK)
+                        .zip(v.par_chunks_mut(PAR_CHUNK))
+                        .zip(x.par_chunks(PAR_CHUNK))
+                        .zip(y.par_chunks(PAR_CHUNK).zip(z.par_chunks(PAR_CHUNK)))
+                        .for_each(|(((u, v), x), (y, z))| env.invert_soa([x, y, z], [u, v]));
                     let mut uv = arrays::try_vec(2 * ds.len(), "u")?;
                     uv.extend(u.iter().zip(&v).flat_map(|(a, b)| [*a, *b]));
                     PyResult::Ok(uv)
