@@ -20,6 +20,13 @@ fuzz_target!(|data: &[u8]| {
                 let s = env.sample(u);
                 assert!(s.pdf.is_finite() && s.pdf >= 0.0);
             }
+            // The float32 environment map of the same image samples too.
+            let f = env.into_float32().expect("a small map has a float32 map");
+            let (u, v) = ([0.0f32, 0.5, 1.0, 0.3], [0.0f32, 0.5, 1.0, 0.9]);
+            let (mut x, mut y, mut z, mut p) = ([0f32; 4], [0f32; 4], [0f32; 4], [0f32; 4]);
+            let mut rgb = [[0f32; 3]; 4];
+            f.sample_soa(&u, &v, [&mut x, &mut y, &mut z], &mut p, &mut rgb);
+            assert!(p.iter().all(|q| q.is_finite() && *q >= 0.0));
         }
     }
 });
