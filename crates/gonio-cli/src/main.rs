@@ -161,6 +161,19 @@ fn main() -> ExitCode {
     progress::set_quiet(cli.quiet);
     load::set_tolerance(cli.tolerance);
     envmap_in::set_options(cli.weight, cli.lookup, cli.mis_compensation);
+    // Commands that never read an environment map refuse its options rather than ignore them
+    // (the others refuse them in `load` for inputs that are not images).
+    if matches!(
+        cli.command,
+        Command::Brdf(_) | Command::Uv(_) | Command::Bake(_)
+    ) {
+        if let Some(opt) = envmap_in::options_given() {
+            eprintln!(
+                "gonio: error: {opt} applies to environment maps (.hdr, .exr, .pfm) only (see `gonio --help`)"
+            );
+            return ExitCode::from(EXIT_USAGE);
+        }
+    }
 
     let result = match &cli.command {
         Command::Sample(a) => commands::sample::run(a).map(|()| true),

@@ -288,6 +288,23 @@ fn weight_lookup_and_mis_options() {
         let err = String::from_utf8_lossy(&o.stderr);
         assert!(err.contains("environment maps"), "{err}");
     }
+    // Commands that never read an environment map refuse them too (usage error).
+    for args in [
+        &[
+            "brdf",
+            "info",
+            "x.json",
+            "--incident",
+            "30,0",
+            "--weight",
+            "red",
+        ][..],
+        &["uv", "mesh.obj", "-o", "out.obj", "--lookup", "bilinear"],
+    ] {
+        let o = run(args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        assert!(String::from_utf8_lossy(&o.stderr).contains("environment maps"));
+    }
     // A channel that is black everywhere is the clear black-map error.
     let mut green0 = Image::constant(16, 8, [1.0, 0.0, 1.0]).unwrap();
     green0.set_pixel(3, 3, [2.0, 0.0, 2.0]);
