@@ -152,17 +152,8 @@ impl EnvInfo {
         EnvInfo {
             width: env.image().width(),
             height: env.image().height(),
-            weight: match o.weight {
-                Weight::Luminance => "luminance",
-                Weight::Channel(0) => "red",
-                Weight::Channel(1) => "green",
-                Weight::Channel(_) => "blue",
-                Weight::Custom(_) => "custom",
-            },
-            lookup: match o.lookup {
-                Lookup::Nearest => "nearest",
-                Lookup::Bilinear => "bilinear",
-            },
+            weight: o.weight.name(),
+            lookup: o.lookup.name(),
             mis_compensation: o.mis_compensation,
             weight_power: env.power(),
             memory_bytes_beyond_image: env.memory_bytes_beyond_image(),

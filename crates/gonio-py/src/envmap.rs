@@ -159,22 +159,13 @@ impl PyEnvMap {
     /// What the density is proportional to: "luminance", "red", "green", "blue" or "custom".
     #[getter]
     fn weight(&self) -> &'static str {
-        match self.options().weight {
-            Weight::Luminance => "luminance",
-            Weight::Channel(0) => "red",
-            Weight::Channel(1) => "green",
-            Weight::Channel(_) => "blue",
-            Weight::Custom(_) => "custom",
-        }
+        self.options().weight.name()
     }
 
     /// How ``eval`` (and ``sample``'s rgb) read the image: "nearest" or "bilinear".
     #[getter]
     fn lookup(&self) -> &'static str {
-        match self.options().lookup {
-            Lookup::Nearest => "nearest",
-            Lookup::Bilinear => "bilinear",
-        }
+        self.options().lookup.name()
     }
 
     /// Bytes held beyond the image (the map's tables; docs/ENVMAPS.md, "Build and memory").

@@ -76,6 +76,20 @@ pub enum Weight {
     Custom(Vec<f32>),
 }
 
+impl Weight {
+    /// The weight's name: `luminance`, `red`, `green`, `blue` or `custom` (a channel index above
+    /// 2, which the map refuses, is named `blue`).
+    pub fn name(&self) -> &'static str {
+        match self {
+            Weight::Luminance => "luminance",
+            Weight::Channel(0) => "red",
+            Weight::Channel(1) => "green",
+            Weight::Channel(_) => "blue",
+            Weight::Custom(_) => "custom",
+        }
+    }
+}
+
 /// How [`EnvironmentMap::eval`] reads the image (see the [module documentation](self)).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Lookup {
@@ -84,6 +98,16 @@ pub enum Lookup {
     Nearest,
     /// Bilinear between pixel centres, continuous across the seam and at the poles.
     Bilinear,
+}
+
+impl Lookup {
+    /// The lookup's name: `nearest` or `bilinear`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Lookup::Nearest => "nearest",
+            Lookup::Bilinear => "bilinear",
+        }
+    }
 }
 
 /// Options of [`EnvironmentMap::with_options`].
