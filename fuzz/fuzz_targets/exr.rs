@@ -4,9 +4,11 @@
 //! pdf.
 #![no_main]
 
-use gonio::envmap::EnvironmentMap;
 use gonio::image::{read_exr, read_pfm, write_pfm};
 use libfuzzer_sys::fuzz_target;
+
+#[path = "../common/envmap_case.rs"]
+mod envmap_case;
 
 fuzz_target!(|data: &[u8]| {
     if let Ok(img) = read_exr(data) {
@@ -18,18 +20,6 @@ fuzz_target!(|data: &[u8]| {
         assert_eq!((back.width(), back.height()), (img.width(), img.height()));
         let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
         assert_eq!(bits(back.rgb()), bits(img.rgb()));
-        if let Ok(env) = EnvironmentMap::new(img) {
-            for u in [[0.0, 0.0], [0.5, 0.5], [1.0, 1.0], [0.3, 0.9]] {
-                let s = env.sample(u);
-                assert!(s.pdf.is_finite() && s.pdf >= 0.0);
-            }
-            // The float32 environment map of the same image samples too.
-            let f = env.into_float32().expect("a small map has a float32 map");
-            let (u, v) = ([0.0f32, 0.5, 1.0, 0.3], [0.0f32, 0.5, 1.0, 0.9]);
-            let (mut x, mut y, mut z, mut p) = ([0f32; 4], [0f32; 4], [0f32; 4], [0f32; 4]);
-            let mut rgb = [[0f32; 3]; 4];
-            f.sample_soa(&u, &v, [&mut x, &mut y, &mut z], &mut p, &mut rgb);
-            assert!(p.iter().all(|q| q.is_finite() && *q >= 0.0));
-        }
+        envmap_case::check_envmap(img);
     }
 });
