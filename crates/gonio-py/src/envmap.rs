@@ -360,35 +360,28 @@ impl PyEnvMap {
     ) -> PyResult<Bound<'py, PyAny>> {
         let rows = arrays::rows::<3>(directions, "directions")?;
         let ds = rows.as_slice();
+        // The batch lookup of the directions as given (the angles on SIMD lanes, the scalar
+        // `eval` bit for bit); for a float32 map not rounded to float32 first, so that a float32
+        // sample's direction reads the radiance `sample` returned with it.
+        let lookup: &RadianceFn = match &self.inner {
+            Inner::F64(env) => &|d, c| env.eval_batch(d, c),
+            Inner::F32(env) => &|d, c| env.eval_batch(d, c),
+        };
+        let rgb = detached(py, "EnvMap.eval", || {
+            let mut rgb: Vec<[f32; 3]> = arrays::try_vec(ds.len(), "rgb")?;
+            rgb.resize(ds.len(), [0.0; 3]);
+            rgb.par_chunks_mut(PAR_CHUNK)
+                .zip(ds.par_chunks(PAR_CHUNK))
+                .for_each(|(c, d)| lookup(d, c));
+            PyResult::Ok(rgb)
+        })??;
         match &self.inner {
-            Inner::F64(env) => {
-                let c = detached(py, "EnvMap.eval", || {
-                    // The batch lookup (the angles on SIMD lanes): `EnvironmentMap::eval` bit
-                    // for bit.
-                    let mut rgb: Vec<[f32; 3]> = arrays::try_vec(ds.len(), "rgb")?;
-                    rgb.resize(ds.len(), [0.0; 3]);
-                    rgb.par_chunks_mut(PAR_CHUNK)
-                        .zip(ds.par_chunks(PAR_CHUNK))
-                        .for_each(|(c, d)| env.eval_batch(d, c));
-                    let mut c = arrays::try_vec(3 * ds.len(), "rgb")?;
-                    c.extend(rgb.iter().flat_map(|v| v.map(f64::from)));
-                    PyResult::Ok(c)
-                })??;
+            Inner::F64(_) => {
+                let mut c = arrays::try_vec(3 * rgb.len(), "rgb")?;
+                c.extend(rgb.iter().flat_map(|v| v.map(f64::from)));
                 Ok(arrays::new_2d(py, &c, 3)?.into_any())
             }
-            Inner::F32(env) => {
-                let c = detached(py, "EnvMap.eval", || {
-                    // The radiance of the directions as given (not rounded to float32): a
-                    // float32 sample's direction reads the radiance `sample` returned with it.
-                    let mut rgb: Vec<[f32; 3]> = arrays::try_vec(ds.len(), "rgb")?;
-                    rgb.resize(ds.len(), [0.0; 3]);
-                    rgb.par_chunks_mut(PAR_CHUNK)
-                        .zip(ds.par_chunks(PAR_CHUNK))
-                        .for_each(|(c, d)| env.eval_batch(d, c));
-                    PyResult::Ok(rgb.into_flattened())
-                })??;
-                Ok(arrays::new_2d(py, &c, 3)?.into_any())
-            }
+            Inner::F32(_) => Ok(arrays::new_2d(py, rgb.as_flattened(), 3)?.into_any()),
         }
     }
 
@@ -434,6 +427,9 @@ impl PyEnvMap {
         }
     }
 }
+
+/// A batch radiance lookup of float64 directions (either map's `eval_batch`).
+type RadianceFn<'a> = dyn Fn(&[[f64; 3]], &mut [[f32; 3]]) + Sync + 'a;
 
 /// `n` zeros, allocated fallibly (MemoryError, never an abort).
 fn zeros32(n: usize) -> PyResult<Vec<f32>> {
