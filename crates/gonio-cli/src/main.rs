@@ -82,6 +82,8 @@ enum Command {
     /// bench `FILE --incident THETA,PHI`. The same commands at the top level (`gonio sample FILE
     /// --incident 30,0`) come here when FILE is a BRDF file by its content.
     Brdf(commands::brdf::BrdfArgs),
+    /// Write the HDS map's tables as one blob (docs/TABLES.md) for GPU and Dr.Jit code.
+    Tables(commands::tables::TablesArgs),
 }
 
 /// `--tolerance`: a number in (0, 1), the library's one rule
@@ -187,6 +189,7 @@ fn main() -> ExitCode {
         Command::Uv(a) => commands::uv::run_uv(a).map(|()| true),
         Command::Bake(a) => commands::uv::run_bake(a).map(|()| true),
         Command::Brdf(a) => commands::brdf::run(a),
+        Command::Tables(a) => commands::tables::run(a).map(|()| true),
     };
     match result {
         Ok(true) => ExitCode::SUCCESS,

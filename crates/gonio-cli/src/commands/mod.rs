@@ -8,4 +8,5 @@ pub mod directions;
 pub mod info;
 pub mod pbrt;
 pub mod sample;
+pub mod tables;
 pub mod uv;

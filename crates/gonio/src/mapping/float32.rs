@@ -73,28 +73,29 @@ pub enum Float32MapError {
 
 /// One map's tables owned in element type `T` (f32: the float32 map; f64: the same values
 /// widened, its exact reference).
-#[derive(Debug, Clone)]
-struct Tables<T> {
-    m: usize,
-    n: usize,
-    phi: Vec<T>,
-    beta: Vec<T>,
-    inv_uniform_beta: T,
-    r2: Vec<T>,
-    cum: Vec<T>,
-    kappa: T,
-    wedge_guide: Vec<u32>,
-    guide_scale: T,
-    x: Vec<T>,
-    d: Vec<T>,
-    u: Vec<T>,
-    total: Vec<T>,
-    radius_guide: Vec<u32>,
-    radius_scale: T,
-    inv_dx: Vec<T>,
-    radial_guide: Vec<u32>,
-    radial_k: usize,
-    edge: T,
+// The fields are the blob's tables (`mapping::blob` writes and reads them by name).
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct Tables<T> {
+    pub(super) m: usize,
+    pub(super) n: usize,
+    pub(super) phi: Vec<T>,
+    pub(super) beta: Vec<T>,
+    pub(super) inv_uniform_beta: T,
+    pub(super) r2: Vec<T>,
+    pub(super) cum: Vec<T>,
+    pub(super) kappa: T,
+    pub(super) wedge_guide: Vec<u32>,
+    pub(super) guide_scale: T,
+    pub(super) x: Vec<T>,
+    pub(super) d: Vec<T>,
+    pub(super) u: Vec<T>,
+    pub(super) total: Vec<T>,
+    pub(super) radius_guide: Vec<u32>,
+    pub(super) radius_scale: T,
+    pub(super) inv_dx: Vec<T>,
+    pub(super) radial_guide: Vec<u32>,
+    pub(super) radial_k: usize,
+    pub(super) edge: T,
 }
 
 /// `x` rounded to the nearest f32, kept in f64.
@@ -105,7 +106,7 @@ fn r32(x: f64) -> f64 {
 
 impl<T: Copy> Tables<T> {
     /// The read-only view the kernels read.
-    fn view(&self) -> TablesView<'_, T> {
+    pub(super) fn view(&self) -> TablesView<'_, T> {
         TablesView {
             angular: AngularTablesView {
                 m: self.m,
@@ -177,9 +178,39 @@ impl<T: Copy> Tables<T> {
     }
 }
 
+impl Tables<f64> {
+    /// The f64 map's own tables of `core`, copied (the f64 blob's tables).
+    pub(super) fn exact_of(core: &HdsCore) -> Self {
+        let v = core.view();
+        let (a, r) = (v.angular, v.radial);
+        Tables {
+            m: a.m,
+            n: r.n,
+            phi: a.phi.to_vec(),
+            beta: a.beta.to_vec(),
+            inv_uniform_beta: a.inv_uniform_beta,
+            r2: a.r2.to_vec(),
+            cum: a.cum.to_vec(),
+            kappa: a.kappa,
+            wedge_guide: a.wedge_guide.to_vec(),
+            guide_scale: a.guide_scale,
+            x: r.x.to_vec(),
+            d: r.d.to_vec(),
+            u: r.u.to_vec(),
+            total: r.total.to_vec(),
+            radius_guide: r.radius_guide.to_vec(),
+            radius_scale: r.radius_scale,
+            inv_dx: r.inv_dx.to_vec(),
+            radial_guide: r.radial_guide.to_vec(),
+            radial_k: r.radial_k,
+            edge: r.edge,
+        }
+    }
+}
+
 impl Tables<f32> {
     /// The float32 tables of `core` (see the module documentation), or why there are none.
-    fn of(core: &HdsCore) -> Result<Self, Float32MapError> {
+    pub(super) fn of(core: &HdsCore) -> Result<Self, Float32MapError> {
         let v = core.view();
         let (a, r) = (v.angular, v.radial);
         let lim = 1usize << 31;
@@ -262,7 +293,7 @@ impl Tables<f32> {
 // One per map, never in a collection: the split variant's size costs nothing.
 #[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone)]
-enum Layout<T> {
+pub(super) enum Layout<T> {
     /// One hemisphere map (z ≥ 0).
     Hemisphere(Tables<T>),
     /// The Lambert sphere: one map over the whole sphere.
@@ -277,10 +308,10 @@ enum Layout<T> {
 
 /// A float32 map's layout and pdf scale in element type `T`, with the batch calls.
 #[derive(Debug, Clone)]
-struct Maps<T> {
-    layout: Layout<T>,
+pub(super) struct Maps<T> {
+    pub(super) layout: Layout<T>,
     /// 1/(2T): the pdf per unit of disk density (the f64 map's, rounded to f32).
-    inv_2t: T,
+    pub(super) inv_2t: T,
 }
 
 impl<T: TablesElem> Maps<T> {
@@ -486,7 +517,7 @@ fn check_len(what: &str, n: usize, lens: &[usize]) {
 /// ```
 #[derive(Debug, Clone)]
 pub struct Float32Map {
-    maps: Maps<f32>,
+    pub(super) maps: Maps<f32>,
 }
 
 /// The float32 map evaluated exactly: its tables widened to f64 (exactly) and run through the f64
@@ -497,7 +528,58 @@ pub struct Float32Exact {
     maps: Maps<f64>,
 }
 
+/// The f64 map's tables alone: what a float64 table blob ([`crate::tables`]) reads back into.
+/// Its batch calls run the same f64 kernels over the same tables as the map that wrote them, so
+/// they give the bits of that map's structure-of-arrays batches
+/// ([`crate::Sampler::sample_batch_soa`], [`crate::Sampler::pdf_batch_soa`],
+/// [`crate::Sampler::invert_batch_soa`]); tested in `tests/tables.rs`. It keeps no diagram and no
+/// bound: the target, the ratio bound and the refinement stay with the map that wrote it.
+#[derive(Debug, Clone)]
+pub struct Float64Map {
+    pub(super) maps: Maps<f64>,
+}
+
+impl Float64Map {
+    /// Maps the points `(u[k], v[k])` of the unit square to directions and densities (per
+    /// steradian) on the detected backend.
+    ///
+    /// # Panics
+    /// If the slices differ in length.
+    pub fn sample_soa(&self, u: &[f64], v: &[f64], dir: [&mut [f64]; 3], pdf: &mut [f64]) {
+        self.maps.sample(Backend::detect(), u, v, dir, pdf)
+    }
+    /// The density (per steradian) at each direction; 0 outside the domain.
+    ///
+    /// # Panics
+    /// If the slices differ in length.
+    pub fn pdf_soa(&self, dir: [&[f64]; 3], pdf: &mut [f64]) {
+        self.maps.pdf(Backend::detect(), dir, pdf)
+    }
+    /// The point of the unit square of each direction; NaN outside the domain or for a
+    /// non-finite direction.
+    ///
+    /// # Panics
+    /// If the slices differ in length.
+    pub fn invert_soa(&self, dir: [&[f64]; 3], uv: [&mut [f64]; 2]) {
+        self.maps.invert(Backend::detect(), dir, uv)
+    }
+    /// Bytes of the tables' contents and the map itself.
+    pub fn memory_bytes(&self) -> usize {
+        self.maps.table_bytes() + std::mem::size_of::<Self>()
+    }
+}
+
 impl HemisphereMap {
+    /// This map's tables alone in f64 ([`Float64Map`]).
+    pub fn float64_map(&self) -> Float64Map {
+        Float64Map {
+            maps: Maps {
+                layout: Layout::Hemisphere(Tables::exact_of(self.core())),
+                inv_2t: self.inv_2t(),
+            },
+        }
+    }
+
     /// This map's float32 map (see [`Float32Map`]).
     ///
     /// # Errors
@@ -513,6 +595,24 @@ impl HemisphereMap {
 }
 
 impl SphereMap {
+    /// This map's tables alone in f64 ([`Float64Map`]).
+    pub fn float64_map(&self) -> Float64Map {
+        let layout = match self.cores() {
+            CoresRef::Lambert(c) => Layout::Lambert(Tables::exact_of(c)),
+            CoresRef::Split { upper, lower, rule } => Layout::Split {
+                upper: upper.map(Tables::exact_of),
+                lower: lower.map(Tables::exact_of),
+                rule,
+            },
+        };
+        Float64Map {
+            maps: Maps {
+                layout,
+                inv_2t: self.inv_2t(),
+            },
+        }
+    }
+
     /// This map's float32 map (see [`Float32Map`]): the same layout, the split layout's rule
     /// evaluated in f32 with P_lower rounded to f32.
     ///

@@ -21,6 +21,7 @@
 pub mod angular;
 pub mod batch;
 pub mod blend;
+pub mod blob;
 mod bound;
 mod complete;
 pub mod concentric;
@@ -37,7 +38,7 @@ mod split;
 
 pub use blend::{BlendError, BlendedMap};
 pub use complete::Completion;
-pub use float32::{Float32Exact, Float32Map, Float32MapError, FLOAT32_MAX_NODES};
+pub use float32::{Float32Exact, Float32Map, Float32MapError, Float64Map, FLOAT32_MAX_NODES};
 pub use hemisphere::HemisphereMap;
 pub use refine::{RefineLimits, RefineStop, Refinement};
 pub use sphere::{SphereLayout, SphereMap};

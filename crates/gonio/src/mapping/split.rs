@@ -49,6 +49,11 @@ impl SplitRule {
         }
     }
 
+    /// P_lower: the probability of the lower map (0 without one, 1 without an upper map).
+    pub(crate) fn p_lower(&self) -> f64 {
+        self.p_lower
+    }
+
     /// The same rule with P_lower rounded to f32 (the float32 map's rule, and that of its exact
     /// reference, which evaluates it in f64).
     pub(crate) fn rounded_f32(self) -> Self {

@@ -1,0 +1,88 @@
+//! `gonio tables FILE -o OUT.bin [--precision f32|f64]`: the HDS map's tables as one blob
+//! (docs/TABLES.md), for the device header, the Dr.Jit plugins or a renderer's own loader.
+
+use crate::load::{build_sampler, load};
+use crate::output::Output;
+use clap::{Args, ValueEnum};
+use gonio::mapping::blob::{self, Frame, Precision, Target};
+use gonio::Method;
+use std::io::Write;
+use std::path::PathBuf;
+
+/// The blob's float precision.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum PrecisionArg {
+    /// The float32 map (what GPU and Dr.Jit code samples).
+    F32,
+    /// The f64 map's own tables.
+    F64,
+}
+
+/// `gonio tables`.
+#[derive(Debug, Clone, Args)]
+pub struct TablesArgs {
+    /// Input: `.json`, `.ies`, `.ldt`, an environment map (`.hdr`, `.exr`, `.pfm`), or `example`.
+    #[arg(value_name = "FILE")]
+    pub input: String,
+    /// Output file of the blob.
+    #[arg(short, long, value_name = "OUT")]
+    pub output: PathBuf,
+    /// Float precision of the tables (default f32).
+    #[arg(long, value_enum, default_value = "f32")]
+    pub precision: PrecisionArg,
+}
+
+/// Writes the blob of FILE's HDS map (with its diagram, or its environment map's image, as the
+/// target) and prints one line: the layout, grid and size.
+pub fn run(a: &TablesArgs) -> anyhow::Result<()> {
+    let loaded = load(&a.input)?;
+    let precision = match a.precision {
+        PrecisionArg::F32 => Precision::F32,
+        PrecisionArg::F64 => Precision::F64,
+    };
+    let bytes = if let Some(env) = &loaded.envmap {
+        let img = env.image();
+        let target = Target::Image {
+            width: img.width(),
+            height: img.height(),
+            rgb: img.rgb(),
+            lookup: env.options().lookup,
+        };
+        blob::write(
+            gonio::MapRef::Sphere(env.map()),
+            precision,
+            Frame::EnvironmentMap,
+            &target,
+        )
+    } else {
+        let sampler = build_sampler(Method::Hds, &loaded)?;
+        let map = sampler.hds_map().expect("the HDS method builds an HDS map");
+        let frame = if loaded.kind.is_photometric() {
+            Frame::Photometric
+        } else {
+            Frame::Generic
+        };
+        blob::write(map, precision, frame, &Target::Grid(&loaded.diagram))
+    }
+    .map_err(|e| anyhow::anyhow!("{}: {e}", loaded.name))?;
+    let info = blob::read(&bytes).map_err(|e| anyhow::anyhow!("{}: {e}", loaded.name))?;
+    let mut out = Output::create(Some(&a.output))?;
+    out.write_all(&bytes)?;
+    out.finish()?;
+    let grids: Vec<String> = info
+        .grids
+        .iter()
+        .flatten()
+        .map(|(m, n)| format!("{m} × {n}"))
+        .collect();
+    eprintln!(
+        "{}: {} bytes, {} tables, {:?} layout, {} frame, maps {}",
+        a.output.display(),
+        bytes.len(),
+        precision.name(),
+        info.layout,
+        info.frame.name(),
+        grids.join(" + ")
+    );
+    Ok(())
+}
