@@ -1467,6 +1467,43 @@ GonioStatus gonio_envmap_f32_eval_batch(const struct GonioEnvMapF32 *map,
                                         size_t n,
                                         float *rgb);
 
+/*
+ The HDS map's tables of `sampler` as one blob (docs/TABLES.md, layout version 1), with the
+ diagram `target` as its grid target (NULL: none; its frame is photometric for IES and
+ EULUMDAT files, generic otherwise). `precision` is 4 (the float32 map, what
+ `gonio_device.h` samples) or 8 (the f64 map's tables).
+
+ Call it with `buffer` NULL to get the size in `*size`; then with a buffer of at least that
+ many bytes (64-byte aligned if the tables are to be used in place), which receives the blob.
+ [`GONIO_ERR_UNSUPPORTED`] for a sampler that is not the HDS method; [`GONIO_ERR_INVALID_ARGUMENT`]
+ for a bad precision, a buffer too small, or a grid too large for a float32 map.
+
+ # Safety
+ `sampler` and `target` NULL or live handles; `size` NULL or valid for writing a `size_t`;
+ `buffer` NULL or valid for writing `capacity` bytes.
+ */
+GonioStatus gonio_sampler_tables(const struct GonioSampler *sampler,
+                                 const struct GonioDiagram *target,
+                                 uint32_t precision,
+                                 uint8_t *buffer,
+                                 size_t capacity,
+                                 size_t *size);
+
+/*
+ The environment map's tables as one blob (docs/TABLES.md): its sphere map in `precision` (4 or
+ 8), in the environment map's lat-long frame, with its RGB image and radiance lookup as the
+ image target. Size query and buffer as [`gonio_sampler_tables`].
+
+ # Safety
+ `map` NULL or a live handle; `size` NULL or valid for writing a `size_t`; `buffer` NULL or
+ valid for writing `capacity` bytes.
+ */
+GonioStatus gonio_envmap_tables(const struct GonioEnvMap *map,
+                                uint32_t precision,
+                                uint8_t *buffer,
+                                size_t capacity,
+                                size_t *size);
+
 #ifdef __cplusplus
 } /* extern "C" */
 #endif /* __cplusplus */

@@ -69,6 +69,13 @@ pub struct GonioEnvMap {
     warnings: Vec<CString>,
 }
 
+impl GonioEnvMap {
+    /// The environment map.
+    pub(crate) fn inner(&self) -> &EnvironmentMap {
+        &self.inner
+    }
+}
+
 /// The library's options from the C struct; the custom weights are copied.
 ///
 /// # Safety

@@ -38,6 +38,8 @@ mod brdf;
 pub use brdf::*;
 mod envmap;
 pub use envmap::*;
+mod tables;
+pub use tables::*;
 
 #[cfg(test)]
 mod tests;

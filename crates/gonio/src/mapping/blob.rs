@@ -18,6 +18,9 @@
 //! [`TablesError`], never a panic. A map read back samples bit for bit as the one that wrote it:
 //! an f32 blob is the writer's [`Float32Map`], an f64 blob its [`Float64Map`].
 
+// The two map slots are indexed in step across several arrays.
+#![allow(clippy::needless_range_loop)]
+
 use super::float32::{Layout, Maps, Tables};
 use super::split::SplitRule;
 use super::{Float32Map, Float32MapError, Float64Map, FLOAT32_MAX_NODES};
@@ -327,7 +330,7 @@ struct Pending {
 }
 
 fn floats<T: BlobFloat>(id: u32, elem: u32, v: &[T]) -> Pending {
-    let mut bytes = Vec::with_capacity(v.len() * std::mem::size_of::<T>());
+    let mut bytes = Vec::with_capacity(std::mem::size_of_val(v));
     for &x in v {
         x.put(&mut bytes);
     }
@@ -908,7 +911,7 @@ pub fn read(bytes: &[u8]) -> Result<MapTables, TablesError> {
             "differs from the bytes given (longer)",
         ));
     }
-    if total % ALIGN as u64 != 0 {
+    if !total.is_multiple_of(ALIGN as u64) {
         return Err(field("total_bytes", 16, total, "not a multiple of 64"));
     }
     let stored = u64_at(bytes, CHECKSUM_OFFSET);
@@ -1305,4 +1308,227 @@ pub fn read(bytes: &[u8]) -> Result<MapTables, TablesError> {
         grids,
         p_lower,
     })
+}
+
+// ------------------------------------------------------------------------------------------
+// A blob read back, as a sampler.
+// ------------------------------------------------------------------------------------------
+
+impl MapTables {
+    /// The sampler's domain: the hemisphere for layout 0, else the sphere.
+    pub fn domain(&self) -> crate::Domain {
+        match self.layout {
+            BlobLayout::Hemisphere => crate::Domain::Hemisphere,
+            _ => crate::Domain::Sphere,
+        }
+    }
+
+    /// One point through the map's own batch call (f32 blob: the point rounded to f32 and the
+    /// result widened).
+    fn sample_one(&self, u: [f64; 2]) -> ([f64; 3], f64) {
+        match &self.map {
+            ReadMap::F64(m) => {
+                let (mut x, mut y, mut z, mut p) = ([0.0], [0.0], [0.0], [0.0]);
+                m.sample_soa(&[u[0]], &[u[1]], [&mut x, &mut y, &mut z], &mut p);
+                ([x[0], y[0], z[0]], p[0])
+            }
+            ReadMap::F32(m) => {
+                let (mut x, mut y, mut z, mut p) = ([0f32], [0f32], [0f32], [0f32]);
+                m.sample_soa(
+                    &[u[0] as f32],
+                    &[u[1] as f32],
+                    [&mut x, &mut y, &mut z],
+                    &mut p,
+                );
+                (
+                    [f64::from(x[0]), f64::from(y[0]), f64::from(z[0])],
+                    f64::from(p[0]),
+                )
+            }
+        }
+    }
+}
+
+/// A unit vector, or `None` for a zero or non-finite one.
+fn unit(d: crate::Vec3) -> Option<crate::Vec3> {
+    let n = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+    (n.is_finite() && n > 0.0).then(|| [d[0] / n, d[1] / n, d[2] / n])
+}
+
+/// A blob read back samples as the map that wrote it: `sample`, `pdf` and `invert` one point at
+/// a time through the map's batch calls; the structure-of-arrays batches of the blob's precision
+/// are the writer's bit for bit (f64 blob: the f64 map's `*_batch_soa`; f32 blob: its float32
+/// map's `*_batch_soa_f32`). `target_pdf` is the grid target's interpolant over its integral (0
+/// without a grid target); there is no ratio bound or refinement (they stay with the writer).
+impl crate::Sampler for MapTables {
+    fn name(&self) -> &'static str {
+        "hds"
+    }
+    fn domain(&self) -> crate::Domain {
+        MapTables::domain(self)
+    }
+    fn sample(&self, u: crate::Point2) -> crate::Sample {
+        let (direction, pdf) = self.sample_one(u);
+        crate::Sample { direction, pdf }
+    }
+    fn pdf(&self, direction: crate::Vec3) -> f64 {
+        let Some(d) = unit(direction) else { return 0.0 };
+        match &self.map {
+            ReadMap::F64(m) => {
+                let mut p = [0.0];
+                m.pdf_soa([&[d[0]], &[d[1]], &[d[2]]], &mut p);
+                p[0]
+            }
+            ReadMap::F32(m) => {
+                let mut p = [0f32];
+                m.pdf_soa([&[d[0] as f32], &[d[1] as f32], &[d[2] as f32]], &mut p);
+                f64::from(p[0])
+            }
+        }
+    }
+    fn invert(&self, direction: crate::Vec3) -> Result<crate::Point2, crate::InvertError> {
+        let d = unit(direction).ok_or(crate::InvertError::OutsideDomain)?;
+        if self.layout == BlobLayout::Hemisphere && d[2] < 0.0 {
+            return Err(crate::InvertError::OutsideDomain);
+        }
+        if crate::Sampler::pdf(self, d) == 0.0 {
+            return Err(crate::InvertError::ZeroDensity);
+        }
+        let uv = match &self.map {
+            ReadMap::F64(m) => {
+                let (mut u, mut v) = ([0.0], [0.0]);
+                m.invert_soa([&[d[0]], &[d[1]], &[d[2]]], [&mut u, &mut v]);
+                [u[0], v[0]]
+            }
+            ReadMap::F32(m) => {
+                let (mut u, mut v) = ([0f32], [0f32]);
+                m.invert_soa(
+                    [&[d[0] as f32], &[d[1] as f32], &[d[2] as f32]],
+                    [&mut u, &mut v],
+                );
+                [f64::from(u[0]), f64::from(v[0])]
+            }
+        };
+        if uv[0].is_finite() && uv[1].is_finite() {
+            Ok(uv)
+        } else {
+            Err(crate::InvertError::OutsideDomain)
+        }
+    }
+    fn target_pdf(&self, direction: crate::Vec3) -> f64 {
+        let TargetTables::Grid(g) = &self.target else {
+            return 0.0;
+        };
+        let Some(d) = unit(direction) else { return 0.0 };
+        if self.layout == BlobLayout::Hemisphere && d[2] < 0.0 {
+            return 0.0;
+        }
+        let total = g.integral();
+        if !(total > 0.0 && total.is_finite()) {
+            return 0.0;
+        }
+        let (t, p) = crate::sampler::spherical(d);
+        g.interpolate(t, p) / total
+    }
+    fn memory_bytes(&self) -> usize {
+        let map = match &self.map {
+            ReadMap::F64(m) => m.memory_bytes(),
+            ReadMap::F32(m) => m.memory_bytes(),
+        };
+        let target = match &self.target {
+            TargetTables::None => 0,
+            TargetTables::Grid(g) => 8 * (g.theta().len() + g.phi().len() + g.values().len()),
+            TargetTables::Image { rgb, .. } => 4 * rgb.len(),
+        };
+        map + target + std::mem::size_of::<Self>()
+    }
+    fn sample_batch_soa(&self, u: &[f64], v: &[f64], dir: [&mut [f64]; 3], pdf: &mut [f64]) {
+        match &self.map {
+            ReadMap::F64(m) => m.sample_soa(u, v, dir, pdf),
+            ReadMap::F32(_) => {
+                let [x, y, z] = dir;
+                for k in 0..u.len() {
+                    let (d, p) = self.sample_one([u[k], v[k]]);
+                    (x[k], y[k], z[k], pdf[k]) = (d[0], d[1], d[2], p);
+                }
+            }
+        }
+    }
+    fn pdf_batch_soa(&self, dir: [&[f64]; 3], pdf: &mut [f64]) {
+        match &self.map {
+            ReadMap::F64(m) => m.pdf_soa(dir, pdf),
+            ReadMap::F32(_) => {
+                for k in 0..pdf.len() {
+                    pdf[k] = crate::Sampler::pdf(self, [dir[0][k], dir[1][k], dir[2][k]]);
+                }
+            }
+        }
+    }
+    fn invert_batch_soa(&self, dir: [&[f64]; 3], uv: [&mut [f64]; 2]) {
+        let [u, v] = uv;
+        match &self.map {
+            ReadMap::F64(m) => {
+                m.invert_soa(dir, [&mut *u, &mut *v]);
+                let mut p = vec![0.0; u.len()];
+                m.pdf_soa(dir, &mut p);
+                for k in 0..u.len() {
+                    if p[k] == 0.0 {
+                        u[k] = f64::NAN;
+                        v[k] = f64::NAN;
+                    }
+                }
+            }
+            ReadMap::F32(_) => {
+                for k in 0..u.len() {
+                    let r = crate::Sampler::invert(self, [dir[0][k], dir[1][k], dir[2][k]]);
+                    let p = r.unwrap_or([f64::NAN; 2]);
+                    (u[k], v[k]) = (p[0], p[1]);
+                }
+            }
+        }
+    }
+    fn sample_batch_soa_f32(&self, u: &[f32], v: &[f32], dir: [&mut [f32]; 3], pdf: &mut [f32]) {
+        match &self.map {
+            ReadMap::F32(m) => m.sample_soa(u, v, dir, pdf),
+            ReadMap::F64(m) => {
+                let (uu, vv): (Vec<f64>, Vec<f64>) = (
+                    u.iter().map(|&x| x.into()).collect(),
+                    v.iter().map(|&x| x.into()).collect(),
+                );
+                let n = u.len();
+                let (mut x, mut y, mut z, mut p) =
+                    (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+                m.sample_soa(&uu, &vv, [&mut x, &mut y, &mut z], &mut p);
+                let [dx, dy, dz] = dir;
+                for k in 0..n {
+                    (dx[k], dy[k], dz[k], pdf[k]) =
+                        (x[k] as f32, y[k] as f32, z[k] as f32, p[k] as f32);
+                }
+            }
+        }
+    }
+    fn pdf_batch_soa_f32(&self, dir: [&[f32]; 3], pdf: &mut [f32]) {
+        match &self.map {
+            ReadMap::F32(m) => m.pdf_soa(dir, pdf),
+            ReadMap::F64(_) => {
+                for k in 0..pdf.len() {
+                    let d = [dir[0][k], dir[1][k], dir[2][k]].map(f64::from);
+                    pdf[k] = crate::Sampler::pdf(self, d) as f32;
+                }
+            }
+        }
+    }
+    fn invert_batch_soa_f32(&self, dir: [&[f32]; 3], uv: [&mut [f32]; 2]) {
+        let [u, v] = uv;
+        match &self.map {
+            ReadMap::F32(m) => m.invert_soa_nonzero(dir, [u, v]),
+            ReadMap::F64(_) => {
+                for k in 0..u.len() {
+                    let d = [dir[0][k], dir[1][k], dir[2][k]].map(f64::from);
+                    let p = crate::Sampler::invert(self, d).unwrap_or([f64::NAN; 2]);
+                    (u[k], v[k]) = (p[0] as f32, p[1] as f32);
+                }
+            }
+        }
+    }
 }
