@@ -61,6 +61,44 @@ impl PyEnvMap {
 
 #[pymethods]
 impl PyEnvMap {
+    /// The map's tables as one blob (docs/TABLES.md) in the environment map's lat-long frame,
+    /// with its RGB image and radiance lookup as the image target: `precision` "float32" (the
+    /// float32 map; the only one for an `EnvMap(..., precision="float32")`) or "float64".
+    #[pyo3(signature = (precision = "float32"))]
+    fn tables<'py>(
+        &self,
+        py: Python<'py>,
+        precision: &str,
+    ) -> PyResult<Bound<'py, pyo3::types::PyBytes>> {
+        use gonio::mapping::blob::{self, Frame, Precision, Target};
+        let p = crate::sampler::parse_precision(precision)?;
+        let img = self.image();
+        let target = Target::Image {
+            width: img.width(),
+            height: img.height(),
+            rgb: img.rgb(),
+            lookup: self.options().lookup,
+        };
+        let bytes = py.detach(|| match (&self.inner, p) {
+            (Inner::F64(e), _) => blob::write(
+                gonio::MapRef::Sphere(e.map()),
+                p,
+                Frame::EnvironmentMap,
+                &target,
+            )
+            .map_err(|e| e.to_string()),
+            (Inner::F32(e), Precision::F32) => {
+                blob::write_float32(e.map(), Frame::EnvironmentMap, &target)
+                    .map_err(|e| e.to_string())
+            }
+            (Inner::F32(_), Precision::F64) => Err(
+                "needs the float64 map (EnvMap(..., precision=\"float64\"), the default)".into(),
+            ),
+        });
+        let bytes = bytes.map_err(|e| InputError::new_err(format!("EnvMap.tables: {e}")))?;
+        Ok(pyo3::types::PyBytes::new(py, &bytes))
+    }
+
     #[new]
     #[pyo3(signature = (path, lookup = "nearest", mis_compensation = false, weight = None, precision = "float64"))]
     fn new(

@@ -5,11 +5,13 @@ use crate::batch::{fmt_row, in_slices, map_rows};
 use crate::types::{domain_name, parse_domain, PyDiagram};
 use crate::{detached, BuildError, InputError};
 use gonio::batch::{CHUNK, PAR_CHUNK};
+use gonio::mapping::blob::{self, Frame, Precision, Target};
 use gonio::sampler::normalize;
 use gonio::Method;
 use gonio::{InvertError, Sampler};
 use numpy::{Element, PyArray1, PyArray2};
 use pyo3::prelude::*;
+use pyo3::types::PyBytes;
 use rayon::prelude::*;
 
 /// A sampler of a diagram: a bijective map from the unit square [0, 1]² to unit directions with
@@ -32,6 +34,10 @@ pub(crate) struct PySampler {
     method: &'static str,
     ratio_bound: Option<(f64, f64)>,
     target_power: f64,
+    /// The diagram it was built from and its frame: the grid target of `tables()`.
+    target: Option<(gonio::Diagram, Frame)>,
+    /// The blob a `from_tables` sampler was read from, and its precision.
+    blob: Option<(Vec<u8>, Precision)>,
 }
 
 /// A built sampler, its guaranteed ratio bound (if the method claims one) and the power its
@@ -84,11 +90,18 @@ impl PySampler {
         })?;
         let (sampler, ratio_bound, target_power) =
             built.map_err(|e| BuildError::new_err(format!("{what}: {e}")))?;
+        let frame = if d.source.is_photometric() {
+            Frame::Photometric
+        } else {
+            Frame::Generic
+        };
         Ok(PySampler {
             sampler,
             method: method.as_str(),
             ratio_bound,
             target_power,
+            target: Some((d.diagram.clone(), frame)),
+            blob: None,
         })
     }
 
@@ -101,6 +114,8 @@ impl PySampler {
             method,
             ratio_bound,
             target_power,
+            target: None,
+            blob: None,
         }
     }
 
@@ -166,6 +181,58 @@ impl PySampler {
     #[getter]
     fn target_power(&self) -> f64 {
         self.target_power
+    }
+
+    /// The HDS map's tables as one blob (docs/TABLES.md, layout version 1): `precision`
+    /// "float32" (the float32 map, what `gonio_device.h` and the Dr.Jit plugins sample) or
+    /// "float64" (the f64 map's own tables), with the diagram the sampler was built from as its
+    /// grid target (photometric frame for IES/EULUMDAT input). Raises InputError for another
+    /// method than "hds" or a grid too large for float32 tables.
+    #[pyo3(signature = (precision = "float32"))]
+    fn tables<'py>(&self, py: Python<'py>, precision: &str) -> PyResult<Bound<'py, PyBytes>> {
+        let p = parse_precision(precision)?;
+        if let Some((bytes, bp)) = &self.blob {
+            if *bp != p {
+                return Err(InputError::new_err(format!(
+                    "tables: this sampler was read from {} tables and writes only those",
+                    bp.name()
+                )));
+            }
+            return Ok(PyBytes::new(py, bytes));
+        }
+        let map = self.sampler.hds_map().ok_or_else(|| {
+            InputError::new_err(format!(
+                "tables: the {} sampler has no tables (only \"hds\" has)",
+                self.method
+            ))
+        })?;
+        let (target, frame) = match &self.target {
+            Some((d, f)) => (Target::Grid(d), *f),
+            None => (Target::None, Frame::Generic),
+        };
+        let bytes = py
+            .detach(|| blob::write(map, p, frame, &target))
+            .map_err(|e| InputError::new_err(format!("tables: {e}")))?;
+        Ok(PyBytes::new(py, &bytes))
+    }
+
+    /// The sampler of a table blob (`tables()`, `gonio tables`, `gonio_sampler_tables`),
+    /// validated first (docs/TABLES.md lists every check): it samples, evaluates and inverts as
+    /// the map that wrote it, bit for bit in the blob's precision (float32 arrays for a float32
+    /// blob). Its `target_pdf` is the blob's grid target normalised (0 without one); it has no
+    /// ratio bound. Raises InputError naming the field or table at fault.
+    #[staticmethod]
+    fn from_tables(data: &[u8]) -> PyResult<Self> {
+        let t = blob::read(data).map_err(|e| InputError::new_err(e.to_string()))?;
+        let target = match &t.target {
+            blob::TargetTables::Grid(d) => Some((d.clone(), t.frame)),
+            _ => None,
+        };
+        let precision = t.precision;
+        let mut s = PySampler::from_sampler(Box::new(t), "hds");
+        s.target = target;
+        s.blob = Some((data.to_vec(), precision));
+        Ok(s)
     }
 
     /// Maps points `u` of the unit square, shape (n, 2), each coordinate in [0, 1], to unit
@@ -629,5 +696,16 @@ mod tests {
             check::<f64>(s.as_ref());
             check::<f32>(s.as_ref());
         }
+    }
+}
+
+/// `"float32"` or `"float64"` as the blob's precision.
+pub(crate) fn parse_precision(p: &str) -> PyResult<Precision> {
+    match p {
+        "float32" | "f32" => Ok(Precision::F32),
+        "float64" | "f64" => Ok(Precision::F64),
+        other => Err(InputError::new_err(format!(
+            "precision: {other:?} is not \"float32\" or \"float64\""
+        ))),
     }
 }

@@ -94,6 +94,9 @@ class Diagram:
 class EnvMap:
     """An environment map (.hdr/.exr/.pfm lat-long image) sampled by the HDS sphere map."""
 
+    def tables(self, precision: Literal["float32", "float64"] = "float32") -> bytes:
+        """The map's tables as one blob (docs/TABLES.md) with the RGB image as its target."""
+
     def __init__(
         self,
         path: str | os.PathLike[str],
@@ -194,6 +197,11 @@ class Sampler:
     @property
     def target_power(self) -> float:
         """∫ of the diagram over the domain (unit × sr): intensity = target_power × target_pdf."""
+    def tables(self, precision: Literal["float32", "float64"] = "float32") -> bytes:
+        """The HDS map's tables as one blob (docs/TABLES.md), with the diagram as its grid target."""
+    @staticmethod
+    def from_tables(data: bytes) -> "Sampler":
+        """The sampler of a validated table blob: samples as the map that wrote it, bit for bit."""
     def sample(
         self, u: ArrayLike, *, out: Optional[Tuple[F64Array, F64Array]] = None
     ) -> Tuple[F64Array, F64Array]:
