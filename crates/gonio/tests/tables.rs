@@ -424,18 +424,24 @@ fn reseal(b: &mut [u8]) {
     b[blob::CHECKSUM_OFFSET..blob::CHECKSUM_OFFSET + 8].copy_from_slice(&c.to_le_bytes());
 }
 
-/// A blob that reads must sample, evaluate and invert without panicking, with densities ≥ 0 or
-/// NaN (no panic, no out-of-bounds read: the reader's checks are the kernels' preconditions).
+/// A blob that reads must sample, evaluate and invert without panicking, with unit directions and
+/// finite densities ≥ 0 (the reader's checks are the kernels' preconditions).
 fn exercise(t: &MapTables) {
     let (u, v) = points(64);
     for k in 0..u.len() {
         let s = t.sample([u[k], v[k]]);
-        assert!(s.pdf >= 0.0 || s.pdf.is_nan());
-        let _ = t.pdf(s.direction);
-        let _ = t.invert(s.direction);
+        assert!(s.pdf.is_finite() && s.pdf >= 0.0, "{s:?}");
+        let n = s.direction.iter().map(|c| c * c).sum::<f64>().sqrt();
+        assert!((n - 1.0).abs() < 1e-3, "{s:?}");
+        let p = t.pdf(s.direction);
+        assert!(p.is_finite() && p >= 0.0);
+        if let Ok(b) = t.invert(s.direction) {
+            assert!(b.iter().all(|x| (0.0..=1.0).contains(x)), "{b:?}");
+        }
     }
     for d in extra_dirs() {
-        let _ = t.pdf(d);
+        let p = t.pdf(d);
+        assert!(p.is_finite() && p >= 0.0);
         let _ = t.invert(d);
     }
 }

@@ -787,11 +787,35 @@ fn read_slot(b: &[u8], slot: usize, f32_limits: bool) -> Result<Slot, TablesErro
     Ok(Slot { m, n, k, g, rg })
 }
 
+/// The largest angle a map's azimuth table may hold: 2π and the round-off of its f32 value.
+const MAX_AZIMUTH: f64 = std::f64::consts::TAU * (1.0 + 1e-6);
+
+fn at_most<T: ReadFloat>(
+    v: &[T],
+    name: &str,
+    base: usize,
+    max: f64,
+    why: &str,
+) -> Result<(), TablesError> {
+    match v.iter().position(|x| x.as_f64() > max) {
+        Some(at) => Err(content(
+            name,
+            base + at,
+            format!("{} exceeds {max}: {why}", v[at].as_f64()),
+        )),
+        None => Ok(()),
+    }
+}
+
+/// `max_radius`: the disk radius of the map's edge (1 for a hemisphere map, √2 for the Lambert
+/// sphere), `inv_2t` the pdf scale: every density times it must stay finite.
 fn read_tables<T: ReadFloat>(
     b: &[u8],
     slot: usize,
     s: &Slot,
     placed: &[Placed<'_>],
+    max_radius: f64,
+    inv_2t: f64,
 ) -> Result<Tables<T>, TablesError> {
     let at = SLOT_OFFSET + slot * SLOT_BYTES;
     let pre = if slot == 0 { "map0." } else { "map1." };
@@ -813,8 +837,10 @@ fn read_tables<T: ReadFloat>(
     let phi = read_floats::<T>(&placed[0], &nm(0))?;
     non_decreasing(&phi, &nm(0), 0)?;
     non_negative(&phi[..1], &nm(0))?;
+    at_most(&phi, &nm(0), 0, MAX_AZIMUTH, "azimuths lie in [0, 2π]")?;
     let beta = read_floats::<T>(&placed[1], &nm(1))?;
     non_negative(&beta, &nm(1))?;
+    at_most(&beta, &nm(1), 0, MAX_AZIMUTH, "a sector is at most 2π wide")?;
     let r2 = read_floats::<T>(&placed[2], &nm(2))?;
     non_negative(&r2, &nm(2))?;
     let cum = read_floats::<T>(&placed[3], &nm(3))?;
@@ -824,8 +850,28 @@ fn read_tables<T: ReadFloat>(
     let x = read_floats::<T>(&placed[5], &nm(5))?;
     non_negative(&x[..1], &nm(5))?;
     non_decreasing(&x, &nm(5), 0)?;
+    at_most(
+        &x,
+        &nm(5),
+        0,
+        max_radius * (1.0 + 1e-6),
+        "beyond the map's disk (1 for a hemisphere map, √2 for the Lambert sphere)",
+    )?;
     let d = read_floats::<T>(&placed[6], &nm(6))?;
     non_negative(&d, &nm(6))?;
+    // Every density times 1/(2T) is a finite number of the blob's precision.
+    let limit = if T::SIZE == 4 {
+        f64::from(f32::MAX)
+    } else {
+        f64::MAX
+    };
+    at_most(
+        &d,
+        &nm(6),
+        0,
+        limit / inv_2t.max(1.0),
+        "its pdf (density × inv_2t) would overflow",
+    )?;
     let u = read_floats::<T>(&placed[7], &nm(7))?;
     for i in 0..m {
         let row = &u[i * n..(i + 1) * n];
@@ -1219,6 +1265,11 @@ pub fn read(bytes: &[u8]) -> Result<MapTables, TablesError> {
         cursor += 12;
         r
     };
+    let max_radius = if layout == BlobLayout::SphereLambert {
+        std::f64::consts::SQRT_2
+    } else {
+        1.0
+    };
     let rule = |present: u32| match present {
         1 => SplitRule::lower_only(),
         2 => SplitRule::upper_only(),
@@ -1230,7 +1281,9 @@ pub fn read(bytes: &[u8]) -> Result<MapTables, TablesError> {
             for s in 0..2 {
                 if let Some(sl) = &slots[s] {
                     let r = next_slot();
-                    t[s] = Some(read_tables::<f32>(bytes, s, sl, &placed[r])?);
+                    t[s] = Some(read_tables::<f32>(
+                        bytes, s, sl, &placed[r], max_radius, inv_2t,
+                    )?);
                 }
             }
             let inv = inv_2t as f32;
@@ -1256,7 +1309,9 @@ pub fn read(bytes: &[u8]) -> Result<MapTables, TablesError> {
             for s in 0..2 {
                 if let Some(sl) = &slots[s] {
                     let r = next_slot();
-                    t[s] = Some(read_tables::<f64>(bytes, s, sl, &placed[r])?);
+                    t[s] = Some(read_tables::<f64>(
+                        bytes, s, sl, &placed[r], max_radius, inv_2t,
+                    )?);
                 }
             }
             let [t0, t1] = t;
