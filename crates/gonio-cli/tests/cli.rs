@@ -813,3 +813,52 @@ fn help_and_info_wording() {
     let info = ok(&["info", s(&ies)]);
     assert!(info.contains("format           IES LM-63-2019\n"), "{info}");
 }
+
+/// `gonio tables`: a photometric file, a JSON diagram and the example in both precisions; the
+/// blob reads back with the library's reader and samples as the map the CLI's `sample` uses.
+#[test]
+fn tables_writes_a_blob_that_samples_as_the_map() {
+    use gonio::mapping::blob::{self, Frame, Precision};
+    let dir = temp_dir("tables");
+    let json = dir.join("hemi.json");
+    std::fs::write(&json, HEMI_JSON).unwrap();
+    for (input, frame) in [("example", Frame::Photometric), (s(&json), Frame::Generic)] {
+        for (p, want) in [("f32", Precision::F32), ("f64", Precision::F64)] {
+            let out = dir.join(format!("t-{p}.bin"));
+            let o = run(&["tables", input, "-o", s(&out), "--precision", p]);
+            assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+            let bytes = std::fs::read(&out).unwrap();
+            let t = blob::read(&bytes).unwrap();
+            assert_eq!((t.precision, t.frame), (want, frame));
+            // The blob's map samples as the CLI's own map (f64: to the printed digits).
+            if want == Precision::F64 {
+                let csv = ok(&["sample", input, "-n", "5", "--seed", "3"]);
+                for line in csv.lines().skip(1) {
+                    let v: Vec<f64> = line.split(',').map(|x| x.parse().unwrap()).collect();
+                    let s = t.sample([v[0], v[1]]);
+                    for c in 0..3 {
+                        assert!((s.direction[c] - v[2 + c]).abs() < 1e-9, "{line} vs {s:?}");
+                    }
+                    assert!((s.pdf - v[5]).abs() <= 1e-9 * v[5], "{line} vs {s:?}");
+                }
+            }
+        }
+    }
+    // A bad precision is a usage error; a directory as output is refused; nothing left behind.
+    let e = fails(&[
+        "tables",
+        "example",
+        "-o",
+        s(&dir.join("x.bin")),
+        "--precision",
+        "f16",
+    ]);
+    assert!(e.contains("f16"), "{e}");
+    fails(&["tables", "example", "-o", s(&dir)]);
+    let names: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .flatten()
+        .map(|e| e.file_name())
+        .collect();
+    assert_eq!(names.len(), 3, "{names:?}");
+}
