@@ -564,6 +564,23 @@ fn forged_headers_with_huge_counts_are_refused_before_allocating() {
             "{field} {v}"
         );
     }
+    // κ far from 1 (the fuzz target's first find: a tiny κ overflowed the wedge equation into a
+    // NaN direction), and a map whose azimuths do not end at 2π.
+    for (at, v) in [(96usize + 40, 1e-40f64), (96 + 40, 3.0)] {
+        let mut c = b.clone();
+        c[at..at + 8].copy_from_slice(&v.to_le_bytes());
+        reseal(&mut c);
+        assert!(
+            matches!(
+                blob::read(&c),
+                Err(TablesError::Field {
+                    field: "map.kappa",
+                    ..
+                })
+            ),
+            "{v}"
+        );
+    }
     // The wrong magic and version are named.
     let mut c = b.clone();
     c[0] = b'X';

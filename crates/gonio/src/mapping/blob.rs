@@ -838,6 +838,29 @@ fn read_tables<T: ReadFloat>(
     non_decreasing(&phi, &nm(0), 0)?;
     non_negative(&phi[..1], &nm(0))?;
     at_most(&phi, &nm(0), 0, MAX_AZIMUTH, "azimuths lie in [0, 2π]")?;
+    // The builder's exact ends: φ_0 = 0 and φ_M = 2π, Γ_0 = 0 and Γ_M = 2π (in the blob's
+    // precision), and κ = 2π / Σγ = 1 up to round-off (the star domain has the disk's area).
+    let tau = T::exact(f64::from(std::f64::consts::TAU as f32))
+        .filter(|_| T::SIZE == 4)
+        .map_or(std::f64::consts::TAU, |t| t.as_f64());
+    let ends = |v: &[T], name: &str| -> Result<(), TablesError> {
+        if v[0].as_f64() != 0.0 {
+            return Err(content(name, 0, "must be 0"));
+        }
+        if v[m].as_f64() != tau {
+            return Err(content(name, m, format!("must be 2π ({tau})")));
+        }
+        Ok(())
+    };
+    ends(&phi, &nm(0))?;
+    if !(0.5..=2.0).contains(&kappa.as_f64()) {
+        return Err(field(
+            "map.kappa",
+            at + 40,
+            kappa.as_f64(),
+            "must be 1 up to round-off (the star domain has the disk's area)",
+        ));
+    }
     let beta = read_floats::<T>(&placed[1], &nm(1))?;
     non_negative(&beta, &nm(1))?;
     at_most(&beta, &nm(1), 0, MAX_AZIMUTH, "a sector is at most 2π wide")?;
@@ -846,6 +869,7 @@ fn read_tables<T: ReadFloat>(
     let cum = read_floats::<T>(&placed[3], &nm(3))?;
     non_negative(&cum[..1], &nm(3))?;
     non_decreasing(&cum, &nm(3), 0)?;
+    ends(&cum, &nm(3))?;
     let wedge_guide = read_guides(&placed[4], &nm(4), s.m - 1)?;
     let x = read_floats::<T>(&placed[5], &nm(5))?;
     non_negative(&x[..1], &nm(5))?;
