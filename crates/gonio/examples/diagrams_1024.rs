@@ -5,7 +5,7 @@
 //! Two numbers per diagram: the **guaranteed** range of the ratio over every direction of positive
 //! target, computed at build time (`HemisphereMap::ratio_bound`), and a **sampled** check: the ratio
 //! at 2¹⁴ directions drawn from the map itself (Halton points), over directions where the target
-//! exceeds 1 % of its maximum (as ALGORITHM §12 measured it).
+//! exceeds 1 % of its maximum (as in the reference figures of docs/DERIVATION.md §12.2).
 //!
 //! `cargo run --release --example diagrams_1024 [-- --quick]` writes
 //! `docs/experiments/diagrams_1024_{family,n}.{csv,md}` and `diagrams_1024_median_dev.svg`.

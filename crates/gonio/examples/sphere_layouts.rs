@@ -1,4 +1,4 @@
-//! Measures the two whole-sphere layouts of the HDS map (ALGORITHM §13) side by side:
+//! Measures the two whole-sphere layouts of the HDS map (docs/DERIVATION.md §10) side by side:
 //! distortion, continuity, the pdf/target bound, QMC quality and speed.
 //!
 //! Run: `cargo run --release -p gonio --example sphere_layouts` (results in docs/SPHERE.md).

@@ -1,8 +1,8 @@
 //! The goniometric diagram: non-negative values on a latitude–longitude grid of directions.
 //!
-//! Frame (ALGORITHM §1): θ is the polar angle measured from +z, φ the azimuth measured from +x
-//! toward +y, so the direction of (θ, φ) is `(sin θ cos φ, sin θ sin φ, cos θ)`. Angles are stored in
-//! **radians**; the JSON format and [`Diagram::from_degrees`] speak degrees.
+//! Frame (docs/DERIVATION.md §1): θ is the polar angle measured from +z, φ the azimuth measured
+//! from +x toward +y, so the direction of (θ, φ) is `(sin θ cos φ, sin θ sin φ, cos θ)`. Angles are
+//! stored in **radians**; the JSON format and [`Diagram::from_degrees`] speak degrees.
 //!
 //! * Parallels θ_j, j = 0..N−1: strictly increasing, within [0, π]. A hemisphere diagram lies in
 //!   [0, π/2]; photometric files converted by [`crate::photometry`] may cover the whole sphere.
@@ -15,7 +15,7 @@
 //! interpolated density is direction-dependent in an arbitrarily small neighbourhood of the pole and
 //! takes the value of meridian 0 exactly at the pole (where φ = atan2(0, 0) = 0). The pole is a single
 //! direction of measure zero, so no probability is changed by this, and no measured value is altered.
-//! See ALGORITHM §10 A12.
+//! See docs/DERIVATION.md §8.1, A12.
 
 use serde::{Deserialize, Serialize};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};

@@ -13,8 +13,8 @@
 //! * [`sequence`] provides the points of the unit square (Halton, Owen-scrambled Sobol', iid);
 //! * [`check`] holds the statistical tests every sampler must pass.
 //!
-//! The mathematics and every formula's derivation are in `shared/design/ALGORITHM.md`; section
-//! numbers (§) in the documentation refer to it.
+//! The mathematics and every formula's derivation are in `docs/DERIVATION.md`; section numbers
+//! (§) in the documentation refer to it.
 //!
 //! ```
 //! use gonio::{Diagram, HemisphereMap, Sampler};

@@ -1,4 +1,5 @@
-//! The whole HDS map: round trips, exact pdf, Jacobian, continuity and the figures of ALGORITHM §12.
+//! The whole HDS map: round trips, exact pdf, Jacobian, continuity and the figures of
+//! docs/DERIVATION.md §12.2.
 
 use gonio::synthetic::{random_hemisphere, Family};
 use gonio::{Diagram, HemisphereMap, Sampler, SphereMap};
@@ -40,7 +41,8 @@ fn fd_jacobian(s: &dyn Sampler, u: [f64; 2], h: f64) -> f64 {
     norm(cross(a, b))
 }
 
-/// The three toy diagrams of §12: a tilted cos⁸ lobe 10×12, uniform random 7×8, spiky random 19×24.
+/// The three toy diagrams of docs/DERIVATION.md §12.2: a tilted cos⁸ lobe 10×12, uniform random
+/// 7×8, spiky random 19×24.
 fn toy_diagrams() -> Vec<(&'static str, Diagram)> {
     let lobe = {
         let theta: Vec<f64> = (0..10).map(|k| 10.0 * k as f64).collect();
@@ -80,8 +82,8 @@ fn toy_diagrams() -> Vec<(&'static str, Diagram)> {
     ]
 }
 
-/// §12: |inverse(forward(u)) − u| ≤ 2e-14, |forward(inverse(ω)) − ω| ≤ 2.4e-13, and sampled pdf equals
-/// pdf(ω) on the three toy diagrams.
+/// docs/DERIVATION.md §12.2: |inverse(forward(u)) − u| ≤ 2e-14, |forward(inverse(ω)) − ω| ≤
+/// 2.4e-13, and sampled pdf equals pdf(ω) on the three toy diagrams.
 ///
 /// forward∘inverse is conditioned by the density: the square's f64 resolution (~1e-16) is stretched
 /// by 1/pdf on the sphere, so where the pdf is a fraction q of the uniform density 1/2π the error
@@ -124,9 +126,9 @@ fn toy_diagrams_round_trip_to_machine_precision() {
     }
 }
 
-/// §12: finite-difference Jacobian × closed-form pdf = 1, median ~1e-10, 99th percentile ~1e-6.
-/// Asserted: median ≤ 1e-8, 99th percentile ≤ 1e-5 (h = 1e-6; points within 1e-5 of a kink excluded
-/// statistically by the percentile).
+/// docs/DERIVATION.md §12.2: finite-difference Jacobian × closed-form pdf = 1, median ~1e-10, 99th
+/// percentile ~1e-6. Asserted: median ≤ 1e-8, 99th percentile ≤ 1e-5 (h = 1e-6; points within 1e-5
+/// of a kink excluded statistically by the percentile).
 #[test]
 fn jacobian_times_pdf_is_one() {
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(2);

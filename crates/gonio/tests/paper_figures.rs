@@ -1,9 +1,10 @@
-//! ALGORITHM §12 and the slides' accuracy claim, reproduced as assertions: the map's pdf over the
-//! target (the diagram bilinear in (θ, φ)) over 1024 random diagrams.
+//! docs/DERIVATION.md §12.2 and the slides' accuracy claim, reproduced as assertions: the map's pdf
+//! over the target (the diagram bilinear in (θ, φ)) over 1024 random diagrams.
 //!
-//! Figures to reproduce (ALGORITHM §12, 4 families, N ∈ {3,4,5,7,10,19}, M ∈ 4..36, directions where the
-//! target exceeds 1 % of its max): worst 0.856–1.130 overall, per-N median deviation about 5–11 % at
-//! N = 3, 2–5 % at N = 7, 0.5–2 % at N = 19; slides: −20 % … +25 % worst, ±4 % typical.
+//! Figures to reproduce (docs/DERIVATION.md §12.2, 4 families, N ∈ {3,4,5,7,10,19}, M ∈ 4..36,
+//! directions where the target exceeds 1 % of its max): worst 0.856–1.130 overall, per-N median
+//! deviation about 5–11 % at N = 3, 2–5 % at N = 7, 0.5–2 % at N = 19; slides: −20 % … +25 % worst,
+//! ±4 % typical.
 //! Our families (`gonio::synthetic::Family`) are not the reconstruction's (which are not published), so
 //! the assertions use the published ranges' outer ends.
 
@@ -83,7 +84,8 @@ fn ratio_over_1024_random_diagrams() {
         worst_lo >= 0.8 && worst_hi <= 1.25,
         "[{worst_lo}, {worst_hi}]"
     );
-    // §12 per-N medians: ≤ 11 % at N = 3, ≤ 5 % at N = 7, ≤ 2 % at N = 19, and decreasing in N.
+    // docs/DERIVATION.md §12.2 per-N medians: ≤ 11 % at N = 3, ≤ 5 % at N = 7, ≤ 2 % at N = 19,
+    // and decreasing in N.
     assert!(
         medians[0] <= 0.11 && medians[3] <= 0.05 && medians[5] <= 0.02,
         "{medians:?}"

@@ -1,5 +1,5 @@
 //! Equal-area maps from the unit square to the sphere and to the upper hemisphere, with their
-//! inverses (ALGORITHM §2, §3).
+//! inverses (docs/DERIVATION.md §2, §3).
 //!
 //! * [`equal_area_square_to_sphere`]: Clarberg's octahedral map (2008). The inner diamond
 //!   |u'| + |v'| ≤ 1 (u' = 2u − 1, v' = 2v − 1) is the upper hemisphere, the four outer corners fold
@@ -83,7 +83,7 @@ pub fn equal_area_sphere_to_square(w: Vec3) -> Point2 {
 /// Equal-area map from the unit square to the upper hemisphere z ≥ 0 (area 2π, so a density q on
 /// the square becomes q / 2π per steradian): the HDS mapping's own M_B, the concentric map
 /// ([`concentric::square_to_disk`]), followed by its M_E, the Lambert lift
-/// ([`lift::disk_to_sphere`]) (ALGORITHM §2, §3).
+/// ([`lift::disk_to_sphere`]) (docs/DERIVATION.md §2, §3).
 pub fn equal_area_square_to_hemisphere(p: Point2) -> Vec3 {
     let (r, phi) = concentric::square_to_disk(p);
     lift::disk_to_sphere(r, phi)

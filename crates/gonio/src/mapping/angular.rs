@@ -1,5 +1,5 @@
 //! M_C: the angular remap that gives every disk sector between two meridians its power
-//! (ALGORITHM §5).
+//! (docs/DERIVATION.md §5).
 //!
 //! The star domain S = {r ≤ ρ(φ)} has, in sector i with fraction ε = (φ − φ_i)/β_i,
 //! ρ(φ)² = (1−ε)R_i² + εR_{i+1}², where R_i² = U(i, N−1)/s is the squared radius that meridian i's
@@ -21,9 +21,9 @@ use std::f64::consts::TAU;
 /// Area factor of the angular stage: dA_C = 1 · dA_B.
 pub const ANGULAR_AREA: f64 = 1.0;
 
-/// The tables of M_C for one map (ALGORITHM §4.4): the meridians, the squared star radii and the
-/// cumulative wedge angles, with the forward map (B-disk azimuth → sector and fraction), its inverse
-/// and the sector lookup of a D-disk azimuth.
+/// The tables of M_C for one map (docs/DERIVATION.md §4.4): the meridians, the squared star radii
+/// and the cumulative wedge angles, with the forward map (B-disk azimuth → sector and fraction),
+/// its inverse and the sector lookup of a D-disk azimuth.
 #[derive(Debug, Clone)]
 pub(crate) struct Angular {
     m: usize,
@@ -92,7 +92,8 @@ impl Angular {
 
 impl Angular {
     /// Builds the tables from the meridians `phi` (M entries, φ_0 = 0) and each meridian's total
-    /// radial mass U(i, N−1) (`mass(i)`, i < M). Returns them with T = ∫_disk D dA (§4.3).
+    /// radial mass U(i, N−1) (`mass(i)`, i < M). Returns them with T = ∫_disk D dA
+    /// (docs/DERIVATION.md §4.3).
     pub(crate) fn build(phi: &[f64], mass: impl Fn(usize) -> f64) -> (Self, f64) {
         let m = phi.len();
         let mut phi = phi.to_vec();
@@ -252,7 +253,8 @@ pub fn wedge_angle(beta: f64, r2a: f64, r2b: f64, eps: f64) -> f64 {
 }
 
 /// Solves [`wedge_angle`]`(beta, r2a, r2b, ε) = gamma` for ε ∈ [0, 1] with the cancellation-free
-/// form ε = 2c / (b + √(b² + 4ac)), valid when a → 0, a < 0 and R_a = 0 (ALGORITHM §5, A13).
+/// form ε = 2c / (b + √(b² + 4ac)), valid when a → 0, a < 0 and R_a = 0
+/// (docs/DERIVATION.md §5, A13).
 #[inline]
 pub fn solve_wedge(beta: f64, r2a: f64, r2b: f64, gamma: f64) -> f64 {
     let a = 0.5 * beta * (r2b - r2a);

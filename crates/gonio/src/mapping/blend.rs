@@ -5,8 +5,8 @@
 //! Let maps k = 1..K share one grid (the same parallels and meridians after completion) and let
 //! p_k = D_k / (2T_k) be their exact densities. For weights w_k ≥ 0 with Σ w_k = 1 the mixture
 //! p = Σ w_k p_k is, up to the factor 2, the disk density D = Σ c_k D_k with c_k = w_k / T_k, whose
-//! total is T = Σ c_k T_k = 1. Every table of §4 is linear in the diagram values once the total is
-//! fixed:
+//! total is T = Σ c_k T_k = 1. Every table of docs/DERIVATION.md §4 is linear in the diagram values
+//! once the total is fixed:
 //!
 //! * the radial masses U(i, j) = Σ c_k U_k(i, j) and nodal densities d(i, j) = Σ c_k d_k(i, j);
 //! * the squared star radii R_i² = U(i, N−1)/s with s = T/π = 1/π, so R_i² = Σ w_k R²_{k,i};

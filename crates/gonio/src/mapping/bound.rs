@@ -1,5 +1,5 @@
 //! The guaranteed range of the map's density over the target density ("guaranteed distance",
-//! ALGORITHM §9, §13), computed at build time.
+//! docs/DERIVATION.md §9), computed at build time.
 //!
 //! Both densities interpolate the same nodal values: the map's D is bilinear in (x, φ) with
 //! x = √(1 − cos θ), the target B is bilinear in (θ, φ). In a cell between parallels j, j+1 and at

@@ -1,5 +1,5 @@
-//! Completion of a user's diagram to the grid the tables need (ALGORITHM §10 A15): a parallel at
-//! the pole, one at the end of the domain, and a meridian at φ = 0.
+//! Completion of a user's diagram to the grid the tables need (docs/DERIVATION.md §8.1, A15): a
+//! parallel at the pole, one at the end of the domain, and a meridian at φ = 0.
 //!
 //! **The support of the map is the measured range** (docs/MAPPING.md, "Completion"). Outside
 //! [θ_0, θ_{N−1}] the data says nothing, so the map puts no light there:

@@ -1,5 +1,5 @@
 //! M_B: the Shirley–Chiu concentric map from the unit square to the unit disk, with the azimuth in
-//! [0, 2π) (ALGORITHM §2).
+//! [0, 2π) (docs/DERIVATION.md §2).
 //!
 //! The map is equal-area: |∂(x, y)/∂(u, v)| = π everywhere, so uniform points on the square become
 //! uniform points on the disk (density 1/π), and (r², φ/2π) are independent U(0, 1) variables. It is
@@ -26,7 +26,8 @@ pub fn square_to_disk(u: [f64; 2]) -> (f64, f64) {
     if a == 0.0 && b == 0.0 {
         return (0.0, 0.0);
     }
-    // Branch-reduced form (ALGORITHM §2): signed radius and φ ∈ (−π/4, 3π/4], then unfolded.
+    // Branch-reduced form (docs/DERIVATION.md §2): signed radius and φ ∈ (−π/4, 3π/4], then
+    // unfolded.
     let (mut r, mut phi) = if a.abs() > b.abs() {
         (a, FRAC_PI_4 * (b / a))
     } else {
@@ -50,7 +51,7 @@ pub fn square_to_disk(u: [f64; 2]) -> (f64, f64) {
 /// [0, 2π]), to the point of the unit square.
 #[inline]
 pub fn disk_to_square(r: f64, phi: f64) -> [f64; 2] {
-    // Radiance's SDdisk2square rewritten for φ ∈ [0, 2π) (ALGORITHM §2).
+    // Radiance's SDdisk2square rewritten for φ ∈ [0, 2π) (docs/DERIVATION.md §2).
     let p = if phi >= 7.0 * FRAC_PI_4 {
         phi - TAU
     } else {

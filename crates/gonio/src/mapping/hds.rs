@@ -1,9 +1,10 @@
-//! The precomputed tables of §4 and the composed map F = M_E ∘ M_D ∘ M_C ∘ M_B on one disk.
+//! The precomputed tables of docs/DERIVATION.md §4 and the composed map F = M_E ∘ M_D ∘ M_C ∘ M_B
+//! on one disk.
 //!
 //! `HdsCore` works on a *completed* grid: θ_0 = 0 (the pole), φ_0 = 0, and θ_{N−1} anywhere up to
 //! π/2 for a hemisphere (π for the whole-sphere Lambert lift): the map covers the zone
 //! [0, θ_{N−1}], whose disk has radius x_{N−1} = √2 sin(θ_{N−1}/2). The public samplers in this
-//! module complete a user's diagram first (ALGORITHM §10 A15) and then build a core.
+//! module complete a user's diagram first (docs/DERIVATION.md §8.1, A15) and then build a core.
 
 use super::angular::{Angular, AngularView};
 use super::bound::{density_ratio_range, density_ratio_range_grid};
@@ -24,15 +25,16 @@ pub(crate) struct TablesView<'a, T = f64> {
     pub(crate) radial: RadialView<'a, T>,
 }
 
-/// One HDS map (ALGORITHM §4): the tables of its two table-driven stages, M_C ([`Angular`]) and
-/// M_D ([`Radial`]), plus the completed diagram it was built from. M_B and M_E need no tables.
+/// One HDS map (docs/DERIVATION.md §4): the tables of its two table-driven stages, M_C
+/// ([`Angular`]) and M_D ([`Radial`]), plus the completed diagram it was built from. M_B and M_E
+/// need no tables.
 #[derive(Debug, Clone)]
 pub(crate) struct HdsCore {
     /// M_C: meridians, star radii, wedge angles.
     angular: Angular,
     /// M_D: parallel radii, nodal densities, radial masses.
     radial: Radial,
-    /// T = ∫_disk D dA (§4.3), in diagram units × disk area.
+    /// T = ∫_disk D dA (docs/DERIVATION.md §4.3), in diagram units × disk area.
     total: f64,
     /// The completed diagram, kept by the maps that hand it out ([`crate::HemisphereMap::diagram`]);
     /// only its grid for the sphere maps, whose target reads the same values from `radial.d`
@@ -316,8 +318,8 @@ impl HdsCore {
         self.radial.density(xr, i, self.angular.next(i), eps)
     }
 
-    /// The inverse map: a direction to its point of the unit square (closed form, §6–§7a), the four
-    /// inverses in reverse order.
+    /// The inverse map: a direction to its point of the unit square (closed form,
+    /// docs/DERIVATION.md §5, §6.5, §7.4), the four inverses in reverse order.
     #[inline]
     pub(crate) fn invert(&self, dir: Vec3) -> [f64; 2] {
         let xr = sphere_to_disk_radius(dir); // M_E⁻¹ (radius)
@@ -394,7 +396,8 @@ mod tests {
         .unwrap()
     }
 
-    /// §4.4 and §12: Σγ^i = 2π and the star domain has the area π of the B-disk.
+    /// docs/DERIVATION.md §4.4 and §12.2: Σγ^i = 2π and the star domain has the area π of the
+    /// B-disk.
     #[test]
     fn wedges_cover_the_circle_and_the_star_has_area_pi() {
         for seed in 0..50 {

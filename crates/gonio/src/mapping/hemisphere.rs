@@ -1,5 +1,5 @@
-//! [`HemisphereMap`]: the HDS mapping of the upper hemisphere (ALGORITHM §1–§7, recommended variant
-//! A6).
+//! [`HemisphereMap`]: the HDS mapping of the upper hemisphere (docs/DERIVATION.md §1–§7,
+//! recommended variant A6).
 
 use super::complete::{complete, Completion};
 use super::hds::HdsCore;
@@ -13,20 +13,22 @@ use std::f64::consts::FRAC_PI_2;
 ///
 /// **Density.** The map is exact for the disk density D that interpolates the diagram's values
 /// bilinearly in (x = √(1 − cos θ), φ): every sample carries `pdf = D(ω) / (2T)` per steradian,
-/// where T = ∫_disk D dA (§7). [`Sampler::pdf`] returns the same number for any direction.
+/// where T = ∫_disk D dA (docs/DERIVATION.md §7). [`Sampler::pdf`] returns the same number for any
+/// direction.
 ///
 /// **Target.** [`Sampler::target_pdf`] is the **data**: the diagram as given, interpolated
 /// bilinearly in (θ, φ), zero outside its measured θ range, normalised by its integral. The two agree at every node up to one constant; in between they
 /// differ within the guaranteed range [`HemisphereMap::ratio_bound`] computed at build time.
 ///
-/// **Completion** (§10 A15, docs/MAPPING.md "Completion"). The support of the map is the measured
-/// range: a diagram whose first parallel lies below the pole, or whose last parallel ends above the
-/// horizon, is completed with **zero** there (a zero pole or horizon parallel, and a zero guard
-/// parallel within 1e-7 of the adjacent cell's width outside the measured edge, so at most ~2e-7 of
-/// the probability lies outside the measured range); each such zone is a [`Completion`], listed by
-/// [`HemisphereMap::completions`]. One whose first meridian is not at φ = 0 gets a meridian there,
-/// interpolated across the wrap-around sector (which changes neither interpolant). The completed
-/// diagram, divided by the data's largest value, is [`HemisphereMap::diagram`].
+/// **Completion** (docs/DERIVATION.md §8.1 A15, docs/MAPPING.md "Completion"). The support of the
+/// map is the measured range: a diagram whose first parallel lies below the pole, or whose last
+/// parallel ends above the horizon, is completed with **zero** there (a zero pole or horizon
+/// parallel, and a zero guard parallel within 1e-7 of the adjacent cell's width outside the
+/// measured edge, so at most ~2e-7 of the probability lies outside the measured range); each such
+/// zone is a [`Completion`], listed by [`HemisphereMap::completions`]. One whose first meridian is
+/// not at φ = 0 gets a meridian there, interpolated across the wrap-around sector (which changes
+/// neither interpolant). The completed diagram, divided by the data's largest value, is
+/// [`HemisphereMap::diagram`].
 ///
 /// **Seams.** The map is continuous on the whole square. Its inverse is discontinuous only where the
 /// B-disk azimuth wraps from 2π to 0 (the half-line v = ½, u > ½ of the square, which maps to φ = 0);
@@ -279,7 +281,8 @@ impl HemisphereMap {
         self.core.stages(u)
     }
 
-    /// The slide's count of additional precomputed floats, M·N + 2M + 2 (§4, A10), for this grid.
+    /// The slide's count of additional precomputed floats, M·N + 2M + 2 (docs/DERIVATION.md §4.6,
+    /// A10), for this grid.
     pub fn paper_table_floats(&self) -> usize {
         super::paper_table_floats(self.diagram())
     }

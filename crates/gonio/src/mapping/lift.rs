@@ -1,5 +1,5 @@
 //! M_E: Shirley's equal-area lift from a disk to the sphere (Lambert azimuthal projection,
-//! ALGORITHM §3).
+//! docs/DERIVATION.md §3).
 //!
 //! A point at polar radius r and azimuth φ goes to the direction with cos θ = 1 − r², i.e.
 //! `(r√(2−r²) cos φ, r√(2−r²) sin φ, 1 − r²)`. The unit disk (r ≤ 1) covers the upper hemisphere and

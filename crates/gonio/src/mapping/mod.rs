@@ -1,5 +1,5 @@
 //! Diagram → mapping: the Havran–Dmitriev–Seidel map F = M_E ∘ M_D ∘ M_C ∘ M_B
-//! (ALGORITHM §1–§7, recommended variant A6).
+//! (docs/DERIVATION.md §1–§7, recommended variant A6).
 //!
 //! | stage | module | from → to | area factor |
 //! |---|---|---|---|
@@ -13,10 +13,10 @@
 //! `radial::Radial`). The private `hds` module composes them: `sample` is
 //! M_E(M_D(M_C(M_B(u)))), `invert` runs the four inverses back, and the density is the radial
 //! room's D over the constant 2T. The product of the area factors, π · 1 · (s/D) · 2 = 2T/D, gives
-//! the exact density p(ω) = D(ω)/(2T) per steradian (§7), with T = πs. [`HemisphereMap`] and
-//! [`SphereMap`] are built on that core; `bound` computes the guaranteed pdf/target range at build
-//! time. The equal-area baseline's hemisphere map ([`crate::baselines::equal_area`]) reuses M_B
-//! and M_E.
+//! the exact density p(ω) = D(ω)/(2T) per steradian (docs/DERIVATION.md §7), with T = πs.
+//! [`HemisphereMap`] and [`SphereMap`] are built on that core; `bound` computes the guaranteed
+//! pdf/target range at build time. The equal-area baseline's hemisphere map
+//! ([`crate::baselines::equal_area`]) reuses M_B and M_E.
 
 pub mod angular;
 pub mod batch;
@@ -51,7 +51,8 @@ pub struct Stages {
     pub square: [f64; 2],
     /// After M_B: the unit disk (r_B, φ_B), φ_B ∈ [0, 2π).
     pub disk_b: (f64, f64),
-    /// After M_C: the star domain (r_C, φ_C), r_C ≤ ρ(φ_C) (may exceed 1, §10 A9).
+    /// After M_C: the star domain (r_C, φ_C), r_C ≤ ρ(φ_C) (may exceed 1,
+    /// docs/DERIVATION.md §8.1 A9).
     pub star_c: (f64, f64),
     /// After M_D: the disk (r_D, φ_D), r_D ≤ 1 for a hemisphere (≤ √2 for the Lambert sphere).
     pub disk_d: (f64, f64),
@@ -64,8 +65,9 @@ pub struct Stages {
 }
 
 /// The paper's count of additional precomputed floats for a grid of M meridians × N parallels,
-/// M·N + 2M + 2 (§4, A10), the one place the formula is written. (This crate's tables hold more,
-/// e.g. guide tables and the nodal densities: see [`crate::Sampler::memory_bytes`].)
+/// M·N + 2M + 2 (docs/DERIVATION.md §4.6, A10), the one place the formula is written. (This crate's
+/// tables hold more, e.g. guide tables and the nodal densities: see
+/// [`crate::Sampler::memory_bytes`].)
 ///
 /// ```
 /// let d = gonio::Diagram::from_degrees(&[0.0, 90.0], &[0.0, 180.0], &vec![vec![1.0, 0.0]; 2]).unwrap();

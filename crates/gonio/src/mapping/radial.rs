@@ -1,5 +1,5 @@
 //! M_D: the radial remap that inverts the conditional CDF of a density linear in the disk radius
-//! (ALGORITHM §6).
+//! (docs/DERIVATION.md §6).
 //!
 //! On a segment [x_j, x_{j+1}] with end densities d_j, d_{j+1}, write X = x_j + τ and
 //! d(X) = d_j + kτ, k = (d_{j+1} − d_j)/(x_{j+1} − x_j). The mass between x_j and X is
@@ -12,7 +12,8 @@
 //! form X³ − x_j³. g is increasing (g′ = 2X d(X) ≥ 0), so g(τ) = m has one root on the segment. The
 //! root is found by Halley's method from the root of the density linear in area ([`area_guess`]),
 //! safeguarded by bisection and
-//! polished to the last bits (plain Cardano misses by up to 1e-4 of the segment, §6).
+//! polished to the last bits (plain Cardano misses by up to 1e-4 of the segment,
+//! docs/DERIVATION.md §6.4).
 //!
 //! The stage maps the constant density s of the C-domain to D: the area ratio is dA_D/dA_C = s/D.
 
@@ -27,7 +28,8 @@ pub fn partial_mass(x0: f64, d0: f64, k: f64, tau: f64) -> f64 {
     tau * (2.0 * x0 * d0 + tau * ((x0 * k + d0) + tau * (2.0 / 3.0) * k))
 }
 
-/// Mass of a whole segment [x0, x1] with end densities d0, d1: the U-table increment of §4.2.
+/// Mass of a whole segment [x0, x1] with end densities d0, d1: the U-table increment of
+/// docs/DERIVATION.md §4.2.
 #[inline]
 pub fn segment_mass(x0: f64, x1: f64, d0: f64, d1: f64) -> f64 {
     let h = x1 - x0;
@@ -135,7 +137,7 @@ pub(crate) fn area_guess(x0: f64, x1: f64, d0: f64, d1: f64, m: f64) -> f64 {
 }
 
 /// The slide's Cardano solution of the intercept-form cubic (2k/3)X³ + b₀X² = RHS, without polish,
-/// kept to show why the polish is needed (ALGORITHM §6, §12).
+/// kept to show why the polish is needed (docs/DERIVATION.md §6.4, §12.2).
 #[cfg(test)]
 pub(crate) fn cardano_radius(x0: f64, x1: f64, d0: f64, d1: f64, m: f64) -> f64 {
     let k = (d1 - d0) / (x1 - x0);
@@ -176,7 +178,7 @@ pub fn radial_area(s: f64, d: f64) -> f64 {
     s / d
 }
 
-/// The tables of M_D for one map (ALGORITHM §4.1–§4.2): the parallel radii, the nodal disk
+/// The tables of M_D for one map (docs/DERIVATION.md §4.1–§4.2): the parallel radii, the nodal disk
 /// densities and the cumulative radial masses of every meridian, with the forward map (B-disk
 /// radius → D-disk radius on the meridian pair of an angular fraction), its inverse and the disk
 /// density D that the map's pdf is made of.
@@ -358,8 +360,8 @@ impl Radial {
     }
 
     /// Forward M_D on the tables interpolated at fraction `eps` between meridians `i` and `i1`
-    /// (§6, A6): the D-disk radius whose radial CDF equals r_B², and the segment it lies in (for
-    /// the disk density D there, [`Radial::density_on`]).
+    /// (docs/DERIVATION.md §6.3, A6): the D-disk radius whose radial CDF equals r_B², and the
+    /// segment it lies in (for the disk density D there, [`Radial::density_on`]).
     #[inline]
     pub(crate) fn forward(&self, rb: f64, i: usize, i1: usize, eps: f64) -> (f64, Segment) {
         let n = self.n;
@@ -417,7 +419,8 @@ impl Radial {
     }
 
     /// Inverse M_D: the B-disk radius r_B = √(Ũ(x_r)/Ũ_{N−1}) of D-disk radius `xr` on the tables
-    /// interpolated at fraction `eps` between meridians `i` and `i1` (closed form, §6–§7a).
+    /// interpolated at fraction `eps` between meridians `i` and `i1` (closed form,
+    /// docs/DERIVATION.md §6.5).
     #[inline]
     pub(crate) fn inverse(&self, xr: f64, i: usize, i1: usize, eps: f64) -> f64 {
         let n = self.n;
@@ -491,9 +494,9 @@ mod tests {
         }
     }
 
-    /// ALGORITHM §12: the polished root agrees with bisection to ~1e-13 of the segment, plain
-    /// Cardano does not (its error reaches 1e-6 or more on generic segments and fails outright on
-    /// nearly constant ones).
+    /// docs/DERIVATION.md §6.4, §12.2: the polished root agrees with bisection to ~1e-13 of the
+    /// segment, plain Cardano does not (its error reaches 1e-6 or more on generic segments and
+    /// fails outright on nearly constant ones).
     #[test]
     fn polished_root_matches_bisection_and_cardano_does_not() {
         let mut rng = Xoshiro256PlusPlus::seed_from_u64(7);

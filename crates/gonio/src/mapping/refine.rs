@@ -1,5 +1,5 @@
 //! Refinement to a tolerance: extra parallels until the guaranteed range of pdf / target lies within
-//! [1 − tol, 1 + tol] (issue 14; the bound is `mapping::bound`, ALGORITHM §9, §13).
+//! [1 − tol, 1 + tol] (issue 14; the bound is `mapping::bound`, docs/DERIVATION.md §9).
 //!
 //! **Why only parallels.** The map's density D is bilinear in (x = √(1 − cos θ), φ); the target B is
 //! bilinear in (θ, φ). Both are linear in φ between two meridians at every fixed θ, with the same

@@ -1,6 +1,6 @@
 //! [`SphereMap`]: the HDS mapping over the whole sphere, for luminaires that emit both down and up.
 //!
-//! Two layouts (ALGORITHM §13), measured against each other in `docs/SPHERE.md`:
+//! Two layouts (docs/DERIVATION.md §10), measured against each other in `docs/SPHERE.md`:
 //! * [`SphereLayout::Split`] (the default): one hemisphere map per side of the horizon, each built
 //!   from its half of the diagram (the lower half mirrored), chosen by the first coordinate of the
 //!   square in proportion to the hemispheres' power. Low distortion everywhere; the map is continuous
@@ -85,7 +85,7 @@ impl<'a> CoresRef<'a> {
 /// (θ from +z). A diagram that covers only θ ∈ [0°, 90°] or [90°, 180°] gives zero density on the
 /// other hemisphere, which is never sampled.
 ///
-/// Two layouts (ALGORITHM §13), measured against each other in `docs/SPHERE.md`:
+/// Two layouts (docs/DERIVATION.md §10), measured against each other in `docs/SPHERE.md`:
 /// * [`SphereLayout::Split`] (the default): one hemisphere map per side of the horizon, each built
 ///   from its half of the diagram (the lower half mirrored), chosen by the first coordinate of the
 ///   square in proportion to the hemispheres' power. Low distortion everywhere; the map is

@@ -1,4 +1,4 @@
-//! The split sphere layout's rule (ALGORITHM §13), written once for the scalar paths of
+//! The split sphere layout's rule (docs/DERIVATION.md §10.1), written once for the scalar paths of
 //! [`super::SphereMap`] and its batch paths (`soa_maps.rs`), in any element type: which hemisphere
 //! map serves a point of the square or a direction, how u is rescaled into that map's square and
 //! back, and that rounding never carries a lower-map point across the seam u = P_lower.
