@@ -9,8 +9,9 @@
 #include <stdint.h>
 
 /*
- Largest file [`gonio_diagram_read_path`] and [`gonio_diagram_read_memory`] read: 64 MiB, the
- cap of every gonio front end (CLI, Python, C), checked against the size before reading.
+ The default size limit of photometric files and JSON diagrams (64 MiB), as
+ [`gonio_read_limit`]`(GONIO_FILE_PHOTOMETRY)` gives it unless it was changed; each input kind
+ has its own limit, the same in every gonio front end.
  */
 #define GONIO_MAX_FILE_BYTES (64 << 20)
 
@@ -57,6 +58,11 @@ typedef struct GonioEnvMapF32 GonioEnvMapF32;
  once (every function taking `const GonioSampler *` is thread-safe).
  */
 typedef struct GonioSampler GonioSampler;
+
+/*
+ The kinds of input files, each with its own size limit ([`gonio_set_read_limit`]).
+ */
+typedef uint32_t GonioFileKind;
 
 /*
  The result of every fallible function: [`GONIO_OK`] or one of the `GONIO_ERR_*` codes.
@@ -407,6 +413,41 @@ typedef struct GonioEnvOptions {
 #define GONIO_SPHERE_LAYOUT_LAMBERT 1
 
 /*
+ IES LM-63 and EULUMDAT files (default limit 64 MiB).
+ */
+#define GONIO_FILE_PHOTOMETRY 0
+
+/*
+ Native JSON diagrams (64 MiB).
+ */
+#define GONIO_FILE_DIAGRAM 1
+
+/*
+ TILT files named by IES files (4 MiB).
+ */
+#define GONIO_FILE_TILT 2
+
+/*
+ Images: environment maps (.hdr, .exr, .pfm) (4 GiB).
+ */
+#define GONIO_FILE_IMAGE 3
+
+/*
+ Tabulated BRDFs: MERL, UTIA, gonio BRDF JSON (256 MiB).
+ */
+#define GONIO_FILE_BRDF 4
+
+/*
+ Meshes: OBJ, PLY (2 GiB).
+ */
+#define GONIO_FILE_MESH 5
+
+/*
+ Table blobs (4 GiB).
+ */
+#define GONIO_FILE_TABLES 6
+
+/*
  MERL binary (`.binary`): three int32 dimensions, then three planes of float64.
  */
 #define GONIO_BRDF_FORMAT_MERL 1
@@ -489,11 +530,25 @@ const char *gonio_last_error_message(void);
 const char *gonio_version(void);
 
 /*
+ The size limit in bytes of files of `kind` (one of the `GONIO_FILE_*` constants) that every
+ gonio front end reads (CLI, C, Python): the value [`gonio_set_read_limit`] set, else the
+ default. 0 for an unknown kind.
+ */
+uint64_t gonio_read_limit(GonioFileKind kind);
+
+/*
+ Sets the size limit in bytes of files of `kind` for the whole process (0 restores the
+ default); a larger file (or buffer handed to a `*_read_memory` function) is refused before it
+ is read, with the library's message. [`GONIO_ERR_INVALID_ARGUMENT`] for an unknown kind.
+ */
+GonioStatus gonio_set_read_limit(GonioFileKind kind, uint64_t bytes);
+
+/*
  Reads a photometric file or diagram from a path.
 
  `format` is one of the `GONIO_FORMAT_*` constants; [`GONIO_FORMAT_AUTO`] picks it by the
  extension. TILT files that an IES file names are looked up next to it. Files larger than
- [`GONIO_MAX_FILE_BYTES`] and anything that is not a regular file are refused. On success
+ the limit of their kind ([`gonio_read_limit`]) and anything that is not a regular file are refused. On success
  `*out` receives a new handle that the caller releases with [`gonio_diagram_free`].
 
  # Safety
@@ -969,7 +1024,7 @@ GonioStatus gonio_brdf_sampler_options_default(struct GonioBrdfSamplerOptions *o
 /*
  Reads a BRDF file (MERL `.binary`, UTIA `.bin` or gonio BRDF JSON; the format is recognised
  from the content, not the extension). `options` may be NULL (the defaults). Files larger than
- [`GONIO_MAX_FILE_BYTES`] and anything that is not a regular file are refused
+ the BRDF limit ([`gonio_read_limit`]) and anything that is not a regular file are refused
  ([`GONIO_ERR_IO`]); a file that does not decode (wrong size, NaN, no reflectance at all, …) is
  [`GONIO_ERR_PARSE`] with what and where (byte offset or value index); options out of range are
  `GONIO_ERR_INVALID_ARGUMENT`. On success `*out` receives a new handle that the caller releases
@@ -986,7 +1041,7 @@ GonioStatus gonio_brdf_read_path(const char *path,
 /*
  Reads a BRDF file from `len` bytes at `data` (any format, as [`gonio_brdf_read_path`]).
  `name` (may be NULL, then `"<memory>"`) is used in messages; `options` may be NULL. More than
- [`GONIO_MAX_FILE_BYTES`] bytes are refused. On success `*out` receives a new handle that the
+ the BRDF limit ([`gonio_read_limit`]) bytes are refused. On success `*out` receives a new handle that the
  caller releases with [`gonio_brdf_free`].
 
  # Safety
@@ -1204,7 +1259,7 @@ GonioStatus gonio_envmap_options_default(struct GonioEnvOptions *options);
 /*
  Reads an equirectangular environment map (Radiance `.hdr`, OpenEXR `.exr` or `.pfm`) from a
  path; the format is chosen by the file's first bytes, else by its extension. Files larger than
- [`GONIO_MAX_FILE_BYTES`] and anything that is not a regular file are refused
+ the image limit ([`gonio_read_limit`]) and anything that is not a regular file are refused
  (`GONIO_ERR_IO`); a file that does not decode is
  [`GONIO_ERR_PARSE`], an all-black image [`GONIO_ERR_BUILD`]. On success `*out` receives a new
  handle that the caller releases with [`gonio_envmap_free`].
@@ -1232,7 +1287,7 @@ GonioStatus gonio_envmap_read_path_with(const char *path,
 /*
  Reads an environment map from `len` bytes at `data`, the format announced by the first bytes
  (`#?` Radiance, `PF` PFM, the OpenEXR magic number). `name` (may be NULL, then `"<memory>"`)
- is used in messages. More than [`GONIO_MAX_FILE_BYTES`] bytes are refused. On success `*out`
+ is used in messages. More bytes than the image limit ([`gonio_read_limit`]) are refused. On success `*out`
  receives a new handle that the caller releases with [`gonio_envmap_free`].
 
  # Safety

@@ -9,9 +9,9 @@
 //! from the surface, as any finite non-zero vector (normalised internally); f_r is in 1/sr.
 
 use super::{
-    check_in, check_len, check_out, guard, in_square, path_of, r, read_bounded, too_large, unit, w,
-    Failure, GonioStatus, GONIO_ERR_BUILD, GONIO_ERR_IO, GONIO_ERR_OUTSIDE_DOMAIN, GONIO_ERR_PARSE,
-    GONIO_ERR_ZERO_DENSITY, GONIO_MAX_FILE_BYTES,
+    check_in, check_len, check_memory_len, check_out, guard, in_square, path_of, r, read_bounded,
+    unit, w, Failure, GonioStatus, GONIO_ERR_BUILD, GONIO_ERR_IO, GONIO_ERR_OUTSIDE_DOMAIN,
+    GONIO_ERR_PARSE, GONIO_ERR_ZERO_DENSITY,
 };
 use gonio::brdf::{
     read_any, BrdfError, BrdfMethod, BrdfSample, BrdfSampler, CosineBrdf, GgxFit, MerlOptions,
@@ -310,7 +310,7 @@ fn build_brdf(name: &str, bytes: &[u8], merl: &MerlOptions) -> Result<GonioBrdf,
 
 /// Reads a BRDF file (MERL `.binary`, UTIA `.bin` or gonio BRDF JSON; the format is recognised
 /// from the content, not the extension). `options` may be NULL (the defaults). Files larger than
-/// [`GONIO_MAX_FILE_BYTES`] and anything that is not a regular file are refused
+/// the BRDF limit ([`gonio_read_limit`]) and anything that is not a regular file are refused
 /// ([`GONIO_ERR_IO`]); a file that does not decode (wrong size, NaN, no reflectance at all, …) is
 /// [`GONIO_ERR_PARSE`] with what and where (byte offset or value index); options out of range are
 /// `GONIO_ERR_INVALID_ARGUMENT`. On success `*out` receives a new handle that the caller releases
@@ -334,7 +334,7 @@ pub unsafe extern "C" fn gonio_brdf_read_path(
         let raw = CStr::from_ptr(path);
         let owned = path_of(raw)?;
         let lossy = raw.to_string_lossy();
-        let bytes = read_bounded(&owned, &lossy)?;
+        let bytes = read_bounded(&owned, &lossy, gonio::input::file::FileKind::Brdf)?;
         let b = build_brdf(&lossy, &bytes, &merl)?;
         w(out, Box::into_raw(Box::new(b)), "out")
     })
@@ -342,7 +342,7 @@ pub unsafe extern "C" fn gonio_brdf_read_path(
 
 /// Reads a BRDF file from `len` bytes at `data` (any format, as [`gonio_brdf_read_path`]).
 /// `name` (may be NULL, then `"<memory>"`) is used in messages; `options` may be NULL. More than
-/// [`GONIO_MAX_FILE_BYTES`] bytes are refused. On success `*out` receives a new handle that the
+/// the BRDF limit ([`gonio_read_limit`]) bytes are refused. On success `*out` receives a new handle that the
 /// caller releases with [`gonio_brdf_free`].
 ///
 /// # Safety
@@ -368,9 +368,7 @@ pub unsafe extern "C" fn gonio_brdf_read_memory(
             super::c_str(name, "name")?
         };
         let merl = merl_options(options)?;
-        if len as u64 > GONIO_MAX_FILE_BYTES {
-            return Err(too_large(name, len as u64));
-        }
+        check_memory_len(name, len, gonio::input::file::FileKind::Brdf)?;
         let bytes: &[u8] = if len == 0 {
             &[]
         } else {
@@ -1149,7 +1147,7 @@ mod tests {
         let st = unsafe { gonio_brdf_read_path(c"/".as_ptr(), null(), &mut b) };
         assert_eq!(st, crate::GONIO_ERR_IO);
         assert!(
-            last_error().ends_with("not a regular file"),
+            last_error().contains("not a regular file"),
             "{}",
             last_error()
         );

@@ -6,9 +6,8 @@
 //! thread-local message, NULL pointers refused, panics caught, outputs written only on success.
 
 use super::{
-    check_in, check_len, check_out, guard, in_square, invert_error, path_of, r, read_bounded,
-    too_large, unit, w, Failure, GonioStatus, GONIO_ERR_BUILD, GONIO_ERR_PARSE,
-    GONIO_MAX_FILE_BYTES,
+    check_in, check_len, check_memory_len, check_out, guard, in_square, invert_error, path_of, r,
+    read_bounded, unit, w, Failure, GonioStatus, GONIO_ERR_BUILD, GONIO_ERR_PARSE,
 };
 use gonio::envmap::{
     EnvMapError, EnvOptions, EnvironmentMap, Float32EnvironmentMap, Lookup, Weight,
@@ -197,7 +196,7 @@ fn build_env(
 
 /// Reads an equirectangular environment map (Radiance `.hdr`, OpenEXR `.exr` or `.pfm`) from a
 /// path; the format is chosen by the file's first bytes, else by its extension. Files larger than
-/// [`GONIO_MAX_FILE_BYTES`] and anything that is not a regular file are refused
+/// the image limit ([`gonio_read_limit`]) and anything that is not a regular file are refused
 /// (`GONIO_ERR_IO`); a file that does not decode is
 /// [`GONIO_ERR_PARSE`], an all-black image [`GONIO_ERR_BUILD`]. On success `*out` receives a new
 /// handle that the caller releases with [`gonio_envmap_free`].
@@ -248,7 +247,7 @@ unsafe fn read_path(
     let owned = path_of(raw)?;
     let lossy = raw.to_string_lossy();
     let name: &str = &lossy;
-    let bytes = read_bounded(&owned, name)?;
+    let bytes = read_bounded(&owned, name, gonio::input::file::FileKind::Image)?;
     let format = ImageFormat::sniff(&bytes).or_else(|| ImageFormat::from_path(Path::new(name)));
     let e = build_env(name, &bytes, format, options)?;
     w(out, Box::into_raw(Box::new(e)), "out")
@@ -256,7 +255,7 @@ unsafe fn read_path(
 
 /// Reads an environment map from `len` bytes at `data`, the format announced by the first bytes
 /// (`#?` Radiance, `PF` PFM, the OpenEXR magic number). `name` (may be NULL, then `"<memory>"`)
-/// is used in messages. More than [`GONIO_MAX_FILE_BYTES`] bytes are refused. On success `*out`
+/// is used in messages. More bytes than the image limit ([`gonio_read_limit`]) are refused. On success `*out`
 /// receives a new handle that the caller releases with [`gonio_envmap_free`].
 ///
 /// # Safety
@@ -310,9 +309,7 @@ unsafe fn read_memory(
     } else {
         super::c_str(name, "name")?
     };
-    if len as u64 > GONIO_MAX_FILE_BYTES {
-        return Err(too_large(name, len as u64));
-    }
+    check_memory_len(name, len, gonio::input::file::FileKind::Image)?;
     if len == 0 {
         return Err(Failure::new(
             GONIO_ERR_PARSE,
@@ -1027,7 +1024,7 @@ mod tests {
         let st = unsafe { gonio_envmap_read_path(c"/".as_ptr(), &mut m) };
         assert_eq!(st, GONIO_ERR_IO);
         assert!(
-            last_error().ends_with("not a regular file"),
+            last_error().contains("not a regular file"),
             "{}",
             last_error()
         );
@@ -1371,14 +1368,14 @@ mod tests {
         let big = dir.join("big.hdr");
         std::fs::File::create(&big)
             .unwrap()
-            .set_len(GONIO_MAX_FILE_BYTES + 1)
+            .set_len(gonio::input::file::FileKind::Image.default_limit() + 1)
             .unwrap();
         let path = std::ffi::CString::new(big.to_str().unwrap()).unwrap();
         let mut m = null_mut();
         let st = unsafe { gonio_envmap_read_path(path.as_ptr(), &mut m) };
         assert_eq!(st, GONIO_ERR_IO);
         assert!(
-            last_error().contains("more than the limit of 67108864 bytes"),
+            last_error().contains("more than the limit of 4294967296 bytes for image files"),
             "{}",
             last_error()
         );
@@ -1393,7 +1390,7 @@ mod tests {
             let st = unsafe { gonio_envmap_read_path(path.as_ptr(), &mut m) };
             assert_eq!(st, GONIO_ERR_IO);
             assert!(
-                last_error().ends_with("not a regular file"),
+                last_error().contains("not a regular file"),
                 "{}",
                 last_error()
             );

@@ -1,12 +1,14 @@
 //! Status codes, enumerations, option and handle types, errors (the thread-local message and
 //! the panic guard), pointer helpers and reading diagrams (path, memory, free).
 
+use gonio::input::file::{
+    read_file_with_meta, read_limit, set_read_limit, FileKind, ReadFileError,
+};
 use gonio::input::{InputKind, LoadError};
 use gonio::photometry::{DirTiltResolver, NoTiltFiles, Photometry};
 use gonio::{Diagram, Sampler};
 use std::cell::RefCell;
 use std::ffi::{c_char, CStr, CString};
-use std::io::Read;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 
@@ -137,8 +139,9 @@ pub struct GonioSampler {
 // ---------------------------------------------------------------------------------------------
 // Errors.
 
-/// Largest file [`gonio_diagram_read_path`] and [`gonio_diagram_read_memory`] read: 64 MiB, the
-/// cap of every gonio front end (CLI, Python, C), checked against the size before reading.
+/// The default size limit of photometric files and JSON diagrams (64 MiB), as
+/// [`gonio_read_limit`]`(GONIO_FILE_PHOTOMETRY)` gives it unless it was changed; each input kind
+/// has its own limit, the same in every gonio front end.
 pub const GONIO_MAX_FILE_BYTES: u64 = 64 << 20;
 
 /// An error on its way to the caller: a status code and the message.
@@ -349,52 +352,79 @@ pub(crate) fn located(file: &str, line: usize, column: usize, message: &str) -> 
     }
 }
 
-/// The message of an input over [`GONIO_MAX_FILE_BYTES`] (the CLI's).
-pub(crate) fn too_large(name: &str, len: u64) -> Failure {
+/// The message of an input of `kind` over its limit (the library's, as every front end words
+/// it).
+pub(crate) fn too_large(name: &str, len: u64, kind: FileKind) -> Failure {
     Failure::new(
         GONIO_ERR_IO,
-        format!(
-            "{name}: the file has {len} bytes, more than the limit of {GONIO_MAX_FILE_BYTES} \
-             bytes ({} MiB); not read",
-            GONIO_MAX_FILE_BYTES >> 20
-        ),
+        ReadFileError::TooLarge {
+            path: name.to_string(),
+            size: len,
+            limit: read_limit(kind),
+            kind,
+        }
+        .to_string(),
     )
 }
 
-/// Reads a regular file of at most [`GONIO_MAX_FILE_BYTES`]. The kind and size are checked
-/// before the file is opened (opening a FIFO without a writer would block forever), and again on
-/// the open file (it may have been replaced in between).
-pub(crate) fn read_bounded(path: &Path, name: &str) -> Result<Vec<u8>, Failure> {
-    let io = |e: std::io::Error| Failure::new(GONIO_ERR_IO, format!("cannot read {name}: {e}"));
-    let not_regular = || {
-        Failure::new(
-            GONIO_ERR_IO,
-            format!("cannot read {name}: not a regular file"),
-        )
-    };
-    let before = std::fs::metadata(path).map_err(io)?;
-    if !before.is_file() {
-        return Err(not_regular());
+/// Bytes handed in memory of `kind`: refused over the kind's limit, as a file would be.
+pub(crate) fn check_memory_len(name: &str, len: usize, kind: FileKind) -> Result<(), Failure> {
+    if len as u64 > read_limit(kind) {
+        return Err(too_large(name, len as u64, kind));
     }
-    if before.len() > GONIO_MAX_FILE_BYTES {
-        return Err(too_large(name, before.len()));
-    }
-    let file = std::fs::File::open(path).map_err(io)?;
-    let meta = file.metadata().map_err(io)?;
-    if !meta.is_file() {
-        return Err(not_regular());
-    }
-    if meta.len() > GONIO_MAX_FILE_BYTES {
-        return Err(too_large(name, meta.len()));
-    }
-    let mut bytes = Vec::new();
-    file.take(GONIO_MAX_FILE_BYTES + 1)
-        .read_to_end(&mut bytes)
-        .map_err(io)?;
-    if bytes.len() as u64 > GONIO_MAX_FILE_BYTES {
-        return Err(too_large(name, bytes.len() as u64));
-    }
-    Ok(bytes)
+    Ok(())
+}
+
+/// Reads a regular file of `kind` through the library's one file reader
+/// ([`gonio::input::file`]: regular files only, never blocking on a FIFO, at most the kind's
+/// limit, checked before reading), with its message.
+pub(crate) fn read_bounded(path: &Path, name: &str, kind: FileKind) -> Result<Vec<u8>, Failure> {
+    read_file_with_meta(path, name, kind)
+        .map(|(b, _)| b)
+        .map_err(|e| Failure::new(GONIO_ERR_IO, e.to_string()))
+}
+
+/// The kinds of input files, each with its own size limit ([`gonio_set_read_limit`]).
+pub type GonioFileKind = u32;
+/// IES LM-63 and EULUMDAT files (default limit 64 MiB).
+pub const GONIO_FILE_PHOTOMETRY: GonioFileKind = 0;
+/// Native JSON diagrams (64 MiB).
+pub const GONIO_FILE_DIAGRAM: GonioFileKind = 1;
+/// TILT files named by IES files (4 MiB).
+pub const GONIO_FILE_TILT: GonioFileKind = 2;
+/// Images: environment maps (.hdr, .exr, .pfm) (4 GiB).
+pub const GONIO_FILE_IMAGE: GonioFileKind = 3;
+/// Tabulated BRDFs: MERL, UTIA, gonio BRDF JSON (256 MiB).
+pub const GONIO_FILE_BRDF: GonioFileKind = 4;
+/// Meshes: OBJ, PLY (2 GiB).
+pub const GONIO_FILE_MESH: GonioFileKind = 5;
+/// Table blobs (4 GiB).
+pub const GONIO_FILE_TABLES: GonioFileKind = 6;
+
+fn file_kind(kind: GonioFileKind) -> Result<FileKind, Failure> {
+    FileKind::ALL
+        .get(kind as usize)
+        .copied()
+        .ok_or_else(|| Failure::invalid(format!("file kind {kind}: not a GONIO_FILE_* constant")))
+}
+
+/// The size limit in bytes of files of `kind` (one of the `GONIO_FILE_*` constants) that every
+/// gonio front end reads (CLI, C, Python): the value [`gonio_set_read_limit`] set, else the
+/// default. 0 for an unknown kind.
+#[no_mangle]
+pub extern "C" fn gonio_read_limit(kind: GonioFileKind) -> u64 {
+    file_kind(kind).map(read_limit).unwrap_or(0)
+}
+
+/// Sets the size limit in bytes of files of `kind` for the whole process (0 restores the
+/// default); a larger file (or buffer handed to a `*_read_memory` function) is refused before it
+/// is read, with the library's message. [`GONIO_ERR_INVALID_ARGUMENT`] for an unknown kind.
+#[no_mangle]
+pub extern "C" fn gonio_set_read_limit(kind: GonioFileKind, bytes: u64) -> GonioStatus {
+    guard(|| {
+        set_read_limit(file_kind(kind)?, bytes);
+        Ok(())
+    })
 }
 
 /// Turns bytes into a diagram handle, with the CLI's messages.
@@ -444,7 +474,7 @@ pub(crate) fn parse(
 ///
 /// `format` is one of the `GONIO_FORMAT_*` constants; [`GONIO_FORMAT_AUTO`] picks it by the
 /// extension. TILT files that an IES file names are looked up next to it. Files larger than
-/// [`GONIO_MAX_FILE_BYTES`] and anything that is not a regular file are refused. On success
+/// the limit of their kind ([`gonio_read_limit`]) and anything that is not a regular file are refused. On success
 /// `*out` receives a new handle that the caller releases with [`gonio_diagram_free`].
 ///
 /// # Safety
@@ -470,7 +500,12 @@ pub unsafe extern "C" fn gonio_diagram_read_path(
             Some(k) => k,
             None => kind_of_path(name)?,
         };
-        let bytes = read_bounded(&owned, name)?;
+        let fk = if kind == InputKind::Json {
+            FileKind::Diagram
+        } else {
+            FileKind::Photometry
+        };
+        let bytes = read_bounded(&owned, name, fk)?;
         let dir = match owned.parent() {
             Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
             _ => PathBuf::from("."),
@@ -503,19 +538,12 @@ pub unsafe extern "C" fn gonio_diagram_read_memory(
         if data.is_null() && len > 0 {
             return Err(Failure::null("data"));
         }
-        if len as u64 > GONIO_MAX_FILE_BYTES {
-            let name = if name.is_null() {
-                "<memory>"
-            } else {
-                c_str(name, "name")?
-            };
-            return Err(too_large(name, len as u64));
-        }
         let name = if name.is_null() {
             "<memory>"
         } else {
             c_str(name, "name")?
         };
+        check_memory_len(name, len, FileKind::Photometry)?;
         let kind = kind_of(format)?.ok_or_else(|| {
             Failure::invalid(
                 "gonio_diagram_read_memory needs an explicit format, not GONIO_FORMAT_AUTO",

@@ -9,7 +9,7 @@
 //! image's unit, so powers are in that unit × sr.
 
 use crate::args::ConvertArgs;
-use crate::input::read_regular;
+use crate::input::{read_regular, FileKind};
 use crate::output::Output;
 use anyhow::Context;
 use gonio::baselines::equal_area::equal_area_square_to_sphere;
@@ -18,9 +18,6 @@ use gonio::image::{Image, ImageFormat};
 use rayon::prelude::*;
 use std::io::Write;
 use std::path::Path;
-
-/// Largest image file read: 1 GiB (a 8192 × 4096 float RGB EXR is 400 MiB uncompressed).
-pub const MAX_IMAGE_BYTES: u64 = 1 << 30;
 
 /// Whether an input name is an image (by its extension: `.hdr`, `.pic`, `.exr`, `.pfm`).
 pub fn is_image_name(name: &str) -> bool {
@@ -110,7 +107,7 @@ pub fn env_options() -> EnvOptions {
 /// ([`env_options`]); the reader's and the map's warnings go to standard error. (`load::load`
 /// wraps it into its `Loaded`.)
 pub fn load_envmap(name: &str) -> anyhow::Result<EnvironmentMap> {
-    let bytes = read_regular(Path::new(name), name, MAX_IMAGE_BYTES)?;
+    let bytes = read_regular(Path::new(name), name, FileKind::Image)?;
     let format = ImageFormat::sniff(&bytes).or_else(|| ImageFormat::from_path(Path::new(name)));
     let image = Image::from_bytes(&bytes, format).map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
     drop(bytes);

@@ -11,24 +11,13 @@
 //! * every file opened here is remembered by device and inode ([`is_input`]), so that
 //!   [`crate::output::Output`] can refuse to write over an input;
 //! * [`TiltFiles`] serves `TILT=<file>` names: a plain file name, resolved (symbolic links
-//!   followed) to a regular file inside the IES file's folder, at most [`MAX_TILT_BYTES`].
+//!   followed) to a regular file inside the IES file's folder, at most the library's TILT limit.
 
-use anyhow::bail;
+pub use gonio::input::file::FileKind;
 use gonio::photometry::{DirTiltResolver, TiltResolver};
 use std::fs::{File, Metadata};
-use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
-
-/// Largest input file read (IES, EULUMDAT, JSON): 64 MiB. A larger file is refused before a byte
-/// of it is read. The largest real files in the test corpus are under 0.5 MB; a JSON diagram at
-/// the node limit ([`gonio::diagram::MAX_NODES`] values, at least 2 bytes each) is larger than
-/// this, so it is refused by size before parsing.
-pub const MAX_INPUT_BYTES: u64 = gonio::photometry::MAX_FILE_BYTES;
-
-/// Largest TILT file read: 4 MiB (a TILT table of the largest allowed size,
-/// [`gonio::photometry::MAX_ANGLES`] angle/factor pairs, fits in well under this).
-pub const MAX_TILT_BYTES: u64 = 4 << 20;
 
 /// Identity of a file: (device, inode) on Unix.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -79,95 +68,32 @@ pub fn is_input(meta: &Metadata) -> Option<String> {
         .map(|(_, n)| n.clone())
 }
 
-/// What a non-regular file is, in words.
+/// What a non-regular file is, in words (the library's one wording).
 pub fn kind_of(meta: &Metadata) -> &'static str {
-    let t = meta.file_type();
-    if t.is_dir() {
-        return "a directory";
-    }
-    if t.is_symlink() {
-        return "a symbolic link";
-    }
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::FileTypeExt;
-        if t.is_fifo() {
-            return "a FIFO (named pipe)";
-        }
-        if t.is_char_device() {
-            return "a character device";
-        }
-        if t.is_block_device() {
-            return "a block device";
-        }
-        if t.is_socket() {
-            return "a socket";
-        }
-    }
-    if t.is_file() {
-        "a regular file"
-    } else {
-        "not a regular file"
-    }
+    gonio::input::file::file_type_name(meta)
 }
 
-/// Opens `path` for reading if it is a regular file (symbolic links followed); `shown` names it
-/// in messages. Never blocks on a FIFO. The file is remembered as an input.
+/// Opens `path` for reading if it is a regular file (symbolic links followed), through the
+/// library's one file reader ([`gonio::input::file::open_regular`]); `shown` names it in
+/// messages. Never blocks on a FIFO. The file is remembered as an input.
 pub fn open_regular(path: &Path, shown: &str) -> anyhow::Result<(File, Metadata)> {
-    let meta = std::fs::metadata(path).map_err(|e| anyhow::anyhow!("cannot read {shown}: {e}"))?;
-    if !meta.is_file() {
-        bail!(
-            "{shown}: is {}; gonio reads only regular files",
-            kind_of(&meta)
-        );
-    }
-    let mut opts = std::fs::OpenOptions::new();
-    opts.read(true);
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::OpenOptionsExt;
-        opts.custom_flags(libc::O_NONBLOCK | libc::O_NOCTTY);
-    }
-    let file = opts
-        .open(path)
-        .map_err(|e| anyhow::anyhow!("cannot read {shown}: {e}"))?;
-    let meta = file
-        .metadata()
-        .map_err(|e| anyhow::anyhow!("cannot read {shown}: {e}"))?;
-    if !meta.is_file() {
-        bail!(
-            "{shown}: is {}; gonio reads only regular files",
-            kind_of(&meta)
-        );
-    }
+    let (file, meta) = gonio::input::file::open_regular(path, shown)?;
     remember(&meta, shown);
     Ok((file, meta))
 }
 
-/// Reads the whole regular file `path`, refusing it before reading if it is larger than `max`
-/// bytes (and never reading more than `max` bytes).
-pub fn read_regular(path: &Path, shown: &str, max: u64) -> anyhow::Result<Vec<u8>> {
-    let (file, meta) = open_regular(path, shown)?;
-    if meta.len() > max {
-        bail!(
-            "{shown}: the file has {} bytes, more than the limit of {max} bytes ({} MiB); not read",
-            meta.len(),
-            max >> 20
-        );
-    }
-    let mut bytes = Vec::with_capacity(meta.len() as usize);
-    file.take(max + 1)
-        .read_to_end(&mut bytes)
-        .map_err(|e| anyhow::anyhow!("cannot read {shown}: {e}"))?;
-    if bytes.len() as u64 > max {
-        bail!("{shown}: the file grew beyond the limit of {max} bytes while it was read");
-    }
+/// Reads the whole regular file `path` of kind `kind` under the library's limit for that kind
+/// ([`gonio::input::file::read_file_with_meta`]: the same checks and messages as the C ABI and
+/// Python); the file is remembered as an input.
+pub fn read_regular(path: &Path, shown: &str, kind: FileKind) -> anyhow::Result<Vec<u8>> {
+    let (bytes, meta) = gonio::input::file::read_file_with_meta(path, shown, kind)?;
+    remember(&meta, shown);
     Ok(bytes)
 }
 
 /// The `TILT=<file>` resolver of the CLI: [`DirTiltResolver::locate`] (a plain name, resolved with
 /// symbolic links to a regular file inside the IES file's folder), then [`read_regular`] with
-/// [`MAX_TILT_BYTES`].
+/// [`FileKind::Tilt`].
 #[derive(Debug, Clone)]
 pub struct TiltFiles {
     dir: PathBuf,
@@ -183,7 +109,7 @@ impl TiltFiles {
 impl TiltResolver for TiltFiles {
     fn resolve(&self, name: &str) -> Result<Vec<u8>, String> {
         let path = DirTiltResolver::new(&self.dir).locate(name)?;
-        read_regular(&path, &path.display().to_string(), MAX_TILT_BYTES).map_err(|e| {
+        read_regular(&path, &path.display().to_string(), FileKind::Tilt).map_err(|e| {
             // The message names the file already; the library prefixes `TILT file NAME: `.
             let m = format!("{e:#}");
             let p = format!("{}: ", path.display());

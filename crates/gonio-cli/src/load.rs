@@ -5,7 +5,7 @@
 //! * [`build_sampler`] builds the sampler of a [`Method`] for what was loaded (through the
 //!   library's factory, [`Method::build`]), on the domain [`domain`] chooses.
 
-use crate::input::{read_regular, tame, TiltFiles, MAX_INPUT_BYTES};
+use crate::input::{read_regular, tame, FileKind, TiltFiles};
 use anyhow::Context;
 use gonio::{BuildOptions, Diagram, Domain, Method, Sampler};
 use std::fmt;
@@ -169,9 +169,15 @@ pub fn load(name: &str) -> anyhow::Result<Loaded> {
     })
 }
 
-/// Reads an input file: a regular file of at most [`MAX_INPUT_BYTES`] (see [`crate::input`]).
+/// Reads an input file: a regular file of at most the library's limit for diagrams (a `.json`
+/// name) or photometric files (see [`crate::input`]).
 fn read_file(name: &str) -> anyhow::Result<Vec<u8>> {
-    read_regular(Path::new(name), name, MAX_INPUT_BYTES)
+    let kind = if name.to_ascii_lowercase().ends_with(".json") {
+        FileKind::Diagram
+    } else {
+        FileKind::Photometry
+    };
+    read_regular(Path::new(name), name, kind)
 }
 
 /// A library [`gonio::input::LoadError`] as the CLI words it: syntax errors as a

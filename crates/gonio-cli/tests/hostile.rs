@@ -526,3 +526,49 @@ fn interrupted_runs_leave_no_temporary_file() {
         assert!(!out.exists());
     }
 }
+
+/// A PFM sky of `w` × `h` pixels (little-endian, bottom row first), a smooth gradient.
+fn write_pfm(path: &Path, w: usize, h: usize) {
+    use std::io::Write;
+    let mut f = std::io::BufWriter::new(fs::File::create(path).unwrap());
+    write!(f, "PF\n{w} {h}\n-1.0\n").unwrap();
+    let mut row = Vec::with_capacity(w * 12);
+    for r in 0..h {
+        row.clear();
+        for c in 0..w {
+            let v = 0.1 + (r * 7 + c * 3) as f32 / (w + h) as f32;
+            for ch in [v, 0.5 * v, 0.25 * v] {
+                row.extend_from_slice(&ch.to_le_bytes());
+            }
+        }
+        f.write_all(&row).unwrap();
+    }
+    f.flush().unwrap();
+}
+
+/// Issue 36, item 5: one file reader with one size limit per kind, large enough for real data:
+/// a 200 MB sky (4096 × 4096 float RGB PFM) opens, and a file over the image limit (a sparse
+/// 4 GiB + 1 file) is refused before it is read with the library's message, the same text the C
+/// ABI and Python give (their tests assert the same string).
+#[test]
+fn a_200_mb_sky_opens_and_the_image_limit_is_the_library_s() {
+    let dir = temp_dir("huge-sky");
+    let sky = dir.join("sky.pfm");
+    write_pfm(&sky, 4096, 4096);
+    assert!(fs::metadata(&sky).unwrap().len() > 200_000_000);
+    let out = ok(&["info", s(&sky)]);
+    assert!(out.contains("4096"), "{out}");
+    let big = dir.join("big.pfm");
+    fs::File::create(&big)
+        .unwrap()
+        .set_len((4u64 << 30) + 1)
+        .unwrap();
+    let err = fails(&["info", s(&big)]);
+    let want = format!(
+        "{}: the file has 4294967297 bytes, more than the limit of 4294967296 bytes for image \
+         files (4096 MiB; settable); not read",
+        s(&big)
+    );
+    assert!(err.contains(&want), "{err}");
+    let _ = fs::remove_dir_all(&dir);
+}

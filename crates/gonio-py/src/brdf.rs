@@ -10,7 +10,7 @@ use crate::diagram::parse_error;
 use crate::{arrays, detached, BuildError, GonioError, InputError};
 use gonio::brdf::{
     read_any, scalar_albedo, BrdfError, BrdfMethod, BrdfSampler, CosineBrdf, GgxFit, MerlOptions,
-    SamplerOptions, Symmetry, TabulatedBrdf, MAX_VALUES,
+    SamplerOptions, Symmetry, TabulatedBrdf,
 };
 use gonio::sampler::normalize;
 use gonio::{Point2, Vec3};
@@ -44,14 +44,6 @@ fn brdf_error(path: &std::path::Path, e: BrdfError) -> PyErr {
 }
 
 /// The OSError of a file that cannot be read (FileNotFoundError, PermissionError, ...).
-fn read_error(name: &str, e: &std::io::Error) -> PyErr {
-    let msg = format!("cannot read {name}: {e}");
-    match e.kind() {
-        std::io::ErrorKind::NotFound => pyo3::exceptions::PyFileNotFoundError::new_err(msg),
-        std::io::ErrorKind::PermissionDenied => pyo3::exceptions::PyPermissionError::new_err(msg),
-        _ => pyo3::exceptions::PyOSError::new_err(msg),
-    }
-}
 
 /// ``read_brdf(path, *, merl_theta=46, merl_phi=90)``: a BRDF file, its format recognised from
 /// the content (gonio BRDF JSON, UTIA raw, MERL binary resampled to `merl_theta` polar nodes and
@@ -69,26 +61,7 @@ pub(crate) fn read_brdf(
         n_phi: merl_phi,
     };
     let name = path.display().to_string();
-    let meta = std::fs::metadata(&path).map_err(|e| read_error(&name, &e))?;
-    if !meta.is_file() {
-        return Err(pyo3::exceptions::PyOSError::new_err(format!(
-            "cannot read {name}: not a regular file"
-        )));
-    }
-    // The library's cap: no table it holds comes from a larger file.
-    let max = 8 * MAX_VALUES as u64 + 1024;
-    if meta.len() > max {
-        return Err(parse_error(
-            &name,
-            0,
-            0,
-            &format!("the file has {} bytes, more than any BRDF table this library holds ({max} bytes); not read", meta.len()),
-        ));
-    }
-    let mut bytes = arrays::try_vec(meta.len() as usize, &name)?;
-    std::fs::File::open(&path)
-        .and_then(|f| std::io::Read::read_to_end(&mut std::io::Read::take(f, max + 1), &mut bytes))
-        .map_err(|e| read_error(&name, &e))?;
+    let bytes = crate::diagram::read_input(&path, &name, gonio::input::file::FileKind::Brdf)?;
     let brdf =
         detached(py, "read_brdf", || read_any(&bytes, &merl))?.map_err(|e| brdf_error(&path, e))?;
     Ok(PyBrdf {

@@ -5,6 +5,7 @@ use crate::batch::map_rows;
 use crate::types::{domain_name, PyDiagram, Source};
 use crate::{DiagramError, InputError, ParseError};
 use gonio::decimal::degrees;
+use gonio::input::file::FileKind;
 use gonio::photometry::{
     self, write_ies, write_ldt, DirTiltResolver, FileFormat, NoTiltFiles, Photometry, TiltResolver,
     WriteMeta,
@@ -109,24 +110,12 @@ pub(crate) fn read(py: Python<'_>, path: PathBuf, format: Option<&str>) -> PyRes
             }
         }
     };
-    let meta = std::fs::metadata(&path).map_err(|e| read_error(&name, &e))?;
-    if !meta.is_file() {
-        return Err(pyo3::exceptions::PyOSError::new_err(format!(
-            "cannot read {name}: not a regular file"
-        )));
-    }
-    // One cap for every front end, checked before anything is read (issue 25).
-    let max = photometry::MAX_FILE_BYTES;
-    if meta.len() > max {
-        return Err(too_large(&name, meta.len()));
-    }
-    let mut bytes = Vec::new();
-    std::fs::File::open(&path)
-        .and_then(|f| std::io::Read::read_to_end(&mut std::io::Read::take(f, max + 1), &mut bytes))
-        .map_err(|e| read_error(&name, &e))?;
-    if bytes.len() as u64 > max {
-        return Err(too_large(&name, bytes.len() as u64));
-    }
+    let fk = if source == Source::Json {
+        FileKind::Diagram
+    } else {
+        FileKind::Photometry
+    };
+    let bytes = read_input(Path::new(&path), &name, fk)?;
     let dir: PathBuf = match Path::new(&path).parent() {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
         _ => PathBuf::from("."),
@@ -136,27 +125,34 @@ pub(crate) fn read(py: Python<'_>, path: PathBuf, format: Option<&str>) -> PyRes
     Py::new(py, d)
 }
 
-/// The ParseError of an input over [`photometry::MAX_FILE_BYTES`] (the CLI's message).
-fn too_large(name: &str, len: u64) -> PyErr {
-    let max = photometry::MAX_FILE_BYTES;
-    parse_error(
-        name,
-        0,
-        0,
-        &format!(
-            "the file has {len} bytes, more than the limit of {max} bytes ({} MiB); not read",
-            max >> 20
-        ),
-    )
-}
-
-fn read_error(name: &str, e: &std::io::Error) -> PyErr {
-    let msg = format!("cannot read {name}: {e}");
-    match e.kind() {
-        std::io::ErrorKind::NotFound => pyo3::exceptions::PyFileNotFoundError::new_err(msg),
-        std::io::ErrorKind::PermissionDenied => pyo3::exceptions::PyPermissionError::new_err(msg),
-        _ => pyo3::exceptions::PyOSError::new_err(msg),
-    }
+/// Reads the file `path` of `kind` through the library's one file reader (regular files only,
+/// never blocking, the kind's size limit: the same checks and messages as the CLI and the C ABI),
+/// and words its error as one exception family: FileNotFoundError for a missing file,
+/// PermissionError, OSError for a file that is not regular or cannot be read, ParseError (with
+/// `file`) for a file over the limit, MemoryError when its bytes cannot be allocated. The message
+/// names the file once.
+pub(crate) fn read_input(path: &Path, name: &str, kind: FileKind) -> PyResult<Vec<u8>> {
+    use gonio::input::file::{read_file_with_meta, ReadFileError as E};
+    read_file_with_meta(path, name, kind)
+        .map(|(b, _)| b)
+        .map_err(|e| {
+            let msg = e.to_string();
+            match &e {
+                E::NotFound { .. } => pyo3::exceptions::PyFileNotFoundError::new_err(msg),
+                E::Io { message, .. } if message.contains("ermission") => {
+                    pyo3::exceptions::PyPermissionError::new_err(msg)
+                }
+                E::Io { .. } | E::NotRegular { .. } => pyo3::exceptions::PyOSError::new_err(msg),
+                E::TooLarge { .. } | E::Grew { .. } => {
+                    let m = msg
+                        .strip_prefix(&format!("{name}: "))
+                        .unwrap_or(&msg)
+                        .to_string();
+                    parse_error(name, 0, 0, &m)
+                }
+                E::NoMemory { .. } => pyo3::exceptions::PyMemoryError::new_err(msg),
+            }
+        })
 }
 
 /// Reads a diagram from the contents of a file, given as bytes or str, in the explicit `format`
@@ -183,8 +179,25 @@ pub(crate) fn read_bytes(
             data.get_type().name()?
         )));
     };
-    if bytes.len() as u64 > photometry::MAX_FILE_BYTES {
-        return Err(too_large(name, bytes.len() as u64));
+    let kind = if source == Source::Json {
+        FileKind::Diagram
+    } else {
+        FileKind::Photometry
+    };
+    let limit = gonio::input::file::read_limit(kind);
+    if bytes.len() as u64 > limit {
+        let e = gonio::input::file::ReadFileError::TooLarge {
+            path: name.to_string(),
+            size: bytes.len() as u64,
+            limit,
+            kind,
+        }
+        .to_string();
+        let m = e
+            .strip_prefix(&format!("{name}: "))
+            .unwrap_or(&e)
+            .to_string();
+        return Err(parse_error(name, 0, 0, &m));
     }
     let d = crate::no_panic(name, || load(&bytes, source, name, &NoTiltFiles))??;
     Py::new(py, d)

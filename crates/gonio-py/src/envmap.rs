@@ -127,10 +127,15 @@ impl PyEnvMap {
             }
         };
         let (weight, custom_shape) = parse_weight(weight)?;
+        let name = path.display().to_string();
+        let bytes = crate::diagram::read_input(&path, &name, gonio::input::file::FileKind::Image)?;
         let img = no_panic("EnvMap", || {
-            Image::read(&path).map_err(|e| format!("{}: {e}", path.display()))
+            let format = gonio::image::ImageFormat::sniff(&bytes)
+                .or_else(|| gonio::image::ImageFormat::from_path(&path));
+            Image::from_bytes(&bytes, format).map_err(|e| format!("{name}: {e}"))
         })?
         .map_err(GonioError::new_err)?;
+        drop(bytes);
         if let Some([h, w]) = custom_shape {
             if (h, w) != (img.height(), img.width()) {
                 return Err(InputError::new_err(format!(

@@ -209,3 +209,29 @@ pub(crate) fn bench_rust_batch(
         best
     })
 }
+
+/// The kind of file named `kind` ("photometry", "diagram", "tilt", "image", "brdf", "mesh",
+/// "tables").
+fn file_kind(kind: &str) -> PyResult<gonio::input::file::FileKind> {
+    gonio::input::file::FileKind::from_name(kind).ok_or_else(|| {
+        crate::InputError::new_err(format!(
+            "kind: {kind:?} is not one of \"photometry\", \"diagram\", \"tilt\", \"image\", \"brdf\", \"mesh\", \"tables\""
+        ))
+    })
+}
+
+/// The size limit in bytes of files of `kind` that every gonio front end (CLI, C, Python) reads:
+/// the value `set_read_limit` set, else the default (photometry and diagram 64 MiB, tilt 4 MiB,
+/// image 4 GiB, brdf 256 MiB, mesh 2 GiB, tables 4 GiB).
+#[pyfunction]
+pub(crate) fn read_limit(kind: &str) -> PyResult<u64> {
+    Ok(gonio::input::file::read_limit(file_kind(kind)?))
+}
+
+/// Sets the size limit in bytes of files of `kind` for the whole process (0 restores the
+/// default). A larger file is refused before it is read.
+#[pyfunction]
+pub(crate) fn set_read_limit(kind: &str, bytes: u64) -> PyResult<()> {
+    gonio::input::file::set_read_limit(file_kind(kind)?, bytes);
+    Ok(())
+}

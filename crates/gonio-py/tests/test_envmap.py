@@ -54,7 +54,8 @@ def test_black_map_and_bad_input(tmp_path):
     write_pfm(p, np.zeros((4, 8, 3), np.float32))
     with pytest.raises(gonio.GonioError, match="black"):
         gonio.EnvMap(p)
-    with pytest.raises(gonio.GonioError):
+    # A missing file is FileNotFoundError, as from read and read_brdf (one family per fault).
+    with pytest.raises(FileNotFoundError):
         gonio.EnvMap(tmp_path / "missing.hdr")
     write_pfm(p, np.ones((4, 8, 3), np.float32))
     env = gonio.EnvMap(p)

@@ -6,6 +6,8 @@
 //! The format is the caller's: a hint from the file name ([`InputKind::from_extension`]), a
 //! format the caller names, or what the content shows ([`InputKind::detect`]).
 
+pub mod file;
+
 use crate::photometry::{self, FileFormat, ParseError, Photometry, TiltResolver, Warning};
 use crate::{Diagram, DiagramError};
 use std::fmt;

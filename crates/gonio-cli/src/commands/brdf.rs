@@ -195,7 +195,7 @@ fn read_bytes(path: &Path) -> Result<Vec<u8>> {
     crate::input::read_regular(
         path,
         &path.display().to_string(),
-        gonio::photometry::MAX_FILE_BYTES,
+        crate::input::FileKind::Brdf,
     )
 }
 
@@ -211,7 +211,9 @@ pub const COMMANDS: [&str; 7] = ["info", "sample", "pdf", "invert", "check", "pl
 pub fn sniff(path: &Path) -> Option<&'static str> {
     use std::io::Read;
     let meta = std::fs::metadata(path).ok()?;
-    if !meta.is_file() || meta.len() > gonio::photometry::MAX_FILE_BYTES {
+    if !meta.is_file()
+        || meta.len() > gonio::input::file::read_limit(gonio::input::file::FileKind::Brdf)
+    {
         return None;
     }
     let mut head = Vec::with_capacity(4096);

@@ -27,11 +27,6 @@ use gonio::mesh::{obj, parameterise, ply, Density, Layout, Mesh, UvOptions, UvRe
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-/// Largest mesh file read (bytes).
-pub const MAX_MESH_BYTES: u64 = 1 << 30;
-/// Largest texture PNG read (bytes).
-pub const MAX_IMAGE_BYTES: u64 = 256 << 20;
-
 /// Options shared by `uv` and `bake`.
 #[derive(Debug, Args)]
 pub struct MeshArgs {
@@ -95,7 +90,7 @@ fn shown(p: &Path) -> String {
 /// Reads the mesh (by extension, else by content) and prints the reader's warnings.
 fn read_mesh(path: &Path) -> Result<Mesh> {
     let name = shown(path);
-    let bytes = read_regular(path, &name, MAX_MESH_BYTES)?;
+    let bytes = read_regular(path, &name, crate::input::FileKind::Mesh)?;
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -267,7 +262,7 @@ pub fn run_uv(a: &UvArgs) -> Result<()> {
 /// Decodes a PNG to an RGB float image in [0, 1] (sRGB values as stored, not linearised).
 fn read_png(path: &Path) -> Result<Image> {
     let name = shown(path);
-    let bytes = read_regular(path, &name, MAX_IMAGE_BYTES)?;
+    let bytes = read_regular(path, &name, crate::input::FileKind::Image)?;
     let mut dec = png::Decoder::new(std::io::Cursor::new(&bytes));
     dec.set_transformations(png::Transformations::normalize_to_color8());
     let mut reader = dec
@@ -310,7 +305,7 @@ fn read_png(path: &Path) -> Result<Image> {
 /// `gonio::image`) as linear RGB floats, in the frame of the environment maps.
 fn read_hdr_image(path: &Path) -> Result<Image> {
     let name = shown(path);
-    let bytes = read_regular(path, &name, crate::envmap_in::MAX_IMAGE_BYTES)?;
+    let bytes = read_regular(path, &name, crate::input::FileKind::Image)?;
     let format = gonio::image::ImageFormat::sniff(&bytes)
         .or_else(|| gonio::image::ImageFormat::from_path(path));
     let img = gonio::image::Image::from_bytes(&bytes, format)

@@ -37,7 +37,9 @@ from ._gonio import (  # noqa: F401
     read,
     read_brdf,
     read_bytes,
+    read_limit,
     sequence,
+    set_read_limit,
     texture_uv,
 )
 
@@ -60,6 +62,8 @@ __all__ = [
     "read",
     "read_brdf",
     "read_bytes",
+    "read_limit",
     "sequence",
+    "set_read_limit",
     "texture_uv",
 ]

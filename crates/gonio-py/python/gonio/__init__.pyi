@@ -224,6 +224,14 @@ def read(path: Union[str, os.PathLike[str]], format: Optional[Format] = None) ->
 def read_bytes(data: Union[bytes, str], format: Format, name: str = "<bytes>") -> Diagram:
     """Reads a diagram from file contents in an explicit format."""
 
+FileKind = Literal["photometry", "diagram", "tilt", "image", "brdf", "mesh", "tables"]
+
+def read_limit(kind: FileKind) -> int:
+    """The size limit in bytes of files of ``kind`` (the same in the CLI, C and Python)."""
+
+def set_read_limit(kind: FileKind, bytes: int) -> None:
+    """Sets the size limit of files of ``kind`` for the whole process (0: the default)."""
+
 def example() -> Diagram:
     """The built-in example luminaire (candela, sphere)."""
 

@@ -134,6 +134,10 @@ pub enum BrdfError {
         /// What serde_json said.
         message: String,
     },
+    /// The file was not read (not a regular file, over the BRDF limit, missing: the one file
+    /// reader's message, [`crate::input::file`]).
+    #[error(transparent)]
+    File(#[from] crate::input::file::ReadFileError),
     /// An I/O error reading or writing a file.
     #[error("{path}: {message}")]
     Io {
@@ -542,22 +546,7 @@ pub fn read_any(bytes: &[u8], merl: &MerlOptions) -> Result<TabulatedBrdf, BrdfE
 
 /// Reads a BRDF file from disk ([`read_any`]).
 pub fn read_file(path: &std::path::Path, merl: &MerlOptions) -> Result<TabulatedBrdf, BrdfError> {
-    let meta = std::fs::metadata(path).map_err(|e| BrdfError::Io {
-        path: path.display().to_string(),
-        message: e.to_string(),
-    })?;
-    if meta.len() > 8 * MAX_VALUES as u64 + 1024 {
-        return Err(BrdfError::Size {
-            format: "file",
-            expected: 8 * MAX_VALUES as u64,
-            found: meta.len(),
-            what: "larger than any table this library holds".into(),
-        });
-    }
-    let bytes = std::fs::read(path).map_err(|e| BrdfError::Io {
-        path: path.display().to_string(),
-        message: e.to_string(),
-    })?;
+    let bytes = crate::input::file::read_file(path, crate::input::file::FileKind::Brdf)?;
     read_any(&bytes, merl)
 }
 

@@ -81,6 +81,10 @@ impl ImageFormat {
 /// lines are 1-based; scanlines are counted in file order from 0.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ImageError {
+    /// The file was not read (not a regular file, over the image limit, missing: the one file
+    /// reader's message, [`crate::input::file`]).
+    #[error(transparent)]
+    File(#[from] crate::input::file::ReadFileError),
     /// The file could not be read.
     #[error("{path}: {message}")]
     Io {
@@ -304,10 +308,7 @@ impl Image {
     /// [`ImageError::Io`] if the file cannot be read, [`ImageError::UnknownFormat`], or the
     /// reader's error.
     pub fn read(path: &Path) -> Result<Self, ImageError> {
-        let bytes = std::fs::read(path).map_err(|e| ImageError::Io {
-            path: path.display().to_string(),
-            message: e.to_string(),
-        })?;
+        let bytes = crate::input::file::read_file(path, crate::input::file::FileKind::Image)?;
         let format = ImageFormat::sniff(&bytes).or_else(|| ImageFormat::from_path(path));
         Self::from_bytes(&bytes, format)
     }

@@ -383,7 +383,16 @@ fn format_detection() {
     ));
     assert!(matches!(
         Image::read(Path::new("/nonexistent/x.hdr")),
-        Err(ImageError::Io { .. })
+        Err(ImageError::File(
+            crate::input::file::ReadFileError::NotFound { .. }
+        ))
+    ));
+    // Not a regular file: refused by the one file reader, never read.
+    assert!(matches!(
+        Image::read(Path::new("/dev/zero")),
+        Err(ImageError::File(
+            crate::input::file::ReadFileError::NotRegular { .. }
+        ))
     ));
 }
 

@@ -455,32 +455,12 @@ impl DirTiltResolver {
 }
 
 impl TiltResolver for DirTiltResolver {
-    /// [`DirTiltResolver::locate`], then a read of at most [`MAX_TILT_FILE_BYTES`] that checks
-    /// again, on the open file, that it is a regular file. (The library opens without
-    /// `O_NONBLOCK`, so a FIFO swapped in between the check and the open could block; the CLI
-    /// uses its own resolver, which cannot.)
+    /// [`DirTiltResolver::locate`], then the one file reader ([`crate::input::file`]: a
+    /// regular file, opened without blocking, at most the TILT limit).
     fn resolve(&self, name: &str) -> Result<Vec<u8>, String> {
-        use std::io::Read;
         let path = self.locate(name)?;
-        let err = |e: std::io::Error| format!("cannot read TILT file {}: {e}", path.display());
-        let file = std::fs::File::open(&path).map_err(err)?;
-        if !file.metadata().map_err(err)?.is_file() {
-            return Err(format!(
-                "TILT file {} is not a regular file; refused",
-                path.display()
-            ));
-        }
-        let mut bytes = Vec::new();
-        file.take(MAX_TILT_FILE_BYTES + 1)
-            .read_to_end(&mut bytes)
-            .map_err(err)?;
-        if bytes.len() as u64 > MAX_TILT_FILE_BYTES {
-            return Err(format!(
-                "TILT file {} has more than {MAX_TILT_FILE_BYTES} bytes; not read",
-                path.display()
-            ));
-        }
-        Ok(bytes)
+        crate::input::file::read_file(&path, crate::input::file::FileKind::Tilt)
+            .map_err(|e| format!("TILT file {e}"))
     }
 }
 
