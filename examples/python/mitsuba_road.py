@@ -49,7 +49,11 @@ def main():
     import gonio
     import gonio.mitsuba as gm
 
-    Gonio = gm.register()  # also: SymbolicCalls and SymbolicLoops off (wavefront mode)
+    Gonio = gm.register()
+    # The uniform-profile peer below runs numpy inside its methods, which a symbolic (recorded)
+    # call or loop cannot do: wavefront mode for this comparison (gonio's own emitter needs none).
+    dr.set_flag(dr.JitFlag.SymbolicCalls, False)
+    dr.set_flag(dr.JitFlag.SymbolicLoops, False)
 
     class UniformProfile(Gonio):
         """The community approach: a point light that samples rays uniformly over the sphere,

@@ -1,12 +1,15 @@
-"""gonio inside Mitsuba 3: IES LM-63 and EULUMDAT luminaires as Mitsuba emitters (docs/MITSUBA.md).
+"""gonio inside Mitsuba 3: IES LM-63 and EULUMDAT luminaires and environment maps as Mitsuba
+emitters (docs/MITSUBA.md).
 
-``register()`` registers the emitter plugin ``"gonio"`` for the current Mitsuba variant::
+``register()`` registers the emitter plugins ``"gonio"`` and ``"gonio_envmap"`` for the current
+Mitsuba variant::
 
     import mitsuba as mi, gonio.mitsuba
     mi.set_variant("llvm_ad_rgb")
     gonio.mitsuba.register()
     scene = mi.load_dict({..., "lamp": {"type": "gonio", "filename": "lamp.ies",
-                                        "to_world": mi.ScalarTransform4f().translate([0, 0, 8])}})
+                                        "to_world": mi.ScalarTransform4f().translate([0, 0, 8])},
+                          "sky": {"type": "gonio_envmap", "filename": "sky.hdr"}})
 
 Properties of ``{"type": "gonio", ...}``:
 
@@ -28,24 +31,40 @@ A luminous opening must be seen by the camera and hit by rays, so it lives on Mi
 a box, a cylinder and its caps, a sphere) each carrying a ``"gonio"`` emitter for its part. The
 point luminaire is a plain emitter (``luminaire()`` returns it too).
 
-Sampling: directions by gonio's Havran–Dmitriev–Seidel map of the file (``Sampler.sample`` on
-numpy batches, exact pdf); positions on the opening uniformly on its projection in the sampled
-direction (``sample_ray``) or uniformly by area (``sample_direction``, ``sample_position``).
+Properties of ``{"type": "gonio_envmap", ...}`` (an environment light, like Mitsuba's ``envmap``):
 
-JIT variants: the emitter hands Mitsuba's arrays to numpy, which a *symbolic* (recorded) call or
-loop cannot do. ``register()`` therefore turns off ``drjit.JitFlag.SymbolicCalls`` and
-``drjit.JitFlag.SymbolicLoops`` in ``llvm_*``/``cuda_*`` variants (wavefront mode; pass
-``jit_flags=False`` to keep yours). Scalar variants need nothing.
+* ``filename`` (string): a lat-long .hdr, .exr or .pfm image of radiance;
+* ``to_world`` (transform): as Mitsuba's ``envmap`` (its local frame Y-up: the image's top row
+  along local +y, its centre column along local +z), so the same ``to_world`` places the same
+  image the same way; gonio's frame (x, y, z) is that local frame's (y, z, x) (docs/ENVMAPS.md);
+* ``scale`` (float, default 1): multiplies the radiance;
+* ``weight`` (string, default ``"luminance"``): what the sampling density follows (``luminance``,
+  ``red``, ``green``, ``blue``; or 0, 1, 2);
+* ``lookup`` (string, default ``"nearest"``): the radiance, the pixel holding the direction or
+  ``"bilinear"`` between pixel centres (the interpolant the density follows);
+* ``mis_compensation`` (bool, default false): sample the weight minus its mean (for MIS only).
+
+Sampling: directions by gonio's Havran–Dmitriev–Seidel map (the file's diagram, the image's
+weight) with the exact pdf, run in Dr.Jit operations over the map's float32 tables
+(``gonio.drjit.Tables``, loaded once at scene load); positions on an opening uniformly on its
+projection in the sampled direction (``sample_ray``) or uniformly by area (``sample_direction``,
+``sample_position``); an environment's rays (``sample_ray``) start on a disk of the scene's
+bounding sphere, as Mitsuba's ``envmap``.
+
+Every per-call method is written in Dr.Jit operations (no numpy, no evaluation), so the emitters
+trace into Mitsuba's symbolic calls and loops (megakernels) in ``llvm_*``/``cuda_*`` variants and
+run as Python scalars in ``scalar_*`` ones; ``register()`` touches no JIT flag.
 """
 
 import math
+import os
 import warnings
 
 import numpy as np
 
 from . import read as _read
 
-__all__ = ["register", "luminaire", "opening", "Opening"]
+__all__ = ["register", "prepare", "classes", "luminaire", "opening", "Opening"]
 
 FEET = 0.3048
 
@@ -66,7 +85,7 @@ class _Planar:
         n = np.cross(self.u, self.v)
         self.n = n / np.linalg.norm(n)
         lu, lv = np.linalg.norm(self.u), np.linalg.norm(self.v)
-        self.area = (math.pi if round_ else 4.0) * lu * lv
+        self.area = float((math.pi if round_ else 4.0) * lu * lv)
         self.kind = "disk" if round_ else "rectangle"
 
     def normal(self, x):
@@ -88,6 +107,27 @@ class _Planar:
     def sample_proj(self, w, s):
         return self.sample_area(s)  # flat: uniform by area is uniform on the projection
 
+    # Dr.Jit forms (per call: the same formulas on Mitsuba's arrays, `K` = the variant's kit).
+    def dr_normal(self, K, x):
+        return K.mi.Vector3f(*(float(a) for a in self.n))
+
+    def dr_sample_area(self, K, s):
+        dr = K.dr
+        if self.round:
+            r = dr.sqrt(s.x)
+            sn, cs = dr.sincos(2.0 * math.pi * s.y)
+            p, q = r * cs, r * sn
+        else:
+            p, q = 2.0 * s.x - 1.0, 2.0 * s.y - 1.0
+        return K.mi.Vector3f(*(float(c) + p * float(a) + q * float(b) for c, a, b in zip(self.c, self.u, self.v)))
+
+    def dr_proj(self, K, w):
+        c = K.dot(self.n, w)
+        return self.area * (K.dr.abs(c) if self.two_sided else K.dr.maximum(c, 0.0))
+
+    def dr_sample_proj(self, K, w, s):
+        return self.dr_sample_area(K, s)
+
     def mitsuba_matrix(self):
         """Local (x, y, z) of Mitsuba's rectangle [-1, 1]² / unit disk → this part."""
         m = np.eye(4)
@@ -102,8 +142,8 @@ class _CylinderSide:
     two_sided = False
 
     def __init__(self, r, h):
-        self.r, self.h = r, h
-        self.area = 2.0 * math.pi * r * h
+        self.r, self.h = float(r), float(h)
+        self.area = 2.0 * math.pi * self.r * self.h
 
     def normal(self, x):
         n = np.array(x, dtype=np.float64)
@@ -125,6 +165,27 @@ class _CylinderSide:
         a = np.arcsin(np.clip(2.0 * s[:, 0] - 1.0, -1.0, 1.0))
         return self._point(np.arctan2(w[:, 1], w[:, 0]) + a, s[:, 1])
 
+    def dr_normal(self, K, x):
+        dr = K.dr
+        rho = dr.sqrt(x.x * x.x + x.y * x.y)
+        rho = dr.select(rho > 0, rho, 1.0)
+        return K.mi.Vector3f(x.x / rho, x.y / rho, 0.0)
+
+    def _dr_point(self, K, phi, s1):
+        sn, cs = K.dr.sincos(phi)
+        return K.mi.Vector3f(self.r * cs, self.r * sn, (s1 - 0.5) * self.h)
+
+    def dr_sample_area(self, K, s):
+        return self._dr_point(K, 2.0 * math.pi * s.x, s.y)
+
+    def dr_proj(self, K, w):
+        return 2.0 * self.r * self.h * K.dr.sqrt(w.x * w.x + w.y * w.y)
+
+    def dr_sample_proj(self, K, w, s):
+        dr = K.dr
+        a = dr.asin(dr.clip(2.0 * s.x - 1.0, -1.0, 1.0))
+        return self._dr_point(K, dr.atan2(w.y, w.x) + a, s.y)
+
     def mitsuba_matrix(self):
         """Mitsuba's cylinder (radius 1, z from 0 to 1) → this part."""
         m = np.diag([self.r, self.r, self.h, 1.0])
@@ -139,8 +200,8 @@ class _Sphere:
     two_sided = False
 
     def __init__(self, r):
-        self.r = r
-        self.area = 4.0 * math.pi * r * r
+        self.r = float(r)
+        self.area = 4.0 * math.pi * self.r * self.r
 
     def normal(self, x):
         return x / np.maximum(np.linalg.norm(x, axis=1, keepdims=True), 1e-300)
@@ -164,6 +225,33 @@ class _Sphere:
         a = 2.0 * math.pi * s[:, 1]
         h = np.sqrt(np.maximum(0.0, 1.0 - rho * rho))
         return self.r * (rho[:, None] * (np.cos(a)[:, None] * e1 + np.sin(a)[:, None] * e2) + h[:, None] * w)
+
+    def dr_normal(self, K, x):
+        dr = K.dr
+        n = dr.norm(x)
+        return x / dr.select(n > 0, n, 1.0)
+
+    def dr_sample_area(self, K, s):
+        dr = K.dr
+        z = 1.0 - 2.0 * s.x
+        rho = dr.sqrt(dr.maximum(0.0, 1.0 - z * z))
+        sn, cs = dr.sincos(2.0 * math.pi * s.y)
+        return K.mi.Vector3f(self.r * rho * cs, self.r * rho * sn, self.r * z)
+
+    def dr_proj(self, K, w):
+        return math.pi * self.r * self.r
+
+    def dr_sample_proj(self, K, w, s):
+        dr, mi = K.dr, K.mi
+        big = dr.abs(w.x) < 0.9
+        e1 = mi.Vector3f(dr.select(big, 1.0, 0.0), dr.select(big, 0.0, 1.0), 0.0)
+        e1 = e1 - dr.dot(e1, w) * w
+        e1 = dr.normalize(e1)
+        e2 = dr.cross(w, e1)
+        rho = dr.sqrt(s.x)
+        sn, cs = dr.sincos(2.0 * math.pi * s.y)
+        h = dr.sqrt(dr.maximum(0.0, 1.0 - rho * rho))
+        return self.r * (rho * (cs * e1 + sn * e2) + h * w)
 
     def mitsuba_matrix(self):
         return np.diag([self.r, self.r, self.r, 1.0])
@@ -207,6 +295,14 @@ class Opening:
         """A_proj(ω) in m² for local unit directions ``w`` (n, 3)."""
         w = np.asarray(w, dtype=np.float64).reshape(-1, 3)
         return sum(p.proj(w) for p in self.parts)
+
+    def dr_projected_area(self, K, w):
+        """A_proj(ω) for a Dr.Jit Vector3f of local unit directions (per call)."""
+        out = None
+        for p in self.parts:
+            a = p.dr_proj(K, w)
+            out = a if out is None else out + a
+        return out
 
     def __repr__(self):
         return (f"gonio.mitsuba.Opening({self.kind!r}, length={self.length:g} m, width={self.width:g} m, "
@@ -286,81 +382,129 @@ _CLASSES = {}
 
 
 def register(jit_flags=True):
-    """Registers the emitter ``"gonio"`` for Mitsuba's current variant (call after
-    ``mi.set_variant``; again after changing variant). In JIT variants ``jit_flags=True`` turns
-    off ``dr.JitFlag.SymbolicCalls`` and ``dr.JitFlag.SymbolicLoops`` (the emitter evaluates its
-    inputs through numpy, which symbolic recording forbids)."""
+    """Registers the emitters ``"gonio"`` and ``"gonio_envmap"`` for Mitsuba's current variant
+    (call after ``mi.set_variant``; again after changing variant). Returns the ``"gonio"`` class
+    (``classes()`` returns both).
+
+    ``jit_flags`` is accepted for compatibility and does nothing: the emitters are written in
+    Dr.Jit operations (``gonio.drjit``) and run inside Mitsuba's symbolic calls and loops, so no
+    JIT flag is touched (versions before this one turned off ``dr.JitFlag.SymbolicCalls`` and
+    ``SymbolicLoops``)."""
     import drjit as dr
     import mitsuba as mi
 
+    del jit_flags  # does nothing (see above)
     variant = mi.variant()
     if variant is None:
         raise RuntimeError("gonio.mitsuba.register(): set a Mitsuba variant first (mi.set_variant)")
     if "rgb" not in variant:
         raise RuntimeError(f"gonio.mitsuba supports the RGB variants (scalar_rgb, llvm_ad_rgb, ...), not {variant}")
-    if jit_flags and not variant.startswith("scalar"):
-        dr.set_flag(dr.JitFlag.SymbolicCalls, False)
-        dr.set_flag(dr.JitFlag.SymbolicLoops, False)
     if variant not in _CLASSES:
-        _CLASSES[variant] = _make_class(mi, dr, variant.startswith("scalar"))
-    cls = _CLASSES[variant]
-    mi.register_emitter("gonio", lambda props: cls(props))
-    return cls
+        _CLASSES[variant] = _make_classes(mi, dr, variant.startswith("scalar"))
+    lum, env = _CLASSES[variant]
+    mi.register_emitter("gonio", lambda props: lum(props))
+    mi.register_emitter("gonio_envmap", lambda props: env(props))
+    return lum
 
 
-def _np(v):
-    """A Mitsuba value as float64 (n,); an unset (empty) field reads as one 0."""
-    a = np.asarray(v, dtype=np.float64).reshape(-1)
-    return a if a.size else np.zeros(1)
+DEFAULT_RADIUS = 1e5
+"""gonio_envmap's bounding-sphere radius (metres) before ``prepare(scene)``: large enough for the
+shadow rays of next-event estimation in any ordinary scene; light tracing needs ``prepare``."""
 
 
-def _vec(v):
-    x, y, z = np.broadcast_arrays(_np(v.x), _np(v.y), _np(v.z))
-    return np.stack([x, y, z], axis=1)
+def prepare(scene):
+    """Tells each ``gonio_envmap`` emitter of ``scene`` the scene's bounding sphere (what Mitsuba's
+    ``envmap`` learns from ``set_scene``, which Mitsuba does not call on Python emitters). Needed
+    for light tracing (``ptracer``, ``scene.sample_emitter_ray``): its rays start on a disk of that
+    sphere. Path tracing works without it. Returns ``scene``."""
+    for e in scene.emitters():
+        if getattr(e, "is_gonio_envmap", False):
+            e.set_scene(scene)
+    return scene
 
 
-def _pt2(v):
-    x, y = np.broadcast_arrays(_np(v.x), _np(v.y))
-    return np.stack([x, y], axis=1)
+def classes():
+    """The (``"gonio"``, ``"gonio_envmap"``) emitter classes of the current variant (registers them)."""
+    import mitsuba as mi
+
+    register()
+    return _CLASSES[mi.variant()]
 
 
-def _mask(a, n):
-    return np.broadcast_to(np.asarray(a, dtype=bool).reshape(-1), (n,))
+class _Kit:
+    """What the per-call code needs: the variant's modules and small helpers on Python-float
+    matrices (load-time constants, so that the kernels hold them as literals)."""
+
+    def __init__(self, mi, dr, scalar):
+        self.mi, self.dr, self.scalar = mi, dr, scalar
+
+    @staticmethod
+    def _row(r, x, y, z):
+        out = None
+        for c, v in zip(r, (x, y, z)):
+            if c == 0.0:
+                continue
+            t = v if c == 1.0 else (-v if c == -1.0 else c * v)
+            out = t if out is None else out + t
+        return 0.0 if out is None else out
+
+    def lin(self, m, v):
+        """The 3 × 3 matrix m (Python floats) times the vector v."""
+        return self.mi.Vector3f(*(self._row(r, v.x, v.y, v.z) for r in m))
+
+    def dot(self, n, v):
+        """A constant vector n (Python floats) dot v."""
+        return self._row(n, v.x, v.y, v.z)
+
+    def full(self, like, value):
+        """A Float of `like`'s width holding `value` (a Python float in scalar variants)."""
+        if self.scalar:
+            return float(value)
+        return self.dr.full(self.mi.Float, value, self.dr.width(like))
+
+    def safe_div(self, a, b):
+        """a / b where b ≠ 0, else 0 (no division by zero, in Python floats either)."""
+        ok = b != 0
+        return self.dr.select(ok, a / self.dr.select(ok, b, 1.0), 0.0)
 
 
-def _make_class(mi, dr, scalar):
-    if scalar:
-        def F(a):
-            return float(a[0])
+def _mat(m):
+    return [[float(v) for v in row] for row in np.asarray(m, dtype=np.float64)]
 
-        def B(a):
-            return bool(a[0])
-    else:
-        def F(a):
-            return mi.Float(np.ascontiguousarray(a, dtype=np.float32))
 
-        def B(a):
-            return mi.Bool(np.ascontiguousarray(a, dtype=bool))
+def _resolve(mi, name):
+    resolver = mi.file_resolver() if hasattr(mi, "file_resolver") else mi.Thread.thread().file_resolver()
+    return str(resolver.resolve(str(name)))
 
-    def V3(a):
-        return mi.Vector3f(F(a[:, 0]), F(a[:, 1]), F(a[:, 2]))
 
-    def P3(a):
-        return mi.Point3f(F(a[:, 0]), F(a[:, 1]), F(a[:, 2]))
+_TABLES = {}
+_TABLES_MAX = 8
 
-    def N3(a):
-        return mi.Normal3f(F(a[:, 0]), F(a[:, 1]), F(a[:, 2]))
 
-    def P2(a):
-        return mi.Point2f(F(a[:, 0]), F(a[:, 1]))
+def _luminaire_tables(mi, path):
+    """(diagram, sampler, gonio.drjit.Tables) of a photometric file for the current variant, cached
+    by (variant, path, modification time); the least recently made entry goes beyond 8."""
+    from . import drjit as gdr
 
-    def C3(a):
-        return mi.Color3f(F(a))
+    key = (mi.variant(), path, os.path.getmtime(path))
+    hit = _TABLES.get(key)
+    if hit is None:
+        diagram = _read(path)
+        sampler = diagram.sampler("hds", "sphere")
+        tables = gdr.Tables(gdr.blob_of(sampler, path), mi)
+        if tables.target_kind != 1:
+            raise ValueError(f"gonio emitter {path}: the table blob has no grid target")
+        hit = _TABLES[key] = (diagram, sampler, tables)
+        while len(_TABLES) > _TABLES_MAX:
+            _TABLES.pop(next(iter(_TABLES)))
+    return hit
 
-    def _position_sample(p, n, uv, time, pdf, delta):
-        ps = mi.PositionSample3f()
-        ps.p, ps.n, ps.uv, ps.time, ps.pdf, ps.delta = P3(p), N3(n), P2(uv), time, F(pdf), B(delta)
-        return ps
+
+def _make_classes(mi, dr, scalar):
+    from . import drjit as gdr
+    from . import EnvMap
+
+    K = _Kit(mi, dr, scalar)
 
     class GonioEmitter(mi.Emitter):
         """Mitsuba emitter "gonio": see the module gonio.mitsuba."""
@@ -370,11 +514,11 @@ def _make_class(mi, dr, scalar):
             name = props.get("filename", None)
             if name is None:
                 raise ValueError('gonio emitter: the property "filename" (an .ies or .ldt file) is required')
-            resolver = mi.file_resolver() if hasattr(mi, "file_resolver") else mi.Thread.thread().file_resolver()
-            path = str(resolver.resolve(str(name)))
+            path = _resolve(mi, name)
             self.filename = path
-            self.diagram = _read(path)
-            self.sampler = self.diagram.sampler("hds", "sphere")
+            # The diagram, its map and the map's tables on the device: shared by the emitters of one
+            # file (an opening's parts) through a small cache.
+            self.diagram, self.sampler, self.tables = _luminaire_tables(mi, path)
             self.scale = float(props.get("scale", 1.0))
             if not (self.scale >= 0.0 and math.isfinite(self.scale)):
                 raise ValueError(f"gonio emitter {path}: scale must be finite and >= 0, not {self.scale}")
@@ -406,11 +550,12 @@ def _make_class(mi, dr, scalar):
             else:
                 raise ValueError(f"gonio emitter {path}: shape must be 'point' or 'opening', not {self.shape_kind!r}")
             self.part_index = part
+            self._R, self._Rinv, self._t = _mat(self.R), _mat(self.R_inv), [float(v) for v in self.t]
 
         def _ptr(self):
             return self if scalar else mi.EmitterPtr(self)
 
-        # -- helpers in numpy ------------------------------------------------------------------
+        # -- numpy helpers (kept for subclasses written against earlier versions) -----------------
 
         def _local_dir(self, w):
             d = w @ self.R_inv.T
@@ -421,154 +566,149 @@ def _make_class(mi, dr, scalar):
             return w / np.maximum(np.linalg.norm(w, axis=1, keepdims=True), 1e-300)
 
         def _intensity(self, d):
-            """scale × I(d) in cd at local unit directions d; 0 for zero (unset) directions."""
+            """scale × I(d) in cd at local unit directions d (numpy, float64)."""
             ok = np.isfinite(d).all(axis=1) & ((d * d).sum(axis=1) > 0.5)
-            if ok.all():
-                return self.scale * self.diagram.intensity(d)
             out = np.zeros(len(d))
             if ok.any():
                 out[ok] = self.scale * self.diagram.intensity(d[ok])
             return out
 
-        def _radiance(self, x, d):
-            """L(x, ω) of this part at local points x toward local directions d (unit)."""
-            a = self.opening.projected_area(d)
-            i = self._intensity(d)
+        # -- Dr.Jit helpers (per call) -----------------------------------------------------------
+
+        def _dr_local(self, w):
+            """World vector → local unit direction (NaN for a zero vector)."""
+            return dr.normalize(K.lin(self._Rinv, w))
+
+        def _dr_world(self, d):
+            return dr.normalize(K.lin(self._R, d))
+
+        def _dr_local_point(self, p):
+            return K.lin(self._Rinv, mi.Vector3f(p.x - self._t[0], p.y - self._t[1], p.z - self._t[2]))
+
+        def _dr_world_point(self, x):
+            v = K.lin(self._R, x)
+            return mi.Point3f(v.x + self._t[0], v.y + self._t[1], v.z + self._t[2])
+
+        def _dr_intensity(self, d):
+            """scale × I(d) at local unit directions d (0 where d is not finite)."""
+            i = self.tables.target(d)
+            ok = dr.isfinite(d.x) & dr.isfinite(d.y) & dr.isfinite(d.z)
+            return dr.select(ok, self.scale * i, 0.0)
+
+        def _dr_radiance(self, x, d):
+            """L(x, ω) of this part at local points x toward local unit directions d."""
+            a = self.opening.dr_projected_area(K, d)
+            i = self._dr_intensity(d)
             ok = a > 1e-9 * self.opening.area
-            L = np.where(ok, i / np.where(ok, a, 1.0), 0.0)
+            L = dr.select(ok, i / dr.select(ok, a, 1.0), 0.0)
             if not self.part.two_sided:
-                L = np.where((self.part.normal(x) * d).sum(1) > 0.0, L, 0.0)
+                L = dr.select(dr.dot(self.part.dr_normal(K, x), d) > 0.0, L, 0.0)
             return L
 
         # -- Mitsuba's interface ---------------------------------------------------------------
 
         def sample_ray(self, time, sample1, sample2, sample3, active=True):
-            u = _pt2(sample3)
-            s2 = _pt2(sample2)
-            n = max(len(u), len(s2))
-            u, s2 = np.broadcast_to(u, (n, 2)), np.broadcast_to(s2, (n, 2))
-            d, pdf = self.sampler.sample(np.ascontiguousarray(np.clip(u, 0.0, 1.0)))
-            i = self._intensity(d)
-            w = np.where(pdf > 0, i / np.where(pdf > 0, pdf, 1.0), 0.0)
+            u = mi.Point2f(dr.clip(sample3.x, 0.0, 1.0), dr.clip(sample3.y, 0.0, 1.0))
+            d, pdf = self.tables.sample(u)
+            w = K.safe_div(self._dr_intensity(d), dr.select(pdf > 0, pdf, 0.0))
+            dw = self._dr_world(d)
             if self.opening is None:
-                o = np.broadcast_to(self.t, (n, 3))
+                o = mi.Point3f(*self._t)
             else:
-                pp = self.part.proj(d)
-                a = self.opening.projected_area(d)
-                w = np.where(a > 0, w * pp / np.where(a > 0, a, 1.0), 0.0)
-                x = self.part.sample_proj(d, s2)
-                o = x @ self.R.T + self.t
-            dw = self._world_dir(d)
-            if self.opening is not None:  # leave the emitting surface
-                o = o + dw * (1e-5 * (1.0 + np.abs(o).max(axis=1, keepdims=True)))
-            w = np.where(_mask(active, n), w, 0.0)
-            ray = mi.Ray3f(P3(o), V3(dw), F(np.broadcast_to(_np(time), (n,))))
-            return ray, C3(w)
+                pp = self.part.dr_proj(K, d)
+                a = self.opening.dr_projected_area(K, d)
+                w = dr.select(a > 0, w * K.safe_div(pp, a), 0.0)
+                o = self._dr_world_point(self.part.dr_sample_proj(K, d, sample2))
+                # leave the emitting surface
+                big = dr.maximum(dr.maximum(dr.abs(o.x), dr.abs(o.y)), dr.abs(o.z))
+                o = o + dw * (1e-5 * (1.0 + big))
+            w = dr.select(active, w, 0.0)
+            return mi.Ray3f(o, dw, time), mi.Color3f(w)
 
         def sample_direction(self, it, sample, active=True):
-            p = _vec(it.p)
-            s = _pt2(sample)
-            n = max(len(p), len(s))
-            p, s = np.broadcast_to(p, (n, 3)), np.broadcast_to(s, (n, 2))
             if self.opening is None:
-                x = np.broadcast_to(self.t, (n, 3))
-                nrm = np.zeros((n, 3))
+                x = mi.Point3f(*self._t)
+                nrm = mi.Vector3f(0.0, 0.0, 0.0)
             else:
-                xl = self.part.sample_area(s)
-                x = xl @ self.R.T + self.t
-                nrm = self.part.normal(xl) @ self.R.T
-            dv = x - p
-            dist = np.linalg.norm(dv, axis=1)
+                xl = self.part.dr_sample_area(K, sample)
+                x = self._dr_world_point(xl)
+                nrm = K.lin(self._R, self.part.dr_normal(K, xl))
+            dv = x - it.p
+            dist = dr.norm(dv)
             ok = dist > 0
-            dist_s = np.where(ok, dist, 1.0)
-            dn = dv / dist_s[:, None]
-            dl = self._local_dir(-dn)
+            dist_s = dr.select(ok, dist, 1.0)
+            dn = dv / dist_s
+            dl = self._dr_local(-dn)
             if self.opening is None:
-                w = self._intensity(dl) / (dist_s * dist_s)
-                pdf = np.ones(n)
-                delta = np.ones(n, dtype=bool)
+                w = self._dr_intensity(dl) / (dist_s * dist_s)
+                pdf = K.full(dist, 1.0)
+                delta = True
             else:
-                c = np.abs((nrm * dn).sum(1))
-                ok &= c > 0
-                pdf = np.where(ok, dist_s * dist_s / (np.where(ok, c, 1.0) * self.part.area), 0.0)
-                L = self._radiance(xl, dl)
-                w = np.where(ok, L / np.where(ok, pdf, 1.0), 0.0)
-                delta = np.zeros(n, dtype=bool)
-            w = np.where(ok & _mask(active, n), w, 0.0)
-            ds = mi.DirectionSample3f(
-                p=P3(x), n=N3(nrm), uv=P2(s), time=F(np.broadcast_to(_np(it.time), (n,))), pdf=F(pdf),
-                delta=B(delta), d=V3(dn), dist=F(dist), emitter=self._ptr(),
-            )
-            return ds, C3(w)
+                c = dr.abs(dr.dot(nrm, dn))
+                ok = ok & (c > 0)
+                pdf = dr.select(ok, dist_s * dist_s / (dr.select(ok, c, 1.0) * self.part.area), 0.0)
+                L = self._dr_radiance(xl, dl)
+                w = dr.select(ok, L / dr.select(ok, pdf, 1.0), 0.0)
+                delta = False
+            w = dr.select(ok & active, w, 0.0)
+            ds = mi.DirectionSample3f()
+            ds.p, ds.n, ds.uv, ds.time = x, mi.Normal3f(nrm), mi.Point2f(sample), it.time
+            ds.pdf = pdf
+            ds.delta = mi.Bool(delta) if scalar else dr.full(mi.Bool, delta, dr.width(dist))
+            ds.d, ds.dist, ds.emitter = dn, dist, self._ptr()
+            return ds, mi.Color3f(w)
 
         def pdf_direction(self, it, ds, active=True):
             if self.opening is None:
-                return F(np.zeros(len(_np(ds.dist))))
-            d = _vec(ds.d)
-            nrm = _vec(ds.n)
-            dist = _np(ds.dist)
-            n = max(len(d), len(nrm), len(dist))
-            c = np.abs((np.broadcast_to(nrm, (n, 3)) * np.broadcast_to(d, (n, 3))).sum(1))
-            dist = np.broadcast_to(dist, (n,))
-            ok = (c > 0) & _mask(active, n)
-            return F(np.where(ok, dist * dist / (np.where(ok, c, 1.0) * self.part.area), 0.0))
+                return K.full(ds.dist, 0.0)
+            c = dr.abs(dr.dot(ds.n, ds.d))
+            ok = (c > 0) & active
+            return dr.select(ok, ds.dist * ds.dist / (dr.select(ok, c, 1.0) * self.part.area), 0.0)
 
         def eval_direction(self, it, ds, active=True):
-            d = _vec(ds.d)
-            dist = _np(ds.dist)
-            n = max(len(d), len(dist))
-            d, dist = np.broadcast_to(d, (n, 3)), np.broadcast_to(dist, (n,))
-            dl = self._local_dir(-d)
+            dl = self._dr_local(-ds.d)
             if self.opening is None:
-                w = self._intensity(dl) / np.maximum(dist * dist, 1e-300)
+                w = K.safe_div(self._dr_intensity(dl), ds.dist * ds.dist)
             else:
-                xl = (np.broadcast_to(_vec(ds.p), (n, 3)) - self.t) @ self.R
-                w = self._radiance(xl, dl)
-            return C3(np.where(_mask(active, n), w, 0.0))
+                w = self._dr_radiance(self._dr_local_point(ds.p), dl)
+            return mi.Color3f(dr.select(active, w, 0.0))
 
         def eval(self, si, active=True):
             if self.opening is None:
-                return C3(np.zeros(len(_np(si.t))))
-            wo = _vec(si.to_world(si.wi))
-            xw = _vec(si.p)
-            n = max(len(wo), len(xw))
-            wo, xw = np.broadcast_to(wo, (n, 3)), np.broadcast_to(xw, (n, 3))
-            xl = (xw - self.t) @ self.R
-            L = self._radiance(xl, self._local_dir(wo))
-            return C3(np.where(_mask(active, n), L, 0.0))
+                return mi.Color3f(K.full(si.t, 0.0))
+            wo = si.to_world(si.wi)
+            L = self._dr_radiance(self._dr_local_point(si.p), self._dr_local(wo))
+            return mi.Color3f(dr.select(active, L, 0.0))
 
         def sample_position(self, time, sample, active=True):
-            s = _pt2(sample)
-            n = len(s)
-            tt = F(np.broadcast_to(_np(time), (n,)))
+            ps = mi.PositionSample3f()
+            ps.uv, ps.time = mi.Point2f(sample), time
             if self.opening is None:
-                ps = _position_sample(np.broadcast_to(self.t, (n, 3)), np.zeros((n, 3)), s, tt, np.ones(n),
-                                      np.ones(n, dtype=bool))
-                return ps, F(np.ones(n))
-            xl = self.part.sample_area(s)
-            x = xl @ self.R.T + self.t
-            nrm = self.part.normal(xl) @ self.R.T
+                ps.p = mi.Point3f(*self._t)
+                ps.n = mi.Normal3f(0.0, 0.0, 0.0)
+                ps.pdf = K.full(sample.x, 1.0)
+                ps.delta = mi.Bool(True) if scalar else dr.full(mi.Bool, True, dr.width(sample.x))
+                return ps, dr.select(active, K.full(sample.x, 1.0), 0.0)
+            xl = self.part.dr_sample_area(K, sample)
+            ps.p = self._dr_world_point(xl)
+            ps.n = mi.Normal3f(K.lin(self._R, self.part.dr_normal(K, xl)))
             a = self.part.area
-            ps = _position_sample(x, nrm, s, tt, np.full(n, 1.0 / a), np.zeros(n, dtype=bool))
-            return ps, F(np.where(_mask(active, n), a, 0.0))
+            ps.pdf = K.full(sample.x, 1.0 / a)
+            ps.delta = mi.Bool(False) if scalar else dr.full(mi.Bool, False, dr.width(sample.x))
+            return ps, dr.select(active, K.full(sample.x, a), 0.0)
 
         def pdf_position(self, ps, active=True):
-            n = len(_np(ps.pdf))
-            return F(np.full(n, 1.0 if self.opening is None else 1.0 / self.part.area))
+            return K.full(ps.pdf, 1.0 if self.opening is None else 1.0 / self.part.area)
 
         def sample_wavelengths(self, si, sample, active=True):
             # Called by the particle tracer's direct view of the emitter, with si.wi the world
             # direction toward the sensor: the radiance there (white).
-            wo = _vec(si.wi)
-            xw = _vec(si.p)
-            n = max(len(wo), len(xw))
-            wo, xw = np.broadcast_to(wo, (n, 3)), np.broadcast_to(xw, (n, 3))
-            dl = self._local_dir(wo)
+            dl = self._dr_local(si.wi)
             if self.opening is None:
-                L = self._intensity(dl)
+                L = self._dr_intensity(dl)
             else:
-                L = self._radiance((xw - self.t) @ self.R, dl)
-            return mi.Color0f(), C3(np.where(_mask(active, n), L, 0.0))
+                L = self._dr_radiance(self._dr_local_point(si.p), dl)
+            return mi.Color0f(), mi.Color3f(dr.select(active, L, 0.0))
 
         def pdf_wavelengths(self, wavelengths, active=True):
             return mi.Color3f(1.0)
@@ -593,7 +733,147 @@ def _make_class(mi, dr, scalar):
             return (f"GonioEmitter[filename={self.filename!r}, shape={what}, scale={self.scale:g}, "
                     f"flux={self.scale * self.diagram.flux:g} lm]")
 
-    return GonioEmitter
+    # gonio's frame (x, y, z) is Mitsuba's envmap local frame (y, z, x) (docs/ENVMAPS.md).
+    P = np.array([[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]])
+    ray_eps = float(mi.math.RayEpsilon)
+
+    class GonioEnvMapEmitter(mi.Emitter):
+        """Mitsuba emitter "gonio_envmap": see the module gonio.mitsuba."""
+
+        is_gonio_envmap = True
+
+        def __init__(self, props):
+            super().__init__(props)
+            name = props.get("filename", None)
+            if name is None:
+                raise ValueError('gonio_envmap emitter: the property "filename" (.hdr, .exr or .pfm) is required')
+            path = _resolve(mi, name)
+            self.filename = path
+            self.scale = float(props.get("scale", 1.0))
+            if not (self.scale >= 0.0 and math.isfinite(self.scale)):
+                raise ValueError(f"gonio_envmap {path}: scale must be finite and >= 0, not {self.scale}")
+            weight = props.get("weight", "luminance")
+            weight = {0: "red", 1: "green", 2: "blue"}.get(weight, weight) if isinstance(weight, int) else str(weight)
+            if weight not in ("luminance", "red", "green", "blue"):
+                raise ValueError(f"gonio_envmap {path}: weight must be luminance, red, green or blue, not {weight!r}")
+            lookup = str(props.get("lookup", "nearest"))
+            if lookup not in ("nearest", "bilinear"):
+                raise ValueError(f"gonio_envmap {path}: lookup must be nearest or bilinear, not {lookup!r}")
+            mis = bool(props.get("mis_compensation", False))
+            self.weight, self.lookup, self.mis_compensation = weight, lookup, mis
+            self.env = EnvMap(path, lookup=lookup, mis_compensation=mis, weight=weight, precision="float32")
+            for msg in self.env.warnings:
+                warnings.warn(f"gonio_envmap {path}: {msg}", stacklevel=2)
+            cli = ["--weight", weight, "--lookup", lookup] + (["--mis-compensation"] if mis else [])
+            self.tables = gdr.Tables(gdr.blob_of(self.env, path, cli), mi)
+            if self.tables.target_kind != 2:
+                raise ValueError(f"gonio_envmap {path}: the table blob has no image target")
+            m = np.array(props.get("to_world", mi.ScalarTransform4f()).matrix, dtype=np.float64)
+            self.to_world_matrix = m
+            W = m[:3, :3] @ P  # gonio → world
+            self._W, self._Winv = _mat(W), _mat(np.linalg.inv(W))
+            self.m_flags = mi.EmitterFlags.Infinite | mi.EmitterFlags.SpatiallyVarying
+            # Mitsuba does not call set_scene on Python emitters: until gonio.mitsuba.prepare(scene)
+            # does, a sphere of radius DEFAULT_RADIUS about the origin stands for the scene's.
+            self.scene_attached = False
+            self._set_sphere([0.0, 0.0, 0.0], DEFAULT_RADIUS)
+
+        def _set_sphere(self, center, radius):
+            self._center = [float(c) for c in center]
+            self._radius = float(radius)
+            if not scalar:
+                self._radius_v = mi.Float(self._radius)
+                self._center_v = mi.Point3f(*self._center)
+                dr.make_opaque(self._radius_v, self._center_v)
+            else:
+                self._radius_v, self._center_v = self._radius, mi.Point3f(*self._center)
+
+        def set_scene(self, scene):
+            """The scene's bounding sphere, as Mitsuba's envmap (called by gonio.mitsuba.prepare)."""
+            self.scene_attached = True
+            bbox = scene.bbox()
+            if bbox.valid():
+                bs = bbox.bounding_sphere()
+                self._set_sphere(list(bs.center), max(ray_eps, float(bs.radius) * (1.0 + ray_eps)))
+            else:
+                self._set_sphere([0.0, 0.0, 0.0], ray_eps)
+
+        def _ptr(self):
+            return self if scalar else mi.EmitterPtr(self)
+
+        def _gonio(self, w):
+            """World vector → gonio's unit direction."""
+            return dr.normalize(K.lin(self._Winv, w))
+
+        def _world(self, g):
+            return dr.normalize(K.lin(self._W, g))
+
+        def _radiance(self, g):
+            return self.tables.radiance(g) * self.scale
+
+        def sample_direction(self, it, sample, active=True):
+            g, pdf = self.tables.sample(sample)
+            d = self._world(g)
+            radius = dr.maximum(self._radius_v, dr.norm(it.p - self._center_v))
+            dist = 2.0 * radius
+            ok = active & (pdf > 0)
+            ds = mi.DirectionSample3f()
+            ds.p, ds.n, ds.uv, ds.time = it.p + d * dist, mi.Normal3f(-d), mi.Point2f(sample), it.time
+            ds.pdf = dr.select(ok, pdf, 0.0)
+            ds.delta = mi.Bool(False) if scalar else dr.full(mi.Bool, False, dr.width(pdf))
+            ds.d, ds.dist, ds.emitter = d, dist, self._ptr()
+            w = self._radiance(g) / dr.select(ok, pdf, 1.0)
+            return ds, dr.select(ok, w, 0.0)
+
+        def pdf_direction(self, it, ds, active=True):
+            return dr.select(active, self.tables.pdf(self._gonio(ds.d)), 0.0)
+
+        def eval(self, si, active=True):
+            return dr.select(active, self._radiance(self._gonio(-si.wi)), 0.0)
+
+        def eval_direction(self, it, ds, active=True):
+            return dr.select(active, self._radiance(self._gonio(ds.d)), 0.0)
+
+        def sample_ray(self, time, sample1, sample2, sample3, active=True):
+            offset = mi.warp.square_to_uniform_disk_concentric(sample2)
+            g, pdf = self.tables.sample(sample3)
+            d = self._world(g)  # toward the environment; the ray runs the other way
+            ok = active & (pdf > 0)
+            perp = mi.Frame3f(d).to_world(mi.Vector3f(offset.x, offset.y, 0.0))
+            origin = self._center_v + (perp + d) * self._radius_v
+            w = self._radiance(g) * (math.pi * self._radius_v * self._radius_v / dr.select(ok, pdf, 1.0))
+            return mi.Ray3f(origin, -d, time), dr.select(ok, w, 0.0)
+
+        def sample_wavelengths(self, si, sample, active=True):
+            # The particle tracer's direct view: si.wi points from the emitter toward the sensor.
+            return mi.Color0f(), dr.select(active, self._radiance(self._gonio(-si.wi)), 0.0)
+
+        def pdf_wavelengths(self, wavelengths, active=True):
+            return mi.Color3f(1.0)
+
+        def sample_position(self, time, sample, active=True):
+            if scalar:
+                raise NotImplementedError("gonio_envmap: sample_position (an infinite emitter has no position)")
+            return dr.zeros(mi.PositionSample3f, dr.width(sample.x)), dr.full(mi.Float, math.nan, dr.width(sample.x))
+
+        def pdf_position(self, ps, active=True):
+            return K.full(ps.pdf, 0.0)
+
+        def bbox(self):
+            return mi.ScalarBoundingBox3f()
+
+        def traverse(self, callback):
+            pass
+
+        def parameters_changed(self, keys=None):
+            pass
+
+        def to_string(self):
+            return (f"GonioEnvMapEmitter[filename={self.filename!r}, {self.tables.width} x {self.tables.height}, "
+                    f"weight={self.weight}, lookup={self.lookup}, mis_compensation={self.mis_compensation}, "
+                    f"scale={self.scale:g}, bsphere=({self._center}, {self._radius:g})]")
+
+    return GonioEmitter, GonioEnvMapEmitter
 
 
 def luminaire(filename, to_world=None, shape="point", scale=1.0, width=None, length=None, height=None,
