@@ -3,7 +3,8 @@
 # which `cargo test --workspace` has already built, so only the archive is linked), compiles the C
 # examples (photometry and BRDF) and the C++ RAII example with the system cc/c++ against
 # include/gonio.h and the static library, runs them (on corpus files; the BRDF example on a table
-# it writes itself), then runs both again under valgrind (no error, no leak).
+# it writes itself), then runs both again under valgrind (no error, no leak). Also tests the
+# header-only sampler include/gonio_device.h against the library (examples/device_test.c).
 # The corpus is $GONIO_CORPUS, else ../shared/data/photometry beside the repository.
 # Whatever cannot run on this machine (no compiler, no valgrind, no corpus) is reported as SKIPPED.
 set -euo pipefail
@@ -39,6 +40,17 @@ printf '#include "gonio.h"\nint main(void) { return GONIO_OK; }\n' > "$out/c89.c
 cc -std=c89 -pedantic -Wall -Wextra -Werror -I "$inc" -c "$out/c89.c" -o "$out/c89.o"
 c++ -std=c++17 -O1 -g -Wall -Wextra -Werror -pedantic -I "$inc" "$ex/example.cpp" "$lib" \
   "${libs[@]}" -pthread -o "$out/example_cpp"
+# The header-only sampler include/gonio_device.h (docs/GPU.md): its test as C99 with
+# -ffp-contract=off (the library's float32 kernels use no FMA), and the header alone as C++17.
+cc -std=c99 -O2 -g -ffp-contract=off -Wall -Wextra -Werror -pedantic -I "$inc" \
+  "$ex/device_test.c" "$lib" "${libs[@]}" -o "$out/device_test"
+printf '%s\n' '#include "gonio_device.h"' \
+  'int main() { GonioDeviceView v; float d[3] = {0, 0, 1};' \
+  '  return gonio_device_view_init(&v, nullptr, 0) == GONIO_DEVICE_E_TRUNCATED &&' \
+  '         gonio_device_target(&v, d) == 0.0f ? 0 : 1; }' > "$out/device_cpp.cpp"
+c++ -std=c++17 -O1 -Wall -Wextra -Werror -pedantic -I "$inc" "$out/device_cpp.cpp" \
+  -o "$out/device_cpp"
+"$out/device_cpp"
 
 # A type C IES file with all 360° of planes, a quadrant-symmetric EULUMDAT file with two lamp sets,
 # and a type B IES file (resampled to type C by the library).
@@ -53,6 +65,22 @@ echo "== C++ example"
 "$out/example_cpp" "${files[0]}"
 echo "== C BRDF example (writes and reads its own analytic JSON table)"
 "$out/brdf_c" "$out"
+# gonio_device.h against the library's float32 batches, point for point: the example (10^6
+# points of the square, both sphere layouts), 12 random JSON diagrams (2.5·10^5 points each;
+# split and Lambert sphere, hemisphere), every corpus file (2^18 points each; 10^6 with -f 1000000
+# takes ~20 s more), the environment maps of $GONIO_ENVMAPS (default ../shared/data/envmaps;
+# 2^16 points each), after the refusals of broken blobs. One summary line per input kind with
+# the fractions of bit-identical results.
+envmaps="${GONIO_ENVMAPS:-../shared/data/envmaps}"
+env_files=()
+if compgen -G "$envmaps/*.hdr" >/dev/null; then
+  env_files=("$envmaps"/*.hdr)
+else
+  echo "test-c: SKIPPED the environment maps of gonio_device.h: none at $envmaps"
+fi
+echo "== gonio_device.h against the library"
+"$out/device_test" -n 1000000 -f 262144 -e 65536 "$corpus"/ies/*.ies "$corpus"/ldt/*.ldt \
+  ${env_files[@]+"${env_files[@]}"}
 
 if command -v valgrind >/dev/null; then
   # One file each (valgrind runs ~50x slower); any memory error or definite/indirect leak fails
@@ -66,8 +94,11 @@ if command -v valgrind >/dev/null; then
   "${vg[@]}" "$out/example_cpp" "${files[1]}" >/dev/null
   echo "== C BRDF example under valgrind"
   "${vg[@]}" "$out/brdf_c" "$out" >/dev/null
+  echo "== gonio_device.h refusing broken blobs under valgrind (no read outside a blob)"
+  "${vg[@]}" "$out/device_test" --refusals-only >/dev/null
   echo "test-c: valgrind found no error and no leak"
 else
   echo "test-c: SKIPPED the valgrind runs: valgrind is not installed"
 fi
+scripts/test-device.sh || [ $? -eq 77 ]  # NVRTC + ptxas on gonio_device.h (no GPU)
 echo "test-c: ok"
