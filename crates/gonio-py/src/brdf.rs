@@ -43,8 +43,6 @@ fn brdf_error(path: &std::path::Path, e: BrdfError) -> PyErr {
     }
 }
 
-/// The OSError of a file that cannot be read (FileNotFoundError, PermissionError, ...).
-
 /// ``read_brdf(path, *, merl_theta=46, merl_phi=90)``: a BRDF file, its format recognised from
 /// the content (gonio BRDF JSON, UTIA raw, MERL binary resampled to `merl_theta` polar nodes and
 /// `merl_phi` relative azimuths).

@@ -612,6 +612,17 @@ fn pdf_into<T: Float>(s: &dyn Sampler, dirs: &[[T; 3]], out: &mut [T]) -> Option
     })
 }
 
+/// `"float32"` or `"float64"` as the blob's precision.
+pub(crate) fn parse_precision(p: &str) -> PyResult<Precision> {
+    match p {
+        "float32" | "f32" => Ok(Precision::F32),
+        "float64" | "f64" => Ok(Precision::F64),
+        other => Err(InputError::new_err(format!(
+            "precision: {other:?} is not \"float32\" or \"float64\""
+        ))),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     //! The package's batch bodies (no Python needed) against the Rust trait's SoA calls, bit for
@@ -696,16 +707,5 @@ mod tests {
             check::<f64>(s.as_ref());
             check::<f32>(s.as_ref());
         }
-    }
-}
-
-/// `"float32"` or `"float64"` as the blob's precision.
-pub(crate) fn parse_precision(p: &str) -> PyResult<Precision> {
-    match p {
-        "float32" | "f32" => Ok(Precision::F32),
-        "float64" | "f64" => Ok(Precision::F64),
-        other => Err(InputError::new_err(format!(
-            "precision: {other:?} is not \"float32\" or \"float64\""
-        ))),
     }
 }
