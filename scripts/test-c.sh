@@ -66,9 +66,10 @@ echo "== C++ example"
 echo "== C BRDF example (writes and reads its own analytic JSON table)"
 "$out/brdf_c" "$out"
 # gonio_device.h against the library's float32 batches, point for point: the example (10^6
-# points of the square, both sphere layouts), 12 random JSON diagrams (2.5·10^5 points each;
+# points of the square, both sphere layouts), 12 random JSON diagrams (10^6 points each;
 # split and Lambert sphere, hemisphere), every corpus file (10^6 points each), the environment
-# maps of $GONIO_ENVMAPS (default ../shared/data/envmaps; 2^16 points each), after the refusals of broken blobs. One summary line per input kind with
+# maps of $GONIO_ENVMAPS (default ../shared/data/envmaps; 10^6 points each), after the refusals
+# of broken blobs. One summary line per input kind with
 # the fractions of bit-identical results.
 envmaps="${GONIO_ENVMAPS:-../shared/data/envmaps}"
 env_files=()
@@ -78,7 +79,7 @@ else
   echo "test-c: SKIPPED the environment maps of gonio_device.h: none at $envmaps"
 fi
 echo "== gonio_device.h against the library"
-"$out/device_test" -n 1000000 -f 1000000 -e 65536 "$corpus"/ies/*.ies "$corpus"/ldt/*.ldt \
+"$out/device_test" -n 1000000 -f 1000000 -e 1000000 "$corpus"/ies/*.ies "$corpus"/ldt/*.ldt \
   ${env_files[@]+"${env_files[@]}"}
 
 if command -v valgrind >/dev/null; then

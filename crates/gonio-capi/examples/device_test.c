@@ -808,11 +808,11 @@ int main(int argc, char **argv) {
     free(json);
     if (!d) continue;
     if (hemi) {
-      sampler_case(name, d, GONIO_DOMAIN_HEMISPHERE, GONIO_SPHERE_LAYOUT_SPLIT, n / 4, &st_hemi);
-      sampler_case(name, d, GONIO_DOMAIN_SPHERE, GONIO_SPHERE_LAYOUT_SPLIT, n / 4, &st_random);
+      sampler_case(name, d, GONIO_DOMAIN_HEMISPHERE, GONIO_SPHERE_LAYOUT_SPLIT, n, &st_hemi);
+      sampler_case(name, d, GONIO_DOMAIN_SPHERE, GONIO_SPHERE_LAYOUT_SPLIT, n, &st_random);
     } else {
       sampler_case(name, d, GONIO_DOMAIN_SPHERE,
-                   i % 3 == 1 ? GONIO_SPHERE_LAYOUT_LAMBERT : GONIO_SPHERE_LAYOUT_SPLIT, n / 4,
+                   i % 3 == 1 ? GONIO_SPHERE_LAYOUT_LAMBERT : GONIO_SPHERE_LAYOUT_SPLIT, n,
                    i % 3 == 1 ? &st_lambert : &st_random);
     }
     gonio_diagram_free(d);
