@@ -327,6 +327,17 @@ class Device:
             code=KERNELS_CU.read_text().replace('#include "gonio_device.h"', header))
         self.kfun = {k: self.kmod.get_function(k) for k in (
             "soa_sample", "soa_pdf", "soa_invert", "soa_target", "light_trace_floor", "floor_reference")}
+        # The header's fast-math mode (GONIO_DEVICE_FAST_MATH, --use_fast_math): timed beside the
+        # bit-exact kernels, its accuracy against them measured on the same points.
+        self.fmod = None
+        try:
+            self.fmod = cp.RawModule(
+                code="#define GONIO_DEVICE_FAST_MATH 1\n"
+                + KERNELS_CU.read_text().replace('#include "gonio_device.h"', header),
+                options=("--use_fast_math",))
+            self.ffun = {k: self.fmod.get_function(k) for k in ("soa_sample", "soa_pdf", "soa_invert")}
+        except Exception as e:  # noqa: BLE001
+            say(f"   fast-math kernels not built: {type(e).__name__}: {e}")
         self.pmod = cp.RawModule(code=PEER_SOURCE)
         self.pfun = {k: self.pmod.get_function(k) for k in ("pbrt_sample", "pbrt_pdf", "pbrt_invert", "trivial", "spin")}
         say(f"   kernels.cu and the peers compiled (NVRTC) and loaded in {time.perf_counter() - t0:.1f} s")
@@ -626,6 +637,34 @@ def timing(dev, manifest, gonio, log2n):
                 row["byvalue/invert"] = gps(dev.time_ms(lambda: K["soa_invert"](g, b, (vv, u64(x), u64(y), u64(z), u64(ou), u64(ov), np.int64(n)))))
             except Exception as e:  # noqa: BLE001
                 say(f"   {name}: by-value kernels: {type(e).__name__}: {e}")
+            if dev.fmod is not None:
+                try:
+                    F = dev.ffun
+                    row["fast/sample"] = gps(dev.time_ms(lambda: F["soa_sample"](g, b, (vv, u64(u), u64(v), u64(x), u64(y), u64(z), u64(p), np.int64(n)))))
+                    row["fast/pdf"] = gps(dev.time_ms(lambda: F["soa_pdf"](g, b, (vv, u64(x), u64(y), u64(z), u64(p), np.int64(n)))))
+                    row["fast/invert"] = gps(dev.time_ms(lambda: F["soa_invert"](g, b, (vv, u64(x), u64(y), u64(z), u64(ou), u64(ov), np.int64(n)))))
+                    # Accuracy: exact and fast samples of the same points, and the fast pdf and
+                    # inverse at the exact directions.
+                    K = dev.kfun
+                    A = cp.asnumpy
+                    K["soa_sample"](g, b, (vv, u64(u), u64(v), u64(x), u64(y), u64(z), u64(p), np.int64(n)))
+                    ex = [a.copy() for a in (x, y, z, p)]
+                    exh = [A(a) for a in ex]
+                    F["soa_sample"](g, b, (vv, u64(u), u64(v), u64(x), u64(y), u64(z), u64(p), np.int64(n)))
+                    ddir = float(np.max(np.abs(np.stack([A(x) - exh[0], A(y) - exh[1], A(z) - exh[2]]))))
+                    big = exh[3] > 1e-3 * float(np.max(exh[3]))
+                    rel = np.abs(A(p) - exh[3])[big] / exh[3][big]
+                    F["soa_pdf"](g, b, (vv, u64(ex[0]), u64(ex[1]), u64(ex[2]), u64(p), np.int64(n)))
+                    relp = np.abs(A(p) - exh[3])[big] / exh[3][big]
+                    F["soa_invert"](g, b, (vv, u64(ex[0]), u64(ex[1]), u64(ex[2]), u64(ou), u64(ov), np.int64(n)))
+                    hu, hv, hou, hov = A(u), A(v), A(ou), A(ov)
+                    fin = np.isfinite(hou) & np.isfinite(hov) & big
+                    dinv = float(np.max(np.maximum(np.abs(hou - hu), np.abs(hov - hv))[fin])) if fin.any() else float("nan")
+                    row["fast/accuracy"] = dict(
+                        dir=ddir, pdf_p999=float(np.percentile(rel, 99.9)), pdf_max=float(np.max(rel)),
+                        pdfdir_p999=float(np.percentile(relp, 99.9)), invert=dinv)
+                except Exception as e:  # noqa: BLE001
+                    say(f"   {name}: fast-math kernels: {type(e).__name__}: {e}")
             del ds
         except Exception as e:  # noqa: BLE001
             say(f"   {name}: gonio timing SKIPPED: {type(e).__name__}: {e}")
@@ -719,6 +758,19 @@ def table(n, mitsuba):
             mstr = (f"{mk:6.2f}" if mk is not None else "   n/a") + (f" [{mw:6.2f}]" if mw is not None else " [  n/a ]")
             label = name.replace("grid_", "").replace("envmap_", "env ")
             say(f"   {label:<18} {op:<7} {f(gv)} {f(bv)} {f(pv)} {mstr:>16}   {'; '.join(tgt)}")
+    fast_rows = [(e["name"], T.get(e["name"], {})) for e in RESULTS.get("_timing_entries", [])]
+    if any("fast/sample" in r for _, r in fast_rows):
+        say("")
+        say("   gonio_device.h with GONIO_DEVICE_FAST_MATH (--use_fast_math; not bit-exact), G points/s, and its")
+        say("   accuracy against the bit-exact kernels on the same 2^n points (pdf: where > 1e-3 of the peak):")
+        say(f"   {'grid':<18} {'sample':>8} {'pdf':>8} {'invert':>8}   {'max|ddir|':>9} {'pdf p99.9':>9} {'pdf max':>9} {'pdf(d) p99.9':>12} {'max|du|':>9}")
+        for name, r in fast_rows:
+            acc = r.get("fast/accuracy", {})
+            f = lambda a: f"{a:8.2f}" if a is not None else f"{'n/a':>8}"  # noqa: E731
+            g_ = lambda k, w: f"{acc[k]:{w}.2e}" if k in acc else f"{'n/a':>{w}}"  # noqa: E731
+            label = name.replace("grid_", "").replace("envmap_", "env ")
+            say(f"   {label:<18} {f(r.get('fast/sample'))} {f(r.get('fast/pdf'))} {f(r.get('fast/invert'))}   "
+                f"{g_('dir', 9)} {g_('pdf_p999', 9)} {g_('pdf_max', 9)} {g_('pdfdir_p999', 12)} {g_('invert', 9)}")
     if mitsuba and mitsuba.get("versions"):
         say(f"   Mitsuba: {mitsuba['versions']}, variant {mitsuba['variant']}; MarginalContinuous2D0 on the grid's "
             f"values x sin(theta) (no lift to the sphere); env: envmap emitter sample_direction / pdf_direction")

@@ -99,6 +99,18 @@
 #define GONIO_HIP_DEVICE_PASS_ 0
 #endif
 
+/* GONIO_DEVICE_FAST_MATH (define it before including the header; CUDA device code only): the
+ * device's fast arithmetic instead of the bit-exact one: operators the compiler may fuse into
+ * FMAs, __fdividef, the hardware __sincosf and atan2f. Results then differ from the library's
+ * float32 map within a few f32 ulps in direction and a small relative error in the pdf where it
+ * is smooth (docs/GPU.md, "Fast math", gives the measured figures); the host paths and the
+ * default device path stay bit for bit the library's. */
+#if defined(GONIO_DEVICE_FAST_MATH) && GONIO_DEVICE_PASS_
+#define GONIO_DEVICE_FAST_ 1
+#else
+#define GONIO_DEVICE_FAST_ 0
+#endif
+
 #if defined(__clang__) && !GONIO_DEVICE_PASS_
 #define GONIO_NO_CONTRACT_ _Pragma("STDC FP_CONTRACT OFF")
 #else
@@ -234,7 +246,9 @@ typedef struct GonioDeviceView {
  * ------------------------------------------------------------------------------------------- */
 
 GONIO_DEVICE_FN float gonio_d_add_(float a, float b) {
-#if GONIO_DEVICE_PASS_
+#if GONIO_DEVICE_FAST_
+  return a + b;
+#elif GONIO_DEVICE_PASS_
   return __fadd_rn(a, b);
 #else
   GONIO_NO_CONTRACT_
@@ -242,7 +256,9 @@ GONIO_DEVICE_FN float gonio_d_add_(float a, float b) {
 #endif
 }
 GONIO_DEVICE_FN float gonio_d_sub_(float a, float b) {
-#if GONIO_DEVICE_PASS_
+#if GONIO_DEVICE_FAST_
+  return a - b;
+#elif GONIO_DEVICE_PASS_
   return __fsub_rn(a, b);
 #else
   GONIO_NO_CONTRACT_
@@ -250,7 +266,9 @@ GONIO_DEVICE_FN float gonio_d_sub_(float a, float b) {
 #endif
 }
 GONIO_DEVICE_FN float gonio_d_mul_(float a, float b) {
-#if GONIO_DEVICE_PASS_
+#if GONIO_DEVICE_FAST_
+  return a * b;
+#elif GONIO_DEVICE_PASS_
   return __fmul_rn(a, b);
 #else
   GONIO_NO_CONTRACT_
@@ -258,7 +276,9 @@ GONIO_DEVICE_FN float gonio_d_mul_(float a, float b) {
 #endif
 }
 GONIO_DEVICE_FN float gonio_d_div_(float a, float b) {
-#if GONIO_DEVICE_PASS_
+#if GONIO_DEVICE_FAST_
+  return __fdividef(a, b);
+#elif GONIO_DEVICE_PASS_
   return __fdiv_rn(a, b);
 #else
   GONIO_NO_CONTRACT_
@@ -266,7 +286,9 @@ GONIO_DEVICE_FN float gonio_d_div_(float a, float b) {
 #endif
 }
 GONIO_DEVICE_FN float gonio_d_sqrt_(float a) {
-#if GONIO_DEVICE_PASS_ || GONIO_HIP_DEVICE_PASS_
+#if GONIO_DEVICE_FAST_
+  return sqrtf(a);
+#elif GONIO_DEVICE_PASS_ || GONIO_HIP_DEVICE_PASS_
   return __fsqrt_rn(a);
 #else
   return sqrtf(a);
@@ -391,6 +413,10 @@ GONIO_DEVICE_FN float gonio_d_atan_lo_(gonio_i32 k) {
 
 /* sin and cos of x in [0, 2π] (kernels.rs sin_cos, f32 reduction and series). */
 GONIO_DEVICE_FN void gonio_d_sin_cos_(float x, float *sin_out, float *cos_out) {
+#if GONIO_DEVICE_FAST_
+  __sincosf(x, sin_out, cos_out);
+}
+#else
   const float magic = GONIO_D_ROUND_MAGIC_;
   float k = gonio_d_sub_(gonio_d_add_(gonio_d_mul_(x, GONIO_D_FRAC_2_PI_), magic), magic);
   float r = gonio_d_sub_(
@@ -423,9 +449,14 @@ GONIO_DEVICE_FN void gonio_d_sin_cos_(float x, float *sin_out, float *cos_out) {
   *sin_out = (q2 || q3) ? -s1 : s1;
   *cos_out = (q1 || q2) ? -c1 : c1;
 }
+#endif
 
 /* atan2(y, x) in (−π, π] (kernels.rs atan2, f32 series and table). */
 GONIO_DEVICE_FN float gonio_d_atan2_(float y, float x) {
+#if GONIO_DEVICE_FAST_
+  return atan2f(y, x);
+}
+#else
   const float magic = GONIO_D_ROUND_MAGIC_;
   float ax = gonio_d_abs_(x), ay = gonio_d_abs_(y);
   int swap = ay > ax;
@@ -450,6 +481,7 @@ GONIO_DEVICE_FN float gonio_d_atan2_(float y, float x) {
   if (gonio_d_signbit_(x)) a = gonio_d_add_(gonio_d_sub_(GONIO_D_PI_, a), GONIO_D_PI_LO_PART_);
   return gonio_d_signbit_(y) ? -a : a;
 }
+#endif
 
 /* The largest j in [lo, hi] with probe(j) <= w for a non-decreasing probe (lo when none):
  * the kernels' branch-free `descend` for one lane. At most 31 steps (22 for M, N < 2^22). The

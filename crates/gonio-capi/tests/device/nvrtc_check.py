@@ -165,6 +165,10 @@ def main():
     cuda = load_py(CUDA_PY, "gonio_cuda_source")
     units = [
         ("kernels.cu", (HERE / "kernels.cu").read_text(), [f"-I{INCLUDE}"]),
+        # The header's fast-math mode (GONIO_DEVICE_FAST_MATH: fusable operators, __fdividef,
+        # __sincosf, atan2f) compiles too.
+        ("kernels.cu fast-math", (HERE / "kernels.cu").read_text(),
+         [f"-I{INCLUDE}", "-DGONIO_DEVICE_FAST_MATH=1", "--use_fast_math"]),
         ("gonio.cuda", cuda.module_source((INCLUDE / "gonio_device.h").read_text()), []),
     ]
     try:  # the peers of scripts/gpu_check.py (pbrt-v4-style sampler, trivial kernel)
