@@ -81,6 +81,12 @@ fi
 echo "== gonio_device.h against the library"
 "$out/device_test" -n 1000000 -f 1000000 -e 1000000 "$corpus"/ies/*.ies "$corpus"/ldt/*.ldt \
   ${env_files[@]+"${env_files[@]}"}
+# The same test compiled as C++17 (the header and the test are valid C++ too), on fewer points.
+c++ -std=c++17 -O2 -ffp-contract=off -Wall -Wextra -Werror -pedantic -I "$inc" \
+  -x c++ "$ex/device_test.c" -x none "$lib" "${libs[@]}" -pthread -o "$out/device_test_cpp"
+echo "== gonio_device.h against the library, compiled as C++17"
+"$out/device_test_cpp" -n 100000 -f 100000 -e 100000 "${files[@]}" \
+  ${env_files[@]+"${env_files[0]}"}
 
 if command -v valgrind >/dev/null; then
   # One file each (valgrind runs ~50x slower); any memory error or definite/indirect leak fails

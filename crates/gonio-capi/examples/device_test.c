@@ -193,13 +193,13 @@ static void compare(const char *name, const Lib *lib, const GonioDeviceView *vie
   float *u, *v, *x, *y, *z, *pdf, *rgb, *dx, *dy, *dz, *lp, *lu, *lv;
   double t0, max_target = 0.0;
   if (n < 4 * n_edge + 1) n = 4 * n_edge + 1;
-  u = malloc(n * sizeof *u);
-  v = malloc(n * sizeof *v);
-  x = malloc(n * sizeof *x);
-  y = malloc(n * sizeof *y);
-  z = malloc(n * sizeof *z);
-  pdf = malloc(n * sizeof *pdf);
-  rgb = malloc(3 * n * sizeof *rgb);
+  u = (float *)malloc(n * sizeof *u);
+  v = (float *)malloc(n * sizeof *v);
+  x = (float *)malloc(n * sizeof *x);
+  y = (float *)malloc(n * sizeof *y);
+  z = (float *)malloc(n * sizeof *z);
+  pdf = (float *)malloc(n * sizeof *pdf);
+  rgb = (float *)malloc(3 * n * sizeof *rgb);
   n_halton = n - 4 * n_edge - 1;
   /* Points: the centre, the four edges (corners included), Halton. */
   u[k] = 0.5f;
@@ -247,12 +247,12 @@ static void compare(const char *name, const Lib *lib, const GonioDeviceView *vie
   /* Directions: the samples', poles, seam, horizon, random. */
   n_rand = n / 4;
   nd = n + 6 + 4 * n_seam + 64 + n_rand;
-  dx = malloc(nd * sizeof *dx);
-  dy = malloc(nd * sizeof *dy);
-  dz = malloc(nd * sizeof *dz);
-  lp = malloc(nd * sizeof *lp);
-  lu = malloc(nd * sizeof *lu);
-  lv = malloc(nd * sizeof *lv);
+  dx = (float *)malloc(nd * sizeof *dx);
+  dy = (float *)malloc(nd * sizeof *dy);
+  dz = (float *)malloc(nd * sizeof *dz);
+  lp = (float *)malloc(nd * sizeof *lp);
+  lu = (float *)malloc(nd * sizeof *lu);
+  lv = (float *)malloc(nd * sizeof *lv);
   memcpy(dx, x, n * sizeof *x);
   memcpy(dy, y, n * sizeof *y);
   memcpy(dz, z, n * sizeof *z);
@@ -434,7 +434,7 @@ static GonioDiagram *read_json(const char *json, const char *name) {
  * 60° off nadir toward +x, a down-light, a weak up-light), written as a JSON diagram. */
 static char *example_json(void) {
   size_t cap = 64 * 1024, len = 0;
-  char *s = malloc(cap);
+  char *s = (char *)malloc(cap);
   int i, j;
   double ax = sin(60.0 * PI_D / 180.0), az = -cos(60.0 * PI_D / 180.0);
   len += (size_t)sprintf(s + len, "{\"theta_deg\": [");
@@ -465,7 +465,7 @@ static char *example_json(void) {
  * (uniform or not, φ_0 = 0 or not), values random, with dark rows and dark caps. */
 static char *random_json(int hemisphere) {
   size_t cap = 1 << 20, len = 0;
-  char *s = malloc(cap);
+  char *s = (char *)malloc(cap);
   int n = 2 + (int)(rnd() * 30), m = 1 + (int)(rnd() * 24), i, j;
   double top = hemisphere ? 90.0 : 180.0;
   double th[40], ph[40];
@@ -526,7 +526,7 @@ static void envmap_case(const char *path, size_t n, Stats *st) {
   }
   CHECK(gonio_envmap_tables(m, 4, NULL, 0, &size) == GONIO_OK, "%s: %s", path,
         gonio_last_error_message());
-  blob = malloc(size);
+  blob = (unsigned char *)malloc(size);
   CHECK(gonio_envmap_tables(m, 4, (uint8_t *)blob, size, &size) == GONIO_OK, "%s: %s", path,
         gonio_last_error_message());
   if (gonio_envmap_into_float32(m, &f) != GONIO_OK) { /* consumes m */
