@@ -16,7 +16,7 @@ mod openexr;
 mod pfm;
 mod write;
 
-pub use hdr::read_hdr;
+pub use hdr::{read_hdr, MAX_PIXELS_PER_BYTE, MIN_UNCHECKED_PIXELS};
 pub use openexr::{read_exr, MAX_EXR_DECODED_BYTES};
 pub use pfm::read_pfm;
 pub use write::{write_hdr, write_hdr_flat, write_pfm};

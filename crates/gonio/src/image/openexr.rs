@@ -101,6 +101,97 @@ pub(crate) fn pick_channels(names: &[String]) -> Option<Vec<usize>> {
         .map(|y| vec![y, y, y])
 }
 
+/// The chunk bookkeeping the decoder does not check (issue 40: an uncompressed file whose chunks
+/// all said y = 0 was read with rows 1–2 black, in silence): every chunk of a flat layer must name
+/// a block of that layer (a scanline block aligned on the data window, a tile inside its level),
+/// no block may come twice, and every block the offset table announces must be present. Errors
+/// name the chunk (its index in file order). Reads the compressed chunks once, one at a time.
+fn check_chunks(bytes: &[u8]) -> Result<(), ImageError> {
+    use exr::block::chunk::CompressedBlock;
+    use exr::block::reader::ChunksReader;
+    use std::collections::HashSet;
+    let chunk_err = |index: usize, message: String| ImageError::Exr {
+        message: format!("chunk {index}: {message}"),
+    };
+    let reader = exr::block::read(Cursor::new(bytes), false).map_err(exr_err)?;
+    let mut chunks = reader.all_chunks(false).map_err(|e| ImageError::Exr {
+        message: format!("the chunk offset table: {e}"),
+    })?;
+    let headers = chunks.meta_data().headers.clone();
+    let mut seen: HashSet<(usize, usize, usize, usize, usize)> = HashSet::new();
+    let mut per_layer = vec![0usize; headers.len()];
+    let mut index = 0usize;
+    while let Some(chunk) = chunks.read_next_chunk() {
+        let chunk = chunk.map_err(|e| chunk_err(index, e.to_string()))?;
+        let layer = chunk.layer_index;
+        let Some(h) = headers.get(layer) else {
+            return Err(chunk_err(
+                index,
+                format!("it names layer {layer}, the file has {}", headers.len()),
+            ));
+        };
+        let coords = match &chunk.compressed_block {
+            CompressedBlock::ScanLine(b) => {
+                let size = h.compression.scan_lines_per_block() as i64;
+                let top = i64::from(h.own_attributes.layer_position.y());
+                let y = i64::from(b.y_coordinate);
+                let rows = h.layer_size.height() as i64;
+                if y < top || y >= top + rows || (y - top) % size != 0 {
+                    return Err(chunk_err(
+                        index,
+                        format!(
+                            "its scanline block starts at y = {y}, which is not one of the blocks of {size} row(s) from y = {top} to {}",
+                            top + rows - 1
+                        ),
+                    ));
+                }
+                h.get_block_data_indices(&chunk.compressed_block)
+                    .map_err(|e| chunk_err(index, e.to_string()))?
+            }
+            CompressedBlock::Tile(t) => {
+                h.get_absolute_block_pixel_coordinates(t.coordinates)
+                    .map_err(|e| chunk_err(index, format!("its tile is outside the layer: {e}")))?;
+                t.coordinates
+            }
+            // Deep data is not read (the flat layer is chosen before).
+            _ => {
+                index += 1;
+                continue;
+            }
+        };
+        let key = (
+            layer,
+            coords.level_index.x(),
+            coords.level_index.y(),
+            coords.tile_index.x(),
+            coords.tile_index.y(),
+        );
+        if !seen.insert(key) {
+            return Err(chunk_err(
+                index,
+                format!(
+                    "block {:?} of level {:?} of layer {layer} comes a second time (each block must be stored exactly once)",
+                    (key.3, key.4),
+                    (key.1, key.2)
+                ),
+            ));
+        }
+        per_layer[layer] += 1;
+        index += 1;
+    }
+    for (layer, h) in headers.iter().enumerate() {
+        if !h.deep && per_layer[layer] != h.chunk_count {
+            return Err(ImageError::Exr {
+                message: format!(
+                    "layer {layer} has {} distinct blocks after chunk {index}, its offset table announces {}",
+                    per_layer[layer], h.chunk_count
+                ),
+            });
+        }
+    }
+    Ok(())
+}
+
 /// Reads an OpenEXR image from the bytes of a `.exr` file.
 ///
 /// # Errors
@@ -149,6 +240,7 @@ fn read_exr_inner(bytes: &[u8]) -> Result<Image, ImageError> {
             })
         }
     };
+    check_chunks(bytes)?;
     let image = exr::prelude::read()
         .no_deep_data()
         .largest_resolution_level()
