@@ -219,6 +219,14 @@ pub enum MeshError {
     /// The mesh has no triangles.
     #[error("the mesh has no triangles")]
     Empty,
+    /// A working buffer could not be allocated (the mesh is too large for the memory available).
+    #[error("out of memory: {what} needs {bytes} bytes, which could not be allocated")]
+    OutOfMemory {
+        /// What the buffer is for.
+        what: &'static str,
+        /// Its size.
+        bytes: u64,
+    },
     /// A position is NaN or infinite.
     #[error("vertex {vertex} has a non-finite coordinate")]
     NonFinitePosition {
@@ -275,4 +283,30 @@ pub enum MeshError {
     /// The map could not be built from the density diagram.
     #[error("the density diagram: {0}")]
     Diagram(#[from] crate::diagram::DiagramError),
+}
+
+/// An empty vector with room for `n` elements, allocated fallibly: [`MeshError::OutOfMemory`]
+/// instead of an abort when the memory is not there (a `texture_uv` call with 10⁸ faces under a
+/// memory limit once aborted in [`star::check_closed`]).
+pub(crate) fn try_vec<T>(n: usize, what: &'static str) -> Result<Vec<T>, MeshError> {
+    let mut v = Vec::new();
+    v.try_reserve_exact(n).map_err(|_| MeshError::OutOfMemory {
+        what,
+        bytes: (n as u64).saturating_mul(std::mem::size_of::<T>() as u64),
+    })?;
+    Ok(v)
+}
+
+/// At most 40 characters of `s` for a message, control characters (ESC, NUL, …) escaped as
+/// `\u{1b}`, so that a message never echoes raw control bytes from a file to a terminal.
+pub(crate) fn printable(s: &str) -> String {
+    let mut out = String::new();
+    for c in s.chars().take(40) {
+        if c.is_control() {
+            out.extend(c.escape_default());
+        } else {
+            out.push(c);
+        }
+    }
+    out
 }

@@ -42,7 +42,7 @@ fn number(tok: &str, line: usize, byte: usize, what: &str) -> Result<f64, MeshEr
 }
 
 fn clip(s: &str) -> String {
-    s.chars().take(40).collect()
+    super::printable(s)
 }
 
 /// Resolves a 1-based or negative OBJ index against `count` elements read so far.
@@ -123,6 +123,13 @@ pub fn read_obj(bytes: &[u8]) -> Result<ObjRead, MeshError> {
                         return Err(syntax(line, at(vals[3]), "vertex weight w = 0"));
                     }
                     p = [p[0] / w, p[1] / w, p[2] / w];
+                    if !p.iter().all(|c| c.is_finite()) {
+                        return Err(syntax(
+                            line,
+                            at(vals[3]),
+                            format!("vertex weight {w}: the position divided by it is not finite"),
+                        ));
+                    }
                 }
                 let mut c = [0.0; 3];
                 if vals.len() == 6 {
@@ -373,5 +380,27 @@ mod tests {
     fn vertex_colours_are_kept() {
         let r = read_obj(b"v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 1\nf 1 2 3\n").unwrap();
         assert_eq!(r.mesh.property("green").unwrap(), &[0.0, 1.0, 0.0]);
+    }
+
+    /// Issue 40: OBJ messages echoed raw ESC and NUL bytes from the file.
+    #[test]
+    fn messages_escape_control_bytes() {
+        for text in [
+            &b"v 0 0 \x1b[2J\n"[..],
+            b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 \x003\n",
+            b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3/\x07/\x1b/x\n",
+        ] {
+            let m = read_obj(text).unwrap_err().to_string();
+            assert!(!m.chars().any(|c| c.is_control()), "{m:?}");
+            assert!(m.contains("\\u{"), "{m:?}");
+        }
+        let r = read_obj(b"v 0 0 0\nv 1 0 0\nv 0 1 0\n\x1bx 1\nf 1 2 3\n").unwrap();
+        let w = r.warnings[0].to_string();
+        assert!(!w.chars().any(|c| c.is_control()), "{w:?}");
+        // A weight that makes the position overflow is refused (no inf from finite numbers).
+        assert!(matches!(
+            read_obj(b"v 1e300 0 0 1e-300\n"),
+            Err(MeshError::Syntax { line: 1, .. })
+        ));
     }
 }
