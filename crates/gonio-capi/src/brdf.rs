@@ -280,7 +280,9 @@ fn build_brdf(name: &str, bytes: &[u8], merl: &MerlOptions) -> Result<GonioBrdf,
         ));
     }
     let table = read_any(bytes, merl).map_err(|e| brdf_failure(name, e))?;
-    let first = bytes.iter().find(|b| !b.is_ascii_whitespace());
+    let first = gonio::brdf::strip_json_bom(bytes)
+        .iter()
+        .find(|b| !b.is_ascii_whitespace());
     let (format, merl_resampling_error, merl_no_data) = if first == Some(&b'{') {
         (GONIO_BRDF_FORMAT_JSON, f64::NAN, 0)
     } else if bytes.len() as u64 == UTIA_SIZE {
