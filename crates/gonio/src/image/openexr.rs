@@ -7,7 +7,7 @@
 //! then the groups in file order), else `Y` of one group (greyscale, R = G = B), else the file is
 //! refused with the list of its channels. R, G and B never come from different groups. Other channels (`A`, depth, …) are ignored with a warning. Rows run from the
 //! top of the data window down, as OpenEXR's y axis does. The header is read first, and before any
-//! pixel is decoded its data window is checked against [`super::MAX_PIXELS`] and every flat
+//! pixel is decoded its data window is checked against [`super::max_pixels`] and every flat
 //! layer's decoded size (all its channels: the decoder allocates them all) against
 //! [`MAX_EXR_DECODED_BYTES`], so that a small file cannot make the decoder allocate gigabytes. A
 //! panic inside the decoder is caught and returned as [`ImageError::Exr`] (the `exr` crate's B44
@@ -24,12 +24,19 @@ const FORMAT: &str = "OpenEXR";
 
 /// The most bytes the decoder may produce for one layer, every channel at full resolution (it
 /// allocates them all, and decompresses every channel of a block): 1 GiB. An RGBA float image of
-/// [`super::MAX_PIXELS`] pixels is 512 MiB; a file of a few kilobytes can declare hundreds of
+/// [`super::max_pixels`] pixels is 512 MiB; a file of a few kilobytes can declare hundreds of
 /// channels, which the decoder would allocate before reading a byte of pixel data. (Blocks need no
 /// limit of their own: the decoder clips a tile to the data window.)
 pub const MAX_EXR_DECODED_BYTES: usize = 1 << 30;
 
-/// Refuses a layer whose decoded pixels would exceed [`MAX_EXR_DECODED_BYTES`] (computed without
+/// The decoded-bytes budget of one layer in force: [`MAX_EXR_DECODED_BYTES`], or 16 bytes (RGBA
+/// `f32`) a pixel of [`super::max_pixels`] when that is more (2 GiB at the default limit, so that a
+/// 16384 × 8192 RGBA float sky opens).
+pub fn max_exr_decoded_bytes() -> usize {
+    MAX_EXR_DECODED_BYTES.max(super::max_pixels().saturating_mul(16))
+}
+
+/// Refuses a layer whose decoded pixels would exceed [`max_exr_decoded_bytes`] (computed without
 /// overflow), before anything is decoded.
 fn check_decoded_bytes(header: &exr::meta::header::Header) -> Result<(), ImageError> {
     let (w, h) = (header.layer_size.0, header.layer_size.1);
@@ -40,13 +47,14 @@ fn check_decoded_bytes(header: &exr::meta::header::Header) -> Result<(), ImageEr
         .map(|c| c.sample_type.bytes_per_sample())
         .fold(0usize, usize::saturating_add);
     let layer = w.saturating_mul(h).saturating_mul(per_pixel);
-    if layer > MAX_EXR_DECODED_BYTES {
+    let limit = max_exr_decoded_bytes();
+    if layer > limit {
         return Err(ImageError::BadSize {
             format: FORMAT,
             width: w,
             height: h,
             message: format!(
-                "its {} channels ({per_pixel} bytes per pixel) would decode to {layer} bytes, more than the limit of {MAX_EXR_DECODED_BYTES}",
+                "its {} channels ({per_pixel} bytes per pixel) would decode to {layer} bytes, more than the limit of {limit}",
                 header.channels.list.len()
             ),
         });

@@ -625,3 +625,23 @@ fn exr_chunks_must_cover_every_row_exactly_once() {
     let e = read_exr(&out).unwrap_err().to_string();
     assert!(e.contains("chunk 2") && e.contains("y = 7"), "{e}");
 }
+
+/// Issue 40: the pixel limit is raised to 16384 × 8192 and settable. (The limit set here stays
+/// far above every other test's images, which may be read concurrently.)
+#[test]
+fn the_pixel_limit_admits_16k_skies_and_is_settable() {
+    assert_eq!(super::MAX_PIXELS, 16384 * 8192);
+    let mut b = b"#?RADIANCE\n\n-Y 8192 +X 16384\n".to_vec();
+    b.extend(std::iter::repeat_n([1u8, 2, 3, 128], 8192).flatten());
+    // Within the default limit: refused by the plausibility check, not by the size.
+    assert!(matches!(read_hdr(&b), Err(ImageError::Header { .. })));
+    let before = super::set_max_pixels(1 << 26);
+    let e = read_hdr(&b).unwrap_err();
+    super::set_max_pixels(before);
+    match e {
+        ImageError::BadSize { message, .. } => assert!(message.contains("67108864"), "{message}"),
+        other => panic!("{other:?}"),
+    }
+    assert_eq!(super::max_pixels(), before);
+    assert!(super::max_exr_decoded_bytes() >= 16 * 16384 * 8192);
+}
