@@ -62,12 +62,6 @@ fn check_decoded_bytes(header: &exr::meta::header::Header) -> Result<(), ImageEr
     Ok(())
 }
 
-fn exr_err(e: exr::error::Error) -> ImageError {
-    ImageError::Exr {
-        message: e.to_string(),
-    }
-}
-
 /// The part of a channel name after its last `.` (its layer prefix removed).
 fn base_name(name: &str) -> &str {
     name.rsplit('.').next().unwrap_or(name)
@@ -121,7 +115,9 @@ fn check_chunks(bytes: &[u8]) -> Result<(), ImageError> {
     let chunk_err = |index: usize, message: String| ImageError::Exr {
         message: format!("chunk {index}: {message}"),
     };
-    let reader = exr::block::read(Cursor::new(bytes), false).map_err(exr_err)?;
+    let reader = exr::block::read(Cursor::new(bytes), false).map_err(|e| ImageError::Exr {
+        message: format!("the header (from byte 0): {e}"),
+    })?;
     let mut chunks = reader.all_chunks(false).map_err(|e| ImageError::Exr {
         message: format!("the chunk offset table: {e}"),
     })?;
@@ -217,7 +213,10 @@ pub fn read_exr(bytes: &[u8]) -> Result<Image, ImageError> {
 }
 
 fn read_exr_inner(bytes: &[u8]) -> Result<Image, ImageError> {
-    let meta = MetaData::read_from_buffered(Cursor::new(bytes), false).map_err(exr_err)?;
+    let meta =
+        MetaData::read_from_buffered(Cursor::new(bytes), false).map_err(|e| ImageError::Exr {
+            message: format!("the header (from byte 0): {e}"),
+        })?;
     let Some(header) = meta.headers.iter().find(|h| !h.deep) else {
         return Err(ImageError::Unsupported {
             format: FORMAT,
@@ -256,7 +255,11 @@ fn read_exr_inner(bytes: &[u8]) -> Result<Image, ImageError> {
         .first_valid_layer()
         .all_attributes()
         .from_buffered(Cursor::new(bytes))
-        .map_err(exr_err)?;
+        .map_err(|e| ImageError::Exr {
+            message: format!(
+                "decoding the pixels (the chunks are in order; a chunk's data is bad): {e}"
+            ),
+        })?;
     let layer = &image.layer_data;
     let (w, h) = (layer.size.0, layer.size.1);
     if (w, h) != (width, height) {
