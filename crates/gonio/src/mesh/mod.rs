@@ -169,24 +169,28 @@ pub enum MeshWarning {
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum MeshError {
     /// A syntax error at a known place of the file.
-    #[error("{format} line {line} (byte {byte}): {message}")]
+    #[error("{}: {message}", place(format, *line, *column, *byte))]
     Syntax {
         /// `"OBJ"` or `"PLY"`.
         format: &'static str,
         /// 1-based line (for binary PLY data: 0).
         line: usize,
+        /// 1-based column in characters on that line (0 for binary PLY data).
+        column: usize,
         /// Byte offset from the start of the file.
         byte: usize,
         /// What is wrong.
         message: String,
     },
     /// A face refers to an element that does not exist.
-    #[error("{format} line {line} (byte {byte}): {kind} index {index} is out of range (there are {count})")]
+    #[error("{}: {kind} index {index} is out of range (there are {count})", place(format, *line, *column, *byte))]
     Index {
         /// `"OBJ"` or `"PLY"`.
         format: &'static str,
         /// 1-based line (binary PLY: 0).
         line: usize,
+        /// 1-based column in characters on that line (0 for binary PLY data).
+        column: usize,
         /// Byte offset.
         byte: usize,
         /// `"vertex"`, `"normal"` or `"texture"`.
@@ -295,6 +299,63 @@ pub(crate) fn try_vec<T>(n: usize, what: &'static str) -> Result<Vec<T>, MeshErr
         bytes: (n as u64).saturating_mul(std::mem::size_of::<T>() as u64),
     })?;
     Ok(v)
+}
+
+/// Where an error is: `OBJ line 3, column 7 (byte 22)` in text, `PLY byte 310` in binary data.
+fn place(format: &str, line: usize, column: usize, byte: usize) -> String {
+    match (line, column) {
+        (0, _) => format!("{format} byte {byte}"),
+        (l, 0) => format!("{format} line {l} (byte {byte})"),
+        (l, c) => format!("{format} line {l}, column {c} (byte {byte})"),
+    }
+}
+
+/// `e` with the column of its line and byte filled in from the file's `bytes` (the readers
+/// locate by byte offset; the column is counted once, here, for the error only).
+pub(crate) fn with_column(e: MeshError, bytes: &[u8]) -> MeshError {
+    let column_of = |line: usize, byte: usize| -> usize {
+        if line == 0 || byte > bytes.len() {
+            return 0;
+        }
+        let start = bytes[..byte]
+            .iter()
+            .rposition(|&b| b == b'\n')
+            .map_or(0, |p| p + 1);
+        String::from_utf8_lossy(&bytes[start..byte]).chars().count() + 1
+    };
+    match e {
+        MeshError::Syntax {
+            format,
+            line,
+            byte,
+            message,
+            ..
+        } => MeshError::Syntax {
+            format,
+            line,
+            column: column_of(line, byte),
+            byte,
+            message,
+        },
+        MeshError::Index {
+            format,
+            line,
+            byte,
+            kind,
+            index,
+            count,
+            ..
+        } => MeshError::Index {
+            format,
+            line,
+            column: column_of(line, byte),
+            byte,
+            kind,
+            index,
+            count,
+        },
+        e => e,
+    }
 }
 
 /// At most 40 characters of `s` for a message, control characters (ESC, NUL, …) escaped as

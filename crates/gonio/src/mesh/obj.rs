@@ -25,6 +25,7 @@ fn syntax(line: usize, byte: usize, message: impl Into<String>) -> MeshError {
     MeshError::Syntax {
         format: FMT,
         line,
+        column: 0,
         byte,
         message: message.into(),
     }
@@ -67,6 +68,7 @@ fn resolve(
         return Err(MeshError::Index {
             format: FMT,
             line,
+            column: 0,
             byte,
             kind,
             index: i,
@@ -78,6 +80,10 @@ fn resolve(
 
 /// Reads an OBJ file's bytes.
 pub fn read_obj(bytes: &[u8]) -> Result<ObjRead, MeshError> {
+    read_obj_located(bytes).map_err(|e| super::with_column(e, bytes))
+}
+
+fn read_obj_located(bytes: &[u8]) -> Result<ObjRead, MeshError> {
     let mut mesh = Mesh::default();
     let mut colors: Vec<[f64; 3]> = Vec::new();
     let mut any_color = false;
@@ -347,6 +353,7 @@ mod tests {
             MeshError::Index {
                 format: FMT,
                 line: 3,
+                column: 7,
                 byte: 22,
                 kind: "vertex",
                 index: 3,
@@ -397,6 +404,12 @@ mod tests {
         let r = read_obj(b"v 0 0 0\nv 1 0 0\nv 0 1 0\n\x1bx 1\nf 1 2 3\n").unwrap();
         let w = r.warnings[0].to_string();
         assert!(!w.chars().any(|c| c.is_control()), "{w:?}");
+        // Located by line and column (characters, not bytes).
+        let e = read_obj("v 0 0 0\n# é\nv 1 é 0\n".as_bytes()).unwrap_err();
+        assert!(
+            e.to_string().starts_with("OBJ line 3, column 5 (byte 17)"),
+            "{e}"
+        );
         // A weight that makes the position overflow is refused (no inf from finite numbers).
         assert!(matches!(
             read_obj(b"v 1e300 0 0 1e-300\n"),

@@ -83,6 +83,7 @@ fn syntax(line: usize, byte: usize, message: impl Into<String>) -> MeshError {
     MeshError::Syntax {
         format: FMT,
         line,
+        column: 0,
         byte,
         message: message.into(),
     }
@@ -184,6 +185,10 @@ fn whole(v: f64) -> bool {
 
 /// Reads a PLY file's bytes.
 pub fn read_ply(bytes: &[u8]) -> Result<PlyRead, MeshError> {
+    read_ply_located(bytes).map_err(|e| super::with_column(e, bytes))
+}
+
+fn read_ply_located(bytes: &[u8]) -> Result<PlyRead, MeshError> {
     // The header: ASCII lines up to `end_header`.
     let mut pos = 0usize;
     let mut line = 0usize;
@@ -469,6 +474,7 @@ pub fn read_ply(bytes: &[u8]) -> Result<PlyRead, MeshError> {
                                     return Err(MeshError::Index {
                                         format: FMT,
                                         line: l,
+                                        column: 0,
                                         byte: b,
                                         kind: "vertex",
                                         index: i as i64,
@@ -676,6 +682,11 @@ mod tests {
             match &e {
                 MeshError::Syntax { byte, message, .. } => {
                     assert_eq!(*byte, header + 2 * 24 + 12, "{e}");
+                    // Binary data: located by byte offset, no line.
+                    assert!(
+                        e.to_string().starts_with(&format!("PLY byte {byte}: ")),
+                        "{e}"
+                    );
                     assert!(
                         message.contains("vertex 2") && message.contains("`nx`"),
                         "{e}"
