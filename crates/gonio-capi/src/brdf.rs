@@ -1136,8 +1136,9 @@ mod tests {
                 .replacen("\"values\":[", "\"values\":[-", 1);
         let (st, _) = read(text.as_bytes());
         assert_eq!(st, GONIO_ERR_PARSE, "{}", last_error());
+        // Located by line and column in the JSON text (issue 40; it said "byte 0").
         assert!(
-            last_error().starts_with("m: table: value #0 "),
+            last_error().starts_with("m: json 1:") && last_error().contains("values[0] = -"),
             "{}",
             last_error()
         );

@@ -521,7 +521,7 @@ fn read_ply_located(bytes: &[u8]) -> Result<PlyRead, MeshError> {
                 }
             }
             warnings.push(MeshWarning::Skipped {
-                keyword: el.name.clone(),
+                keyword: printable(&el.name),
                 count: n,
                 first_line: el.line,
             });
@@ -721,5 +721,12 @@ mod tests {
         let m = e.to_string();
         assert!(!m.bytes().any(|b| b.is_ascii_control()), "{m:?}");
         assert!(m.contains("\\u{1b}"), "{m:?}");
+        // A skipped element's name, quoted by its warning.
+        let text = ASCII.replace("element edge 1", "element \x1b[2J 1");
+        let r = read_ply(text.as_bytes()).unwrap();
+        for w in &r.warnings {
+            let w = w.to_string();
+            assert!(!w.chars().any(|c| c.is_control()), "{w:?}");
+        }
     }
 }
