@@ -280,7 +280,9 @@ fn build_brdf(name: &str, bytes: &[u8], merl: &MerlOptions) -> Result<GonioBrdf,
         ));
     }
     let table = read_any(bytes, merl).map_err(|e| brdf_failure(name, e))?;
-    let first = bytes.iter().find(|b| !b.is_ascii_whitespace());
+    let first = gonio::brdf::strip_json_bom(bytes)
+        .iter()
+        .find(|b| !b.is_ascii_whitespace());
     let (format, merl_resampling_error, merl_no_data) = if first == Some(&b'{') {
         (GONIO_BRDF_FORMAT_JSON, f64::NAN, 0)
     } else if bytes.len() as u64 == UTIA_SIZE {
@@ -1132,8 +1134,9 @@ mod tests {
                 .replacen("\"values\":[", "\"values\":[-", 1);
         let (st, _) = read(text.as_bytes());
         assert_eq!(st, GONIO_ERR_PARSE, "{}", last_error());
+        // Located by line and column in the JSON text (issue 40; it said "byte 0").
         assert!(
-            last_error().starts_with("m: table: value #0 "),
+            last_error().starts_with("m: json 1:") && last_error().contains("values[0] = -"),
             "{}",
             last_error()
         );

@@ -184,6 +184,65 @@ fn nlink(meta: &Metadata) -> u64 {
     }
 }
 
+/// What identifies a destination for [`check_distinct`]: standard output, an existing file's
+/// device and inode, or the canonical folder and name of a file still to be made.
+#[derive(Debug, PartialEq, Eq)]
+enum Target {
+    Stdout,
+    #[cfg(unix)]
+    Id(u64, u64),
+    Path(PathBuf),
+}
+
+fn target(p: &Path) -> Target {
+    if p.as_os_str() == "-" {
+        return Target::Stdout;
+    }
+    if let Ok(meta) = std::fs::metadata(p) {
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::MetadataExt;
+            return Target::Id(meta.dev(), meta.ino());
+        }
+        #[cfg(not(unix))]
+        {
+            let _ = meta;
+            return Target::Path(std::fs::canonicalize(p).unwrap_or_else(|_| p.to_path_buf()));
+        }
+    }
+    // A file to be made: its folder resolved (links, `..`), then its name.
+    let parent = match p.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    match (std::fs::canonicalize(parent), p.file_name()) {
+        (Ok(d), Some(name)) => Target::Path(d.join(name)),
+        _ => Target::Path(p.to_path_buf()),
+    }
+}
+
+/// Refuses, before anything is written, a command's outputs that name the same file (or
+/// standard output twice) — `gonio bake -o t.png --obj t.png` once wrote the OBJ text over the
+/// PNG. Each entry is (the option, the path). Inputs are checked by [`Output::create`], which a
+/// command with several outputs calls for all of them before writing any.
+pub fn check_distinct(outputs: &[(&str, &Path)]) -> anyhow::Result<()> {
+    let targets: Vec<Target> = outputs.iter().map(|(_, p)| target(p)).collect();
+    for (i, a) in targets.iter().enumerate() {
+        for (j, b) in targets.iter().enumerate().take(i) {
+            if a == b {
+                bail!(
+                    "{} {} and {} {} are the same destination; refused, nothing written",
+                    outputs[j].0,
+                    outputs[j].1.display(),
+                    outputs[i].0,
+                    outputs[i].1.display()
+                );
+            }
+        }
+    }
+    Ok(())
+}
+
 impl Output {
     /// Standard output for `None` or `-`; otherwise `path` as described in the module
     /// documentation. Refuses, before anything is written, a path that is an input of this run.

@@ -107,3 +107,40 @@ fn brdf_commands_on_every_format() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Issue 40: a BRDF JSON with a UTF-8 byte order mark was refused everywhere; values of 1.7e308
+/// gave albedo `inf`. The BOM file reads (as JSON, at the top level too); the huge values are
+/// refused with the value's line and column.
+#[test]
+fn bom_json_reads_and_huge_values_are_refused_located() {
+    let dir = std::env::temp_dir().join(format!("gonio-brdf-cli-bom-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = write_json(&Analytic::families()[0].table(4, 6).unwrap());
+    let bom = dir.join("bom.json");
+    let mut bytes = b"\xEF\xBB\xBF".to_vec();
+    bytes.extend(text.as_bytes());
+    std::fs::write(&bom, &bytes).unwrap();
+    let b = bom.to_str().unwrap();
+    for args in [
+        &["brdf", "info", b, "--incident", "30,0"][..],
+        &["info", b, "--incident", "30,0"][..],
+    ] {
+        let (ok, out, err) = gonio(args);
+        assert!(ok, "{args:?}: {err}");
+        assert!(out.contains("gonio BRDF JSON"), "{args:?}: {out}");
+        assert!(!out.contains("inf"), "{args:?}: {out}");
+    }
+    let values = vec!["1.7e308"; 36].join(", ");
+    let huge = format!(
+        "{{\"format\": \"gonio-brdf\", \"version\": 1, \"symmetry\": \"isotropic\", \"channels\": 1,\n\"theta_i_deg\": [0, 45, 90], \"phi_i_deg\": [0],\n\"theta_o_deg\": [0, 45, 90], \"phi_o_deg\": [0, 90, 180, 270],\n\"values\": [{values}]}}"
+    );
+    let hp = dir.join("huge.json");
+    std::fs::write(&hp, huge).unwrap();
+    let (ok, _, err) = gonio(&["brdf", "info", hp.to_str().unwrap(), "--incident", "30,0"]);
+    assert!(!ok);
+    assert!(
+        err.contains("json 4:12") && err.contains("1.7e308"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -189,3 +189,61 @@ fn bad_meshes_and_outputs_are_refused() {
     assert!(!out.exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Issue 40: `bake -o t.png --obj t.png` exited 0 with t.png holding the OBJ text, and `--obj`
+/// naming the input mesh was refused only after the PNG was written. Every output is checked
+/// against the others and the inputs before anything is written.
+#[test]
+fn bake_checks_every_output_before_writing_any() {
+    let dir = temp_dir("bake-outputs");
+    let ply = dir.join("m.ply");
+    std::fs::write(&ply, write_ply_binary(&shape_mesh(&Shape::Head, 3))).unwrap();
+    let p = ply.to_str().unwrap();
+    let png = dir.join("t.png");
+    let t = png.to_str().unwrap();
+    let bake = |extra: &[&str]| {
+        let mut args = vec![
+            "bake",
+            p,
+            "--texture",
+            "checker",
+            "--resolution",
+            "16",
+            "-o",
+            t,
+        ];
+        args.extend_from_slice(extra);
+        run(&args)
+    };
+    let same_dir_other_spelling = dir.join(".").join("t.png");
+    for extra in [
+        &["--obj", t][..],
+        &["--obj", same_dir_other_spelling.to_str().unwrap()][..],
+        &["--preview", t][..],
+        &[
+            "--obj",
+            dir.join("t.mtl").to_str().unwrap(),
+            "--preview",
+            dir.join("x.png").to_str().unwrap(),
+        ][..],
+    ] {
+        let o = bake(extra);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success(), "{extra:?}: {err}");
+        assert!(
+            err.contains("same destination") && err.contains("nothing written"),
+            "{extra:?}: {err}"
+        );
+        assert_eq!(names(&dir), ["m.ply"], "{extra:?}");
+    }
+    // --obj naming the input mesh: refused, and the PNG not written either.
+    let o = bake(&["--obj", p]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "{err}");
+    assert!(err.contains("nothing written"), "{err}");
+    assert_eq!(names(&dir), ["m.ply"]);
+    // Distinct outputs: all written.
+    let o = bake(&["--obj", dir.join("t.obj").to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(names(&dir), ["m.ply", "t.mtl", "t.obj", "t.png"]);
+}

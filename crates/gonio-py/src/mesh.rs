@@ -31,9 +31,10 @@ pub(crate) fn texture_uv<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let v = arrays::rows::<3>(vertices, "vertices")?;
     let f = arrays::rows::<3>(faces, "faces")?;
-    let positions: Vec<[f64; 3]> = v.as_slice().to_vec();
+    let mut positions: Vec<[f64; 3]> = arrays::try_vec(v.as_slice().len(), "vertices")?;
+    positions.extend_from_slice(&v.as_slice());
     let n = positions.len();
-    let mut triangles = Vec::with_capacity(f.as_slice().len());
+    let mut triangles = arrays::try_vec(f.as_slice().len(), "faces")?;
     for (i, r) in f.as_slice().iter().enumerate() {
         let mut t = [0u32; 3];
         for k in 0..3 {
@@ -68,7 +69,8 @@ pub(crate) fn texture_uv<'py>(
             )))
         }
     };
-    let source_face = (0..triangles.len() as u32).collect();
+    let mut source_face = arrays::try_vec(triangles.len(), "faces")?;
+    source_face.extend(0..triangles.len() as u32);
     let mesh = Mesh {
         positions,
         triangles,
@@ -81,8 +83,13 @@ pub(crate) fn texture_uv<'py>(
         layout,
         ..UvOptions::default()
     };
-    let r = detached(py, "texture_uv", || parameterise(&mesh, &opts))?
-        .map_err(|e| InputError::new_err(e.to_string()))?;
+    let r = detached(py, "texture_uv", || parameterise(&mesh, &opts))?.map_err(|e| match e {
+        // Memory exhaustion is Python's MemoryError, not a fault of the input.
+        gonio::mesh::MeshError::OutOfMemory { .. } => {
+            pyo3::exceptions::PyMemoryError::new_err(e.to_string())
+        }
+        e => InputError::new_err(e.to_string()),
+    })?;
     let m = &r.mesh;
     let out = PyDict::new(py);
     out.set_item(

@@ -20,11 +20,14 @@
 use serde::{Deserialize, Serialize};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
-/// Largest number of grid nodes (M·N) a diagram may hold: 2²⁶ ≈ 67 million values (512 MiB of f64).
+/// Largest number of grid nodes (M·N) a diagram may hold: 2²⁸ ≈ 268 million values (2 GiB of f64).
 ///
-/// A 0.1° × 0.1° full-sphere grid has 6.5 million nodes, so real data stays far below this cap; it exists
-/// so that no input can make the library allocate without bound.
-pub const MAX_NODES: usize = 1 << 26;
+/// A 0.1° × 0.1° full-sphere grid has 6.5 million nodes; the largest diagrams are those of
+/// environment maps, one node per pixel: a 16384 × 8192 sky (the largest image
+/// [`crate::image::MAX_PIXELS`] admits by default) has 16384 × 8194 nodes. The cap exists so that no
+/// input can make the library allocate without bound; every reader also checks its counts against
+/// the bytes present.
+pub const MAX_NODES: usize = 1 << 28;
 
 /// Angles within this many **degrees** of 0°, 90° or 180° (θ), or of 0° and 360° (φ), *are* those
 /// angles: [`Diagram::new`] and every reader snap them there before any domain or range is decided,

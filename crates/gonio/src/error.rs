@@ -49,6 +49,14 @@ pub enum BuildError {
         /// [`Diagram::integral`](crate::Diagram::integral) of the diagram.
         integral: f64,
     },
+    /// Every value is finite but the power (the integral over the domain) exceeds `f64::MAX`, so
+    /// neither the power nor a pdf in the diagram's units can be stated: refused, naming the
+    /// largest value (issue 40: all values 5e307 were "no positive finite power").
+    #[error("the diagram's power overflows: its values reach {} and their integral over the domain exceeds the largest double (1.8e308); divide the values by a power of two (e.g. 2^16) first — the map itself does not depend on their scale", crate::decimal::shortest(*max_value))]
+    PowerOverflow {
+        /// [`Diagram::max_value`](crate::Diagram::max_value).
+        max_value: f64,
+    },
     /// The piecewise-constant image resolution is outside the accepted range.
     #[error("image resolution {resolution} is outside 1..={max}")]
     Resolution {
@@ -82,4 +90,16 @@ pub enum BuildError {
         /// The requested tolerance.
         tolerance: f64,
     },
+}
+
+impl BuildError {
+    /// [`BuildError::PowerOverflow`] when a diagram of finite values has an infinite integral,
+    /// else [`BuildError::NoPower`].
+    pub(crate) fn no_power(integral: f64, max_value: f64) -> Self {
+        if integral == f64::INFINITY && max_value.is_finite() {
+            Self::PowerOverflow { max_value }
+        } else {
+            Self::NoPower { integral }
+        }
+    }
 }

@@ -111,7 +111,7 @@ impl Method {
         // number (values near f64::MAX whose integral overflows) has no density to sample.
         let integral = diagram.integral();
         if !(integral.is_finite() && integral > 0.0) {
-            return Err(BuildError::NoPower { integral });
+            return Err(BuildError::no_power(integral, diagram.max_value()));
         }
         Ok(match self {
             Method::Hds => match (domain, options.tolerance) {

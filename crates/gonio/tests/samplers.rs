@@ -698,9 +698,25 @@ fn every_method_is_scale_free_and_refuses_an_infinite_power() {
     assert!(phis.iter().any(|&y| y.abs() > 0.5), "all samples at φ = 0");
     let huge = build(&theta, &phi, |_, _| 1e308);
     assert!(huge.integral().is_infinite());
+    // Issue 40: every value 5e307 (finite) was "no positive finite power"; now named.
+    let big = build(&theta, &phi, |_, _| 5e307);
+    for method in Method::ALL {
+        let Err(e) = method.build(&big, Domain::Sphere) else {
+            panic!("{method}: built a sampler of infinite power");
+        };
+        assert!(
+            matches!(e, BuildError::PowerOverflow { max_value } if max_value == 5e307),
+            "{method}: {e}"
+        );
+        assert!(e.to_string().contains("5e307"), "{e}");
+    }
     for method in Method::ALL {
         match method.build(&huge, Domain::Sphere) {
-            Err(BuildError::NoPower { integral }) => assert!(integral.is_infinite()),
+            // Issue 40: refused naming the value, not as "no positive finite power".
+            Err(e @ BuildError::PowerOverflow { max_value }) => {
+                assert_eq!(max_value, 1e308);
+                assert!(e.to_string().contains("1e308"), "{e}");
+            }
             Err(e) => panic!("{method}: {e}"),
             Ok(_) => panic!("{method} built a sampler of infinite power"),
         }

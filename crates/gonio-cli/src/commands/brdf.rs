@@ -172,7 +172,9 @@ fn load(c: &Common) -> Result<Loaded> {
         n_phi: c.merl_phi,
     };
     let brdf = read_any(&bytes, &merl).with_context(|| c.file.display().to_string())?;
-    let first = bytes.iter().find(|b| !b.is_ascii_whitespace());
+    let first = gonio::brdf::strip_json_bom(&bytes)
+        .iter()
+        .find(|b| !b.is_ascii_whitespace());
     let (format, merl_error) = if first == Some(&b'{') {
         ("gonio BRDF JSON", None)
     } else if bytes.len() as u64 == gonio::brdf::UTIA_SIZE {
@@ -222,7 +224,9 @@ pub fn sniff(path: &Path) -> Option<&'static str> {
         .take(4096)
         .read_to_end(&mut head)
         .ok()?;
-    let first = head.iter().find(|b| !b.is_ascii_whitespace());
+    let first = gonio::brdf::strip_json_bom(&head)
+        .iter()
+        .find(|b| !b.is_ascii_whitespace());
     if first == Some(&b'{') {
         #[derive(serde::Deserialize)]
         struct Probe {
@@ -230,7 +234,7 @@ pub fn sniff(path: &Path) -> Option<&'static str> {
         }
         let named = |v: &[u8]| v.windows(12).any(|w| w == b"\"gonio-brdf\"");
         let bytes = std::fs::read(path).ok()?;
-        return match serde_json::from_slice::<Probe>(&bytes) {
+        return match serde_json::from_slice::<Probe>(gonio::brdf::strip_json_bom(&bytes)) {
             Ok(p) => (p.format.as_ref().and_then(|f| f.as_str()) == Some("gonio-brdf"))
                 .then_some("gonio BRDF JSON"),
             Err(_) => named(&head).then_some("gonio BRDF JSON"),

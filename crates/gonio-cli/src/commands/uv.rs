@@ -354,6 +354,18 @@ pub fn run_bake(a: &BakeArgs) -> Result<()> {
     if a.mesh.layout != "hds" {
         bail!("bake: only the hds layout has a texture map to bake into");
     }
+    // Every output, checked against the others before any work (and against the inputs when it is
+    // created, all of them before anything is written): -o, --obj and its MTL, --preview.
+    let mtl = a.obj.as_ref().map(|o| o.with_extension("mtl"));
+    let mut outputs: Vec<(&str, &Path)> = vec![("-o", a.output.as_path())];
+    if let (Some(o), Some(m)) = (&a.obj, &mtl) {
+        outputs.push(("--obj", o.as_path()));
+        outputs.push(("the MTL beside --obj", m.as_path()));
+    }
+    if let Some(pv) = &a.preview {
+        outputs.push(("--preview", pv.as_path()));
+    }
+    crate::output::check_distinct(&outputs)?;
     let source = if a.texture == "checker" {
         None
     } else if crate::envmap_in::is_image_name(&a.texture) {
@@ -366,6 +378,30 @@ pub fn run_bake(a: &BakeArgs) -> Result<()> {
         .texture
         .as_ref()
         .context("the hds layout has a texture map")?;
+    let tex_name = a
+        .output
+        .file_name()
+        .and_then(|s| s.to_str())
+        .context("the texture's file name is not text")?;
+    let mtl_name = match &mtl {
+        Some(m) => Some(
+            m.file_name()
+                .and_then(|s| s.to_str())
+                .context("the MTL's file name is not text")?,
+        ),
+        None => None,
+    };
+    // All the destinations (each refused here if it is an input), before anything is written:
+    // a refusal leaves no output behind.
+    let mut png_out = Output::create(Some(&a.output))?;
+    let mut obj_out = match (&a.obj, &mtl) {
+        (Some(o), Some(m)) => Some((Output::create(Some(o))?, Output::create(Some(m))?)),
+        _ => None,
+    };
+    let mut preview_out = match &a.preview {
+        Some(pv) => Some(Output::create(Some(pv))?),
+        None => None,
+    };
     let t = std::time::Instant::now();
     let img = match &source {
         Some(src) => bake(tex, a.resolution, &|d| sample_equirect(src, d)),
@@ -377,28 +413,23 @@ pub fn run_bake(a: &BakeArgs) -> Result<()> {
         a.resolution,
         t.elapsed().as_secs_f64()
     );
-    write_text(&a.output, &encode_png(&img)?)?;
-    if let Some(objp) = &a.obj {
-        let mtl = objp.with_extension("mtl");
-        let tex_name = a
-            .output
-            .file_name()
-            .and_then(|s| s.to_str())
-            .context("the texture's file name is not text")?;
-        let mtl_name = mtl
-            .file_name()
-            .and_then(|s| s.to_str())
-            .context("the MTL's file name is not text")?;
-        write_text(
-            objp,
-            obj::write_obj(&r.mesh, Some((mtl_name, tex_name))).as_bytes(),
-        )?;
-        write_text(&mtl, obj::write_mtl(tex_name).as_bytes())?;
+    png_out.write_all(&encode_png(&img)?)?;
+    if let (Some((o, m)), Some(mtl_name)) = (&mut obj_out, mtl_name) {
+        o.write_all(obj::write_obj(&r.mesh, Some((mtl_name, tex_name))).as_bytes())?;
+        m.write_all(obj::write_mtl(tex_name).as_bytes())?;
     }
-    if let Some(pv) = &a.preview {
+    if let Some(out) = &mut preview_out {
         let seam = tex.seam();
         let img = render_preview(&r.mesh, 1024, &|uv| checker_uv(uv, 32, 16, seam));
-        write_text(pv, &encode_png(&img)?)?;
+        out.write_all(&encode_png(&img)?)?;
+    }
+    png_out.finish()?;
+    if let Some((o, m)) = obj_out {
+        o.finish()?;
+        m.finish()?;
+    }
+    if let Some(out) = preview_out {
+        out.finish()?;
     }
     Ok(())
 }

@@ -100,7 +100,7 @@ impl Bilinear {
         let mut sector_cdf = vec![0.0; m + 1];
         let (total, sector_last) = build_cdf(&masses, &mut sector_cdf);
         if !(total > 0.0 && total.is_finite()) {
-            return Err(BuildError::NoPower { integral: total });
+            return Err(BuildError::no_power(total, diagram.max_value()));
         }
         Ok(Self {
             target,

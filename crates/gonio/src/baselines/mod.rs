@@ -60,7 +60,7 @@ impl Target {
         }
         let integral = diagram.integral();
         if !(integral.is_finite() && integral > 0.0 && (1.0 / integral).is_finite()) {
-            return Err(BuildError::NoPower { integral });
+            return Err(BuildError::no_power(integral, diagram.max_value()));
         }
         Ok(Self {
             diagram: diagram.clone(),

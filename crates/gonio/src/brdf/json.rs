@@ -60,6 +60,8 @@ fn deg(v: &[f64]) -> Vec<f64> {
 
 /// Reads the JSON table.
 pub fn read_json(text: &str) -> Result<TabulatedBrdf, BrdfError> {
+    // A UTF-8 byte order mark is not JSON, but editors write one: skipped.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let j: BrdfJson = serde_json::from_str(text).map_err(|e| BrdfError::Json {
         line: e.line(),
         column: e.column(),
@@ -84,6 +86,70 @@ pub fn read_json(text: &str) -> Result<TabulatedBrdf, BrdfError> {
         rad(&j.phi_o_deg),
         j.values,
     )
+    .map_err(|e| match e {
+        // A value error of the table names the value's line and column in the text, not "byte 0".
+        BrdfError::BadValue {
+            index, value, hint, ..
+        } => {
+            let (line, column) = locate_value(text, index).unwrap_or((1, 1));
+            BrdfError::Json {
+                line,
+                column,
+                message: format!(
+                    "values[{index}] = {} is not a finite number{hint}",
+                    crate::decimal::shortest(value)
+                ),
+            }
+        }
+        e => e,
+    })
+}
+
+/// The 1-based line and column of element `index` of the top-level `"values"` array.
+fn locate_value(text: &str, index: usize) -> Option<(usize, usize)> {
+    let b = text.as_bytes();
+    let (mut depth, mut i, mut in_values, mut count, mut at_element) = (0usize, 0, false, 0, false);
+    let mut last_key: &[u8] = b"";
+    while i < b.len() {
+        let c = b[i];
+        if c == b'"' {
+            let start = i + 1;
+            i += 1;
+            while i < b.len() && b[i] != b'"' {
+                i += if b[i] == b'\\' { 2 } else { 1 };
+            }
+            if depth == 1 {
+                last_key = &b[start..i.min(b.len())];
+            }
+        } else if c == b'[' || c == b'{' {
+            depth += 1;
+            if depth == 2 && c == b'[' && last_key == b"values" {
+                in_values = true;
+                at_element = true;
+            }
+        } else if c == b']' || c == b'}' {
+            if depth == 2 && in_values {
+                return None;
+            }
+            depth = depth.saturating_sub(1);
+        } else if in_values && depth == 2 && c == b',' {
+            count += 1;
+            at_element = true;
+        } else if in_values && depth == 2 && at_element && !c.is_ascii_whitespace() {
+            if count == index {
+                let line = 1 + b[..i].iter().filter(|&&x| x == b'\n').count();
+                let line_start = b[..i]
+                    .iter()
+                    .rposition(|&x| x == b'\n')
+                    .map_or(0, |p| p + 1);
+                let column = 1 + text[line_start..i].chars().count();
+                return Some((line, column));
+            }
+            at_element = false;
+        }
+        i += 1;
+    }
+    None
 }
 
 /// Writes the JSON table of `brdf`.

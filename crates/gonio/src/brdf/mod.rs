@@ -47,6 +47,11 @@ use std::f64::consts::{FRAC_PI_2, TAU};
 /// Largest number of values a table may hold (3 channels included): 2²⁷ (1 GiB of f64).
 pub const MAX_VALUES: usize = 1 << 27;
 
+/// The largest BRDF value a table may hold, `f64::MAX`/16 ≈ 1.12e307: the albedo (≤ π × the
+/// largest value) and the sample weights of any table stay finite (issue 40: a table of 1.7e308
+/// gave albedo `inf` and infinite weights).
+pub const MAX_VALUE: f64 = f64::MAX / 16.0;
+
 /// Whether the table depends on the incident azimuth.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -83,7 +88,7 @@ pub enum BrdfError {
         what: String,
     },
     /// A value is NaN or infinite (or negative where the format has no "no data" code).
-    #[error("{format}: value #{index} (byte {offset}) = {value} is not a finite number{hint}")]
+    #[error("{format}: value #{index} (byte {offset}) = {} is not a finite number{hint}", crate::decimal::shortest(*value))]
     BadValue {
         /// The format read.
         format: &'static str,
@@ -310,14 +315,14 @@ impl TabulatedBrdf {
         if let Some((index, &value)) = values
             .iter()
             .enumerate()
-            .find(|(_, v)| !(v.is_finite() && **v >= 0.0))
+            .find(|(_, v)| !(v.is_finite() && **v >= 0.0 && **v <= MAX_VALUE))
         {
             return Err(BrdfError::BadValue {
                 format: "table",
                 index,
                 offset: 0,
                 value,
-                hint: " ≥ 0",
+                hint: " in [0, 1.1235582092889474e307] (f64::MAX/16: larger values overflow the albedo and the sample weights)",
             });
         }
         Ok(TabulatedBrdf {
@@ -503,10 +508,20 @@ pub fn uniform_phi(m: usize) -> Vec<f64> {
     (0..m).map(|i| TAU * i as f64 / m as f64).collect()
 }
 
+/// `bytes` without a UTF-8 byte order mark (as some editors write) when what follows is a JSON
+/// object; `bytes` as they are otherwise (a binary file is never shortened).
+pub fn strip_json_bom(bytes: &[u8]) -> &[u8] {
+    match bytes.strip_prefix(b"\xEF\xBB\xBF") {
+        Some(rest) if rest.iter().find(|b| !b.is_ascii_whitespace()) == Some(&b'{') => rest,
+        _ => bytes,
+    }
+}
+
 /// Reads a BRDF file of any supported format, recognised from its content: gonio JSON (text
 /// starting with `{`), UTIA (exactly [`UTIA_SIZE`] bytes), MERL (a 12-byte header whose three
 /// int32 dimensions match the file's length). `merl` sets the MERL resampling.
 pub fn read_any(bytes: &[u8], merl: &MerlOptions) -> Result<TabulatedBrdf, BrdfError> {
+    let bytes = strip_json_bom(bytes);
     let first = bytes.iter().find(|b| !b.is_ascii_whitespace());
     if first == Some(&b'{') {
         let text = std::str::from_utf8(bytes).map_err(|e| BrdfError::Json {

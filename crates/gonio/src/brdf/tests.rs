@@ -451,3 +451,76 @@ fn baselines_honour_the_contract() {
         }
     }
 }
+
+/// The issue-40 reproducer: an isotropic 3 × 1 × 3 × 4 JSON table, every value `v`.
+fn constant_json(v: &str) -> String {
+    let values = vec![v; 3 * 3 * 4].join(", ");
+    format!(
+        "{{\"format\": \"gonio-brdf\", \"version\": 1, \"symmetry\": \"isotropic\", \"channels\": 3,\n \"theta_i_deg\": [0, 45, 90], \"phi_i_deg\": [0],\n \"theta_o_deg\": [0, 45, 90], \"phi_o_deg\": [0, 90, 180, 270],\n \"values\": [{values}]}}"
+    )
+    .replacen("\"channels\": 3", "\"channels\": 1", 1)
+}
+
+/// Issue 40: every value 1.7e308 gave albedo `inf` and infinite sample weights. Values above
+/// `MAX_VALUE` are refused, naming the value and its line and column; at the limit everything is
+/// finite.
+#[test]
+fn huge_values_never_give_infinite_albedo_or_weights() {
+    let e = read_any(constant_json("1.7e308").as_bytes(), &MerlOptions::default()).unwrap_err();
+    match &e {
+        BrdfError::Json {
+            line,
+            column,
+            message,
+        } => {
+            assert_eq!((*line, *column), (4, 13), "{e}");
+            assert!(message.contains("values[0] = 1.7e308"), "{e}");
+        }
+        other => panic!("{other:?}"),
+    }
+    for v in ["1e307", "1.1235582092889474e307"] {
+        let t = read_any(constant_json(v).as_bytes(), &MerlOptions::default()).unwrap();
+        let s = BrdfSampler::new(t, &SamplerOptions::default()).unwrap();
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(3);
+        for &ti in &[0.0, 30.0, 89.0] {
+            let inc = IncidentSampler::new(&s, incident(ti, 0.0));
+            assert!(
+                inc.albedo().is_finite() && inc.albedo() > 0.0,
+                "{v} {ti}: {}",
+                inc.albedo()
+            );
+            for _ in 0..200 {
+                let smp = s.sample(incident(ti, 0.0), [rng.gen(), rng.gen()]);
+                assert!(smp.pdf.is_finite(), "{v}: {smp:?}");
+                assert!(smp.weight.iter().all(|w| w.is_finite()), "{v}: {smp:?}");
+            }
+        }
+    }
+}
+
+/// Issue 40: a value error of a JSON table named "byte 0"; now its line and column. A UTF-8 BOM
+/// before a valid table is accepted.
+#[test]
+fn json_value_errors_are_located_and_a_bom_is_accepted() {
+    let text = constant_json("0.5").replacen("0.5, 0.5, 0.5", "0.5, 0.5, -2", 1);
+    match read_json(&text).unwrap_err() {
+        BrdfError::Json {
+            line,
+            column,
+            message,
+        } => {
+            assert_eq!((line, column), (4, 23), "{message}");
+            assert!(message.contains("values[2] = -2"), "{message}");
+        }
+        other => panic!("{other:?}"),
+    }
+    let good = constant_json("0.5");
+    let mut bom = b"\xEF\xBB\xBF".to_vec();
+    bom.extend(good.as_bytes());
+    let a = read_any(&bom, &MerlOptions::default()).unwrap();
+    assert_eq!(
+        a,
+        read_any(good.as_bytes(), &MerlOptions::default()).unwrap()
+    );
+    assert!(read_json(&format!("\u{feff}{good}")).is_ok());
+}

@@ -57,9 +57,9 @@ impl EnvironmentMap {
     /// [`Float32MapError::TooLarge`] for a grid beyond the float32 kernels' index limits (not
     /// reached by images within [`crate::image::MAX_SIDE`]).
     pub fn into_float32(self) -> Result<Float32EnvironmentMap, Float32MapError> {
-        let map = self.map.float32_map()?;
         let power = self.map.target_power();
-        drop(self.map);
+        // Each hemisphere's float64 tables are dropped as soon as its float32 tables are made.
+        let map = self.map.into_float32_map()?;
         Ok(Float32EnvironmentMap {
             radiance: self.radiance,
             map,
@@ -72,8 +72,8 @@ impl EnvironmentMap {
 
 impl EnvironmentMap {
     /// The bytes [`EnvironmentMap::into_float32`] would hold beyond the image
-    /// ([`Float32EnvironmentMap::memory_bytes_beyond_image`]), without consuming this map (it
-    /// builds the float32 map once, to count it).
+    /// ([`Float32EnvironmentMap::memory_bytes_beyond_image`]), without consuming this map and
+    /// without making the float32 map (counted from the float64 tables).
     ///
     /// # Errors
     /// As [`EnvironmentMap::into_float32`].
@@ -82,9 +82,7 @@ impl EnvironmentMap {
             Weight::Custom(v) => 4 * v.len(),
             _ => 0,
         };
-        Ok(self.map.float32_map()?.memory_bytes()
-            + custom
-            + std::mem::size_of::<Float32EnvironmentMap>())
+        Ok(self.map.float32_map_bytes()? + custom + std::mem::size_of::<Float32EnvironmentMap>())
     }
 }
 

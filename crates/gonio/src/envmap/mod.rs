@@ -244,10 +244,10 @@ impl EnvironmentMap {
     pub fn with_options(image: Image, options: EnvOptions) -> Result<Self, EnvMapError> {
         let mut warnings = image.warnings().to_vec();
         let diagram = weight_diagram(&image, &options, &mut warnings)?;
-        let map = SphereMap::new(&diagram)?;
-        // The diagram is not kept: the map's tables hold its values (divided by their largest),
-        // and `diagram()` rebuilds it from the image.
-        drop(diagram);
+        // The diagram is given away and not kept: the map drops it once its hemisphere parts are
+        // made (before the tables are built); the tables hold its values (divided by their
+        // largest), and `diagram()` rebuilds it from the image.
+        let map = SphereMap::from_diagram(diagram)?;
         Ok(Self {
             radiance: Radiance::new(image),
             map,

@@ -640,8 +640,11 @@ fn the_float32_environment_map_is_its_float32_map_with_radiance() {
             let env = EnvironmentMap::with_options(img.clone(), opts.clone()).unwrap();
             let reference = env.map().float32_map().unwrap();
             let power = env.power();
+            let predicted = env.float32_memory_bytes_beyond_image().unwrap();
             let f32env = env.clone().into_float32().unwrap();
             assert_eq!(f32env.power(), power);
+            // Counted without making the float32 map (issue 40), the same bytes.
+            assert_eq!(predicted, f32env.memory_bytes_beyond_image());
             let n = 4099;
             let mut rng = Xoshiro256PlusPlus::seed_from_u64(case as u64);
             let u: Vec<f32> = (0..n).map(|_| rng.gen::<f32>()).collect();

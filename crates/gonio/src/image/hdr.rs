@@ -17,13 +17,21 @@
 //!   readers of pbrt-v4 and Mitsuba 3 do), exact in `f32`.
 //!
 //! Every scanline takes at least 4 bytes, so the pixel buffer is allocated only once the file
-//! holds at least 4 bytes per scanline after the header; a run that passes the end of its
+//! holds at least 4 bytes per scanline after the header, and an image of more than 2²⁰ pixels
+//! must not declare more than [`MAX_PIXELS_PER_BYTE`] pixels per byte of scanline data; a run that passes the end of its
 //! scanline, a zero count, a repeat with no previous pixel and a length that disagrees with the
 //! resolution line are errors with their scanline and byte offset.
 
 use super::{check_size, Image, ImageError};
 
 const FORMAT: &str = "Radiance HDR";
+
+/// The most pixels a byte of scanline data may declare: twice what new-style run-length encoding
+/// can pack (127 pixels in 8 bytes); images of at most [`MIN_UNCHECKED_PIXELS`] are not checked.
+pub const MAX_PIXELS_PER_BYTE: usize = 32;
+
+/// Images of at most 2²⁰ pixels (12 MiB of `f32` RGB) are read whatever their compression.
+pub const MIN_UNCHECKED_PIXELS: usize = 1 << 20;
 
 /// Reads a Radiance RGBE image from the bytes of a `.hdr` file.
 ///
@@ -102,6 +110,26 @@ pub fn read_hdr(bytes: &[u8]) -> Result<Image, ImageError> {
             present,
             row: (present.saturating_sub(pos)) / 4,
         });
+    }
+    // Plausibility of the declared size against the bytes present, before allocating: new-style
+    // run-length packs at most 127 pixels of one component into 2 bytes (15.9 pixels a byte); only
+    // the obsolete old-style repeat codes pack more (a 786 KB file of one pixel and two repeat
+    // codes per scanline once declared 33.5 million pixels, 402 MB of pixels and 2.4 GB in `info`).
+    let data = present - pos;
+    let plausible = data
+        .saturating_mul(MAX_PIXELS_PER_BYTE)
+        .max(MIN_UNCHECKED_PIXELS);
+    if width * height > plausible {
+        return Err(header_err(
+            line_no,
+            off,
+            format!(
+                "{width} × {height} pixels from {data} bytes of scanlines is more than \
+                 {MAX_PIXELS_PER_BYTE} pixels a byte (run-length encoding packs at most 15.9): \
+                 refused as implausible before allocating {} bytes",
+                (width * height).saturating_mul(12)
+            ),
+        ));
     }
     let mut rgb = vec![0f32; width * height * 3];
     let mut line = vec![[0u8; 4]; fast];

@@ -6,7 +6,7 @@
 //! stores them in (a Radiance resolution line `+Y`, a PFM's bottom-to-top rows). Single-channel
 //! files (PFM `Pf`, EXR `Y`) give R = G = B. Values are linear, as the file holds them.
 //!
-//! Hostile input: every reader checks its sizes against [`MAX_PIXELS`] and against the bytes
+//! Hostile input: every reader checks its sizes against [`max_pixels`] and against the bytes
 //! present before it allocates, refuses non-finite values, and returns a typed [`ImageError`]
 //! that says where (byte offset, header line, scanline) — never a panic. What it repairs (trailing
 //! bytes ignored, an alpha channel dropped) is a warning in [`Image::warnings`].
@@ -16,16 +16,47 @@ mod openexr;
 mod pfm;
 mod write;
 
-pub use hdr::read_hdr;
-pub use openexr::{read_exr, MAX_EXR_DECODED_BYTES};
+pub use hdr::{read_hdr, MAX_PIXELS_PER_BYTE, MIN_UNCHECKED_PIXELS};
+pub use openexr::{max_exr_decoded_bytes, read_exr, MAX_EXR_DECODED_BYTES};
 pub use pfm::read_pfm;
 pub use write::{write_hdr, write_hdr_flat, write_pfm};
 
 use std::path::Path;
 
-/// Largest number of pixels an image may have: 2²⁵ ≈ 33.5 million (8192 × 4096), 400 MiB of RGB
-/// `f32`. Larger files are refused with [`ImageError::TooLarge`] before anything is allocated.
-pub const MAX_PIXELS: usize = 1 << 25;
+/// The default largest number of pixels an image may have: 2²⁷ ≈ 134 million (16384 × 8192, the
+/// size of the largest skies HDRI libraries publish), 1.5 GiB of RGB `f32`. Larger images are
+/// refused with [`ImageError::BadSize`] before anything is allocated. The limit in force is
+/// [`max_pixels`]: this default, the environment variable `GONIO_MAX_PIXELS` when it holds a
+/// whole number at the first read, or what [`set_max_pixels`] set.
+pub const MAX_PIXELS: usize = 1 << 27;
+
+static PIXEL_LIMIT: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+
+/// The pixel limit in force (see [`MAX_PIXELS`]).
+pub fn max_pixels() -> usize {
+    use std::sync::atomic::Ordering::Relaxed;
+    match PIXEL_LIMIT.load(Relaxed) {
+        0 => {
+            let n = std::env::var("GONIO_MAX_PIXELS")
+                .ok()
+                .and_then(|v| v.trim().parse::<usize>().ok())
+                .filter(|&n| n > 0)
+                .unwrap_or(MAX_PIXELS);
+            // A concurrent `set_max_pixels` wins.
+            let _ = PIXEL_LIMIT.compare_exchange(0, n, Relaxed, Relaxed);
+            PIXEL_LIMIT.load(Relaxed)
+        }
+        n => n,
+    }
+}
+
+/// Sets the pixel limit of every reader from now on (process-wide; at least 1). Returns the
+/// previous limit.
+pub fn set_max_pixels(limit: usize) -> usize {
+    let before = max_pixels();
+    PIXEL_LIMIT.store(limit.max(1), std::sync::atomic::Ordering::Relaxed);
+    before
+}
 
 /// Largest width or height accepted on either axis.
 pub const MAX_SIDE: usize = 1 << 16;
@@ -349,8 +380,11 @@ pub(crate) fn check_size(
         return Err(bad(format!("a side exceeds the limit of {MAX_SIDE}")));
     }
     match width.checked_mul(height) {
-        Some(n) if n <= MAX_PIXELS => Ok(()),
-        _ => Err(bad(format!("more than the limit of {MAX_PIXELS} pixels"))),
+        Some(n) if n <= max_pixels() => Ok(()),
+        _ => Err(bad(format!(
+            "more than the limit of {} pixels (GONIO_MAX_PIXELS or image::set_max_pixels raise it)",
+            max_pixels()
+        ))),
     }
 }
 

@@ -93,10 +93,37 @@ pub fn read_pfm(bytes: &[u8]) -> Result<Image, ImageError> {
         ));
     }
     // `token` stopped on a white-space byte (it is not at the end): exactly that one byte follows.
+    // A `\r\n` (a header written on Windows) is two bytes: taken as one separator only when the
+    // byte count says so (the file is then exactly one byte longer than the data needs), refused
+    // when it is ambiguous, so the data is never read one byte off in silence.
+    let sep_at = pos;
     pos += 1;
     check_size(FORMAT, width, height)?;
     let row_bytes = width * channels * 4;
-    let needed = pos + height * row_bytes;
+    let mut needed = pos + height * row_bytes;
+    let mut warnings = Vec::new();
+    if bytes[sep_at] == b'\r' && bytes.get(pos) == Some(&b'\n') && bytes.len() > needed {
+        if bytes.len() == needed + 1 {
+            pos += 1;
+            needed += 1;
+            warnings.push(format!(
+                "the header ends with \"\\r\\n\" (bytes {sep_at}-{pos}) where the format has one \
+                 white-space byte; both were taken as the separator, as the file length says"
+            ));
+        } else {
+            return Err(header_err(
+                line,
+                sep_at,
+                format!(
+                    "the scale is followed by \"\\r\\n\" (byte {sep_at}) where the format has \
+                     exactly one white-space byte, and the file length ({} bytes, {} after the \
+                     pixel data) does not say whether the \"\\n\" is data",
+                    bytes.len(),
+                    bytes.len() - needed
+                ),
+            ));
+        }
+    }
     if bytes.len() < needed {
         return Err(ImageError::Truncated {
             format: FORMAT,
@@ -125,7 +152,6 @@ pub fn read_pfm(bytes: &[u8]) -> Result<Image, ImageError> {
             }
         }
     }
-    let mut warnings = Vec::new();
     if bytes.len() > needed {
         warnings.push(format!(
             "{} bytes after the pixel data (from byte {needed}) were ignored",

@@ -517,3 +517,140 @@ fn exr_channels_come_from_one_layer() {
     assert_eq!(img.pixel(0, 0), [1.0, 2.0, 3.0]);
     assert!(img.warnings()[0].contains("AO.R"), "{:?}", img.warnings());
 }
+
+/// Issue 40: `PF\n2 2\n-1.0\r\n` then twelve floats 0.7 was read one byte off (every pixel 4.17e-8)
+/// with only a trailing-byte warning. The `\r\n` is now taken as the separator when the length says
+/// so, and refused with its byte offset when it is ambiguous.
+#[test]
+fn pfm_crlf_after_the_scale_is_never_read_one_byte_off() {
+    let mut b = b"PF\n2 2\n-1.0\r\n".to_vec();
+    for _ in 0..12 {
+        b.extend(0.7f32.to_le_bytes());
+    }
+    let img = read_pfm(&b).unwrap();
+    for y in 0..2 {
+        for x in 0..2 {
+            assert_eq!(img.pixel(x, y), [0.7, 0.7, 0.7]);
+        }
+    }
+    assert_eq!(img.warnings().len(), 1, "{:?}", img.warnings());
+    assert!(img.warnings()[0].contains("\\r\\n"), "{:?}", img.warnings());
+    // One more byte: the "\n" could be data or separator: refused, located at the "\r".
+    let mut c = b.clone();
+    c.push(0);
+    match read_pfm(&c).unwrap_err() {
+        ImageError::Header {
+            line,
+            offset,
+            message,
+            ..
+        } => {
+            assert_eq!((line, offset), (3, 11), "{message}");
+            assert!(message.contains("\\r\\n"), "{message}");
+        }
+        other => panic!("{other:?}"),
+    }
+    // Exactly the data after "\r": the "\n" is the first data byte, as the format says.
+    let mut d = b"Pf\n1 1\n-1\r".to_vec();
+    d.extend([b'\n', 0, 0, 0]);
+    let img = read_pfm(&d).unwrap();
+    assert_eq!(img.pixel(0, 0)[0], f32::from_le_bytes([b'\n', 0, 0, 0]));
+    assert!(img.warnings().is_empty());
+}
+
+/// Issue 40: a 786 KB `.hdr` (`-Y 65536 +X 512`, each scanline one pixel then old-style repeats of
+/// 255 and 256) declared 33.5 million pixels and cost 2.4 GB. Refused before allocating; the same
+/// scanlines for an image of 2²⁰ pixels are read.
+#[test]
+fn hdr_declared_size_must_be_plausible_for_the_bytes_present() {
+    let file = |height: usize| {
+        let mut b =
+            format!("#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y {height} +X 512\n").into_bytes();
+        for _ in 0..height {
+            b.extend([128, 64, 32, 129, 1, 1, 1, 0xFF, 1, 1, 1, 1]);
+        }
+        b
+    };
+    let big = file(65536);
+    assert!(big.len() < 800_000);
+    match read_hdr(&big).unwrap_err() {
+        ImageError::Header { line, message, .. } => {
+            assert_eq!(line, 4, "{message}");
+            assert!(message.contains("implausible"), "{message}");
+        }
+        other => panic!("{other:?}"),
+    }
+    let ok = read_hdr(&file(2048)).unwrap();
+    assert_eq!((ok.width(), ok.height()), (512, 2048));
+    assert_eq!(ok.pixel(511, 2047), ok.pixel(0, 0));
+}
+
+/// Issue 40: an uncompressed 4 × 3 RGB EXR whose chunks all say y = 0 was read with rows 1–2
+/// black and no warning; refused now, naming the chunk. A chunk missing (truncated file) too.
+#[test]
+fn exr_chunks_must_cover_every_row_exactly_once() {
+    use exr::prelude::*;
+    let good = exr_bytes(|c| {
+        let layer = Layer::new(
+            (4, 3),
+            LayerAttributes::named("main"),
+            Encoding::UNCOMPRESSED,
+            SpecificChannels::rgb(|p: Vec2<usize>| (p.0 as f32 + 1.0, p.1 as f32 + 1.0, 0.5f32)),
+        );
+        exr::image::Image::from_layer(layer)
+            .write()
+            .to_buffered(c)
+            .unwrap()
+    });
+    let img = read_exr(&good).unwrap();
+    assert_eq!(img.pixel(3, 2), [4.0, 3.0, 0.5]);
+    // The offset table: three u64 offsets, the first pointing just after the table.
+    let u64_at = |b: &[u8], p: usize| u64::from_le_bytes(b[p..p + 8].try_into().unwrap()) as usize;
+    let table = (0..good.len() - 24)
+        .find(|&p| {
+            let (a, b, c) = (
+                u64_at(&good, p),
+                u64_at(&good, p + 8),
+                u64_at(&good, p + 16),
+            );
+            a == p + 24 && a < b && b < c && c < good.len()
+        })
+        .expect("offset table");
+    let mut bad = good.clone();
+    for k in 1..3 {
+        let chunk = u64_at(&good, table + 8 * k);
+        assert_eq!(
+            i32::from_le_bytes(good[chunk..chunk + 4].try_into().unwrap()),
+            k as i32
+        );
+        bad[chunk..chunk + 4].copy_from_slice(&0i32.to_le_bytes());
+    }
+    let e = read_exr(&bad).unwrap_err().to_string();
+    assert!(e.contains("chunk 1") && e.contains("second time"), "{e}");
+    // A y outside the data window.
+    let mut out = good.clone();
+    let chunk = u64_at(&good, table + 16);
+    out[chunk..chunk + 4].copy_from_slice(&7i32.to_le_bytes());
+    let e = read_exr(&out).unwrap_err().to_string();
+    assert!(e.contains("chunk 2") && e.contains("y = 7"), "{e}");
+}
+
+/// Issue 40: the pixel limit is raised to 16384 × 8192 and settable. (The limit set here stays
+/// far above every other test's images, which may be read concurrently.)
+#[test]
+fn the_pixel_limit_admits_16k_skies_and_is_settable() {
+    assert_eq!(super::MAX_PIXELS, 16384 * 8192);
+    let mut b = b"#?RADIANCE\n\n-Y 8192 +X 16384\n".to_vec();
+    b.extend(std::iter::repeat_n([1u8, 2, 3, 128], 8192).flatten());
+    // Within the default limit: refused by the plausibility check, not by the size.
+    assert!(matches!(read_hdr(&b), Err(ImageError::Header { .. })));
+    let before = super::set_max_pixels(1 << 26);
+    let e = read_hdr(&b).unwrap_err();
+    super::set_max_pixels(before);
+    match e {
+        ImageError::BadSize { message, .. } => assert!(message.contains("67108864"), "{message}"),
+        other => panic!("{other:?}"),
+    }
+    assert_eq!(super::max_pixels(), before);
+    assert!(super::max_exr_decoded_bytes() >= 16 * 16384 * 8192);
+}

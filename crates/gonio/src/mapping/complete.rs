@@ -280,8 +280,56 @@ pub(crate) fn hemisphere_part(diagram: &Diagram, upper: bool) -> Option<Diagram>
     Diagram::new(new_theta, diagram.phi().to_vec(), values).ok()
 }
 
+/// [`hemisphere_part`] of [`with_horizon_node`]`(diagram)`, the same values bit for bit, without
+/// the copy of the whole diagram with the node (one value a pixel of an environment map: issue 40
+/// measured the peak memory of a sphere map's build).
+pub(crate) fn hemisphere_part_with_horizon(
+    diagram: &Diagram,
+    upper: bool,
+) -> Result<Option<Diagram>, DiagramError> {
+    let half = std::f64::consts::FRAC_PI_2;
+    let theta = diagram.theta();
+    let n = theta.len();
+    if !(theta[0] < half && theta[n - 1] > half) || theta.contains(&half) {
+        return Ok(hemisphere_part(diagram, upper));
+    }
+    let m = diagram.n_meridians();
+    // The size cap counts the added parallel, as `with_horizon_node` does.
+    if (n + 1).checked_mul(m).is_none_or(|c| c > MAX_NODES) {
+        return Err(DiagramError::TooLarge {
+            parallels: n + 1,
+            meridians: m,
+        });
+    }
+    let j = theta.partition_point(|&t| t < half); // theta[j-1] < half < theta[j]
+    let t = (half - theta[j - 1]) / (theta[j] - theta[j - 1]);
+    let new_theta: Vec<f64> = if upper {
+        theta[..j].iter().copied().chain([half]).collect()
+    } else {
+        theta[j..]
+            .iter()
+            .rev()
+            .chain([&half])
+            .map(|&x| (std::f64::consts::PI - x).max(0.0))
+            .collect()
+    };
+    let mut values = Vec::with_capacity(m * new_theta.len());
+    for row in diagram.values().chunks_exact(n) {
+        let h = (1.0 - t) * row[j - 1] + t * row[j];
+        if upper {
+            values.extend_from_slice(&row[..j]);
+        } else {
+            values.extend(row[j..].iter().rev());
+        }
+        values.push(h);
+    }
+    Ok(Diagram::new(new_theta, diagram.phi().to_vec(), values).ok())
+}
+
 /// Inserts a parallel at θ = π/2 (values linear in θ between its neighbours, i.e. the target
 /// interpolant is unchanged) when the diagram crosses the horizon without a node there.
+/// (The maps use [`hemisphere_part_with_horizon`]; this is its reference in the tests.)
+#[cfg(test)]
 pub(crate) fn with_horizon_node(diagram: &Diagram) -> Result<Diagram, DiagramError> {
     let half = std::f64::consts::FRAC_PI_2;
     let theta = diagram.theta();
@@ -308,4 +356,44 @@ pub(crate) fn with_horizon_node(diagram: &Diagram) -> Result<Diagram, DiagramErr
         values.extend_from_slice(&row[j..]);
     }
     Diagram::new(new_theta, diagram.phi().to_vec(), values)
+}
+
+#[cfg(test)]
+mod horizon_tests {
+    use super::*;
+
+    /// The parts made without the copy of the whole diagram (issue 40) are those of the copy with
+    /// the horizon node, bit for bit, on grids that cross the horizon, touch it or stay on a side.
+    #[test]
+    fn parts_with_horizon_are_the_parts_of_the_diagram_with_the_node() {
+        let grids: [&[f64]; 5] = [
+            &[0.0, 0.3, 1.2, 1.9, 2.5, std::f64::consts::PI],
+            &[0.1, 1.5, 1.6],
+            &[0.0, std::f64::consts::FRAC_PI_2, 3.0],
+            &[0.0, 0.5, 1.0],
+            &[1.7, 2.0, 3.1],
+        ];
+        for theta in grids {
+            let phi = vec![0.0, 1.0, 2.5, 4.0];
+            let values: Vec<f64> = (0..theta.len() * phi.len())
+                .map(|k| 0.1 + ((k * 37) % 11) as f64 / 3.0)
+                .collect();
+            let d = Diagram::new(theta.to_vec(), phi, values).unwrap();
+            let with = with_horizon_node(&d).unwrap();
+            for upper in [true, false] {
+                let a = hemisphere_part_with_horizon(&d, upper).unwrap();
+                let b = hemisphere_part(&with, upper);
+                match (a, b) {
+                    (Some(a), Some(b)) => {
+                        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                        assert_eq!(bits(a.theta()), bits(b.theta()), "{theta:?} {upper}");
+                        assert_eq!(bits(a.phi()), bits(b.phi()));
+                        assert_eq!(bits(a.values()), bits(b.values()), "{theta:?} {upper}");
+                    }
+                    (None, None) => {}
+                    (a, b) => panic!("{theta:?} {upper}: {a:?} vs {b:?}"),
+                }
+            }
+        }
+    }
 }

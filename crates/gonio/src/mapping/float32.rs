@@ -209,8 +209,8 @@ impl Tables<f64> {
 }
 
 impl Tables<f32> {
-    /// The float32 tables of `core` (see the module documentation), or why there are none.
-    pub(super) fn of(core: &HdsCore) -> Result<Self, Float32MapError> {
+    /// Why `core` has no float32 tables (a grid beyond the float32 kernels' index limits).
+    fn check_size(core: &HdsCore) -> Result<(), Float32MapError> {
         let v = core.view();
         let (a, r) = (v.angular, v.radial);
         let lim = 1usize << 31;
@@ -224,6 +224,34 @@ impl Tables<f32> {
                 parallels: r.n,
             });
         }
+        Ok(())
+    }
+
+    /// [`Tables::table_bytes`] of `Tables::of(core)`, counted from the float64 tables' lengths
+    /// without making the float32 tables (issue 40: counting them by building them cost 11 bytes
+    /// a pixel of an environment map at the peak).
+    pub(super) fn bytes_of(core: &HdsCore) -> Result<usize, Float32MapError> {
+        Self::check_size(core)?;
+        let v = core.view();
+        let (a, r) = (v.angular, v.radial);
+        let floats = a.phi.len()
+            + a.phi.len().saturating_sub(1)
+            + a.r2.len()
+            + a.cum.len()
+            + r.x.len()
+            + r.d.len()
+            + r.u.len()
+            + a.m
+            + r.x.len().saturating_sub(1);
+        let guides = a.wedge_guide.len() + r.radius_guide.len() + r.radial_guide.len();
+        Ok((floats + guides) * 4)
+    }
+
+    /// The float32 tables of `core` (see the module documentation), or why there are none.
+    pub(super) fn of(core: &HdsCore) -> Result<Self, Float32MapError> {
+        Self::check_size(core)?;
+        let v = core.view();
+        let (a, r) = (v.angular, v.radial);
         let (m, n) = (a.m, r.n);
         let round = |s: &[f64]| s.iter().map(|&x| r32(x)).collect::<Vec<f64>>();
         // M_C.
@@ -242,9 +270,13 @@ impl Tables<f32> {
             .collect();
         // M_D.
         let x = round(r.x);
-        let d = round(r.d);
-        let u = round(r.u);
-        let total = (0..m).map(|i| u[i * n + n - 1]).collect();
+        // The M × N tables (one value a pixel of an environment map) go to f32 directly: a
+        // rounded f64 copy of them beside the f64 map cost 19 bytes a pixel at the peak of
+        // `into_float32` (issue 40). Every value is an f32 value, so this is the same conversion.
+        let to_f32 = |s: &[f64]| s.iter().map(|&x| x as f32).collect::<Vec<f32>>();
+        let d32 = to_f32(r.d);
+        let u32_ = to_f32(r.u);
+        let total = (0..m).map(|i| f64::from(u32_[i * n + n - 1])).collect();
         let radius_len = r.radius_guide.len();
         let radius_scale = r32(radius_len as f64 / x[n - 1]);
         let radius_guide = (0..radius_len)
@@ -260,7 +292,7 @@ impl Tables<f32> {
                 }
             })
             .collect();
-        let radial_guide = super::radial::radial_guides(&u, n, r.radial_k);
+        let radial_guide = super::radial::radial_guides(&u32_, n, r.radial_k);
         let edge = r32(x[n - 1] * <f32 as Precision>::EDGE);
         let t = Tables {
             m,
@@ -274,8 +306,8 @@ impl Tables<f32> {
             wedge_guide,
             guide_scale,
             x,
-            d,
-            u,
+            d: Vec::new(),
+            u: Vec::new(),
             total,
             radius_guide,
             radius_scale,
@@ -285,7 +317,10 @@ impl Tables<f32> {
             edge,
         };
         // Every entry is an f32 value already: the conversion is exact.
-        Ok(t.map(|x| x as f32))
+        let mut t = t.map(|x| x as f32);
+        t.d = d32;
+        t.u = u32_;
+        Ok(t)
     }
 }
 
@@ -637,6 +672,49 @@ impl SphereMap {
     }
 }
 
+impl SphereMap {
+    /// [`Float32Map::memory_bytes`] of [`SphereMap::float32_map`], counted without making it.
+    ///
+    /// [`SphereMap::into_float32_map`], the same map made from a map given away, drops each
+    /// hemisphere map as soon as its float32 tables are made, so the float64 and float32 tables of
+    /// one hemisphere, not of both, are held at once (issue 40: the peak of
+    /// `EnvironmentMap::into_float32`).
+    ///
+    /// # Errors
+    /// As [`SphereMap::float32_map`].
+    pub(crate) fn float32_map_bytes(&self) -> Result<usize, Float32MapError> {
+        let of = |c: Option<&HdsCore>| c.map_or(Ok(0), Tables::bytes_of);
+        let tables = match self.cores() {
+            CoresRef::Lambert(c) => Tables::bytes_of(c)?,
+            CoresRef::Split { upper, lower, .. } => of(upper)? + of(lower)?,
+        };
+        Ok(tables + std::mem::size_of::<Float32Map>())
+    }
+
+    /// [`SphereMap::float32_map`] of a map given away: each hemisphere map is dropped as soon as
+    /// its float32 tables are made (see above).
+    pub(crate) fn into_float32_map(self) -> Result<Float32Map, Float32MapError> {
+        let inv_2t = self.inv_2t() as f32;
+        // `c` is dropped at the end of each closure, right after its conversion.
+        let of = |c: Option<HdsCore>| c.map(|c| Tables::of(&c)).transpose();
+        let layout = match self.into_cores() {
+            super::sphere::CoresOwned::Lambert(c) => Layout::Lambert(Tables::of(&c)?),
+            super::sphere::CoresOwned::Split { upper, lower, rule } => {
+                let upper = of(upper)?;
+                let lower = of(lower)?;
+                Layout::Split {
+                    upper,
+                    lower,
+                    rule: rule.rounded_f32(),
+                }
+            }
+        };
+        Ok(Float32Map {
+            maps: Maps { layout, inv_2t },
+        })
+    }
+}
+
 impl Float32Map {
     /// Maps the points `(u[k], v[k])` of the unit square to directions `dir[·][k]` and their
     /// densities `pdf[k]` (per steradian), on `backend` (or the fastest below it that the CPU
@@ -834,5 +912,62 @@ impl Float32Exact {
     /// If the slices differ in length.
     pub fn invert_soa_with(&self, backend: Backend, dir: [&[f64]; 3], uv: [&mut [f64]; 2]) {
         self.maps.invert(backend, dir, uv)
+    }
+}
+
+#[cfg(test)]
+mod memory_tests {
+    use crate::diagram::Diagram;
+    use crate::mapping::{SphereLayout, SphereMap};
+
+    /// Issue 40: the float32 map's bytes counted without making it, and the map made from a map
+    /// given away (each hemisphere's float64 tables dropped once converted), are those of
+    /// `float32_map`, on both layouts and on one-sided split maps.
+    #[test]
+    fn counted_and_consumed_float32_maps_equal_the_made_one() {
+        let theta: Vec<f64> = (0..9)
+            .map(|j| std::f64::consts::PI * j as f64 / 8.0)
+            .collect();
+        let phi: Vec<f64> = (0..7)
+            .map(|i| std::f64::consts::TAU * i as f64 / 7.0)
+            .collect();
+        let both: Vec<f64> = (0..63).map(|k| 0.2 + ((k * 13) % 7) as f64).collect();
+        let upper: Vec<f64> = (0..63)
+            .map(|k| {
+                if k % 9 <= 4 {
+                    1.0 + (k % 5) as f64
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        let lower: Vec<f64> = (0..63)
+            .map(|k| {
+                if k % 9 >= 4 {
+                    1.0 + (k % 3) as f64
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        for values in [both, upper, lower] {
+            let d = Diagram::new(theta.clone(), phi.clone(), values).unwrap();
+            for layout in [SphereLayout::Split, SphereLayout::Lambert] {
+                let Ok(map) = SphereMap::with_layout(&d, layout) else {
+                    continue;
+                };
+                let made = map.float32_map().unwrap();
+                assert_eq!(map.float32_map_bytes().unwrap(), made.memory_bytes());
+                let consumed = map.into_float32_map().unwrap();
+                let (u, v) = ([0.1f32, 0.5, 0.93], [0.7f32, 0.5, 0.02]);
+                let run = |m: &super::Float32Map| {
+                    let (mut x, mut y, mut z, mut p) = ([0f32; 3], [0f32; 3], [0f32; 3], [0f32; 3]);
+                    m.sample_soa(&u, &v, [&mut x, &mut y, &mut z], &mut p);
+                    [x, y, z, p].map(|a| a.map(f32::to_bits))
+                };
+                assert_eq!(run(&made), run(&consumed));
+                assert_eq!(made.memory_bytes(), consumed.memory_bytes());
+            }
+        }
     }
 }

@@ -213,7 +213,7 @@ pub(crate) struct Radial {
 /// The radial guide tables of the cumulative masses `u` (row-major M × N, rows non-decreasing),
 /// K = `radial_k` cells each: entry (i, k) is the largest j ≤ N − 2 with U(i, j) ≤ (k/K)·U(i, N−1)
 /// (see [`Radial`]'s field `radial_guide`).
-pub(crate) fn radial_guides(u: &[f64], n: usize, radial_k: usize) -> Vec<u32> {
+pub(crate) fn radial_guides<T: Copy + Into<f64>>(u: &[T], n: usize, radial_k: usize) -> Vec<u32> {
     let m = u.len() / n;
     let mut radial_guide = Vec::with_capacity(m * (radial_k + 1));
     for i in 0..m {
@@ -222,8 +222,8 @@ pub(crate) fn radial_guides(u: &[f64], n: usize, radial_k: usize) -> Vec<u32> {
         // one walk up the row as the levels rise.
         let mut count = 0;
         for k in 0..=radial_k {
-            let level = k as f64 / radial_k as f64 * row[n - 1];
-            while count < n && row[count] <= level {
+            let level = k as f64 / radial_k as f64 * row[n - 1].into();
+            while count < n && row[count].into() <= level {
                 count += 1;
             }
             let j = count.max(1) - 1;

@@ -13,7 +13,7 @@
 //! In both, every sample's pdf is D/(2T) with T the total disk power of the map(s), so at every node
 //! the pdf is the node value times one constant.
 
-use super::complete::{complete, hemisphere_part, with_horizon_node, Completion};
+use super::complete::{complete, hemisphere_part_with_horizon, Completion};
 use super::hds::HdsCore;
 use super::refine::{refine, valid_tolerance, RefineLimits, Refinement};
 use super::split::{mirror, Side, SplitRule};
@@ -64,6 +64,18 @@ pub(crate) enum CoresRef<'a> {
         rule: SplitRule,
     },
     Lambert(&'a HdsCore),
+}
+
+/// A [`SphereMap`]'s maps, owned ([`SphereMap::into_cores`]).
+// Made once per conversion, never in a collection: the split variant's size costs nothing.
+#[allow(clippy::large_enum_variant)]
+pub(crate) enum CoresOwned {
+    Split {
+        upper: Option<HdsCore>,
+        lower: Option<HdsCore>,
+        rule: SplitRule,
+    },
+    Lambert(HdsCore),
 }
 
 impl<'a> CoresRef<'a> {
@@ -164,7 +176,7 @@ impl SphereMap {
     /// reaches into both hemispheres; outside the measured range it is completed with zero, as the
     /// split layout.
     pub fn with_layout(diagram: &Diagram, layout: SphereLayout) -> Result<Self, DiagramError> {
-        Self::build(diagram, layout, None)
+        Self::build(std::borrow::Cow::Borrowed(diagram), layout, None)
     }
 
     /// Builds the map with the default split layout, refined to `tolerance` (see
@@ -192,25 +204,39 @@ impl SphereMap {
         if !valid_tolerance(tolerance) {
             return Err(DiagramError::BadTolerance { tolerance });
         }
-        Self::build(diagram, layout, Some((tolerance, limits)))
+        Self::build(
+            std::borrow::Cow::Borrowed(diagram),
+            layout,
+            Some((tolerance, limits)),
+        )
+    }
+
+    /// [`SphereMap::new`] of a diagram the caller gives away: it is dropped as soon as the
+    /// hemisphere parts are made, before the tables are built (an environment map's diagram is
+    /// 8 bytes a pixel; issue 40).
+    pub(crate) fn from_diagram(diagram: Diagram) -> Result<Self, DiagramError> {
+        Self::build(std::borrow::Cow::Owned(diagram), SphereLayout::Split, None)
     }
 
     fn build(
-        diagram: &Diagram,
+        diagram: std::borrow::Cow<'_, Diagram>,
         layout: SphereLayout,
         tolerance: Option<(f64, &RefineLimits)>,
     ) -> Result<Self, DiagramError> {
         let start = std::time::Instant::now();
+        // The target is the data (zero outside its measured range), normalised by the data's
+        // integral; the cores' own (completed) totals include the guard bands.
+        let target_total = diagram.normalised_integral();
+        let measured_theta = measured(&diagram);
         // The completed diagram(s); refined when a tolerance is asked.
         let scale = diagram.max_value();
         let mut completions = Vec::new();
         let completed: Vec<Option<Diagram>> = match layout {
             SphereLayout::Split => {
-                let d = with_horizon_node(diagram)?;
                 let mut part = |upper: bool| -> Result<Option<Diagram>, DiagramError> {
                     // No part: the data does not reach into this hemisphere (it ends at the
                     // horizon) or measures only zeros there; nothing is completed.
-                    let Some(p) = hemisphere_part(&d, upper) else {
+                    let Some(p) = hemisphere_part_with_horizon(&diagram, upper)? else {
                         return Ok(None);
                     };
                     let c = complete(&p, FRAC_PI_2, !upper, scale)?;
@@ -224,11 +250,13 @@ impl SphereMap {
                 if !(theta[0] < FRAC_PI_2 && theta[theta.len() - 1] > FRAC_PI_2) {
                     return Err(DiagramError::NotSpanningHorizon);
                 }
-                let c = complete(diagram, PI, false, scale)?;
+                let c = complete(&diagram, PI, false, scale)?;
                 completions.extend(c.completions);
                 vec![Some(c.diagram)]
             }
         };
+        // The parts are made: an owned diagram is not needed any more.
+        drop(diagram);
         completions.sort_by(|a, b| a.theta_from_deg.total_cmp(&b.theta_from_deg));
         // Light below double precision's resolution on one side only (< 1e-15 of the total) is
         // dropped there; the other side carries the power.
@@ -269,9 +297,6 @@ impl SphereMap {
                 info = Some((tol, r.stop, parallels_before, memory_before));
             }
         }
-        // The target is the data (zero outside its measured range), normalised by the data's
-        // integral; the cores' own (completed) totals include the guard bands.
-        let target_total = diagram.normalised_integral();
         let mut map = match layout {
             SphereLayout::Split => {
                 let lower = cores.pop().flatten();
@@ -300,7 +325,7 @@ impl SphereMap {
                     ratio_scale,
                     scale,
                     completions,
-                    measured: measured(diagram),
+                    measured: measured_theta,
                     refinement: None,
                     float32: std::sync::OnceLock::new(),
                 }
@@ -318,7 +343,7 @@ impl SphereMap {
                     layout: Layout::Lambert(Box::new(core)),
                     scale,
                     completions,
-                    measured: measured(diagram),
+                    measured: measured_theta,
                     refinement: None,
                     float32: std::sync::OnceLock::new(),
                 }
@@ -444,6 +469,33 @@ impl SphereMap {
                 rule: SplitRule::lower_only(),
             },
             Layout::Lambert(c) => CoresRef::Lambert(c),
+        }
+    }
+
+    /// The maps taken apart (as [`SphereMap::cores`], owned), for a conversion that drops each
+    /// map as soon as it is converted ([`SphereMap::into_float32_map`]).
+    pub(crate) fn into_cores(self) -> CoresOwned {
+        match self.layout {
+            Layout::Split {
+                upper,
+                lower,
+                p_lower,
+            } => CoresOwned::Split {
+                upper: Some(upper),
+                lower: Some(lower),
+                rule: SplitRule::both(p_lower),
+            },
+            Layout::Upper(c) => CoresOwned::Split {
+                upper: Some(c),
+                lower: None,
+                rule: SplitRule::upper_only(),
+            },
+            Layout::Lower(c) => CoresOwned::Split {
+                upper: None,
+                lower: Some(c),
+                rule: SplitRule::lower_only(),
+            },
+            Layout::Lambert(c) => CoresOwned::Lambert(*c),
         }
     }
 

@@ -169,24 +169,28 @@ pub enum MeshWarning {
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum MeshError {
     /// A syntax error at a known place of the file.
-    #[error("{format} line {line} (byte {byte}): {message}")]
+    #[error("{}: {message}", place(format, *line, *column, *byte))]
     Syntax {
         /// `"OBJ"` or `"PLY"`.
         format: &'static str,
         /// 1-based line (for binary PLY data: 0).
         line: usize,
+        /// 1-based column in characters on that line (0 for binary PLY data).
+        column: usize,
         /// Byte offset from the start of the file.
         byte: usize,
         /// What is wrong.
         message: String,
     },
     /// A face refers to an element that does not exist.
-    #[error("{format} line {line} (byte {byte}): {kind} index {index} is out of range (there are {count})")]
+    #[error("{}: {kind} index {index} is out of range (there are {count})", place(format, *line, *column, *byte))]
     Index {
         /// `"OBJ"` or `"PLY"`.
         format: &'static str,
         /// 1-based line (binary PLY: 0).
         line: usize,
+        /// 1-based column in characters on that line (0 for binary PLY data).
+        column: usize,
         /// Byte offset.
         byte: usize,
         /// `"vertex"`, `"normal"` or `"texture"`.
@@ -219,6 +223,14 @@ pub enum MeshError {
     /// The mesh has no triangles.
     #[error("the mesh has no triangles")]
     Empty,
+    /// A working buffer could not be allocated (the mesh is too large for the memory available).
+    #[error("out of memory: {what} needs {bytes} bytes, which could not be allocated")]
+    OutOfMemory {
+        /// What the buffer is for.
+        what: &'static str,
+        /// Its size.
+        bytes: u64,
+    },
     /// A position is NaN or infinite.
     #[error("vertex {vertex} has a non-finite coordinate")]
     NonFinitePosition {
@@ -275,4 +287,87 @@ pub enum MeshError {
     /// The map could not be built from the density diagram.
     #[error("the density diagram: {0}")]
     Diagram(#[from] crate::diagram::DiagramError),
+}
+
+/// An empty vector with room for `n` elements, allocated fallibly: [`MeshError::OutOfMemory`]
+/// instead of an abort when the memory is not there (a `texture_uv` call with 10⁸ faces under a
+/// memory limit once aborted in [`star::check_closed`]).
+pub(crate) fn try_vec<T>(n: usize, what: &'static str) -> Result<Vec<T>, MeshError> {
+    let mut v = Vec::new();
+    v.try_reserve_exact(n).map_err(|_| MeshError::OutOfMemory {
+        what,
+        bytes: (n as u64).saturating_mul(std::mem::size_of::<T>() as u64),
+    })?;
+    Ok(v)
+}
+
+/// Where an error is: `OBJ line 3, column 7 (byte 22)` in text, `PLY byte 310` in binary data.
+fn place(format: &str, line: usize, column: usize, byte: usize) -> String {
+    match (line, column) {
+        (0, _) => format!("{format} byte {byte}"),
+        (l, 0) => format!("{format} line {l} (byte {byte})"),
+        (l, c) => format!("{format} line {l}, column {c} (byte {byte})"),
+    }
+}
+
+/// `e` with the column of its line and byte filled in from the file's `bytes` (the readers
+/// locate by byte offset; the column is counted once, here, for the error only).
+pub(crate) fn with_column(e: MeshError, bytes: &[u8]) -> MeshError {
+    let column_of = |line: usize, byte: usize| -> usize {
+        if line == 0 || byte > bytes.len() {
+            return 0;
+        }
+        let start = bytes[..byte]
+            .iter()
+            .rposition(|&b| b == b'\n')
+            .map_or(0, |p| p + 1);
+        String::from_utf8_lossy(&bytes[start..byte]).chars().count() + 1
+    };
+    match e {
+        MeshError::Syntax {
+            format,
+            line,
+            byte,
+            message,
+            ..
+        } => MeshError::Syntax {
+            format,
+            line,
+            column: column_of(line, byte),
+            byte,
+            message,
+        },
+        MeshError::Index {
+            format,
+            line,
+            byte,
+            kind,
+            index,
+            count,
+            ..
+        } => MeshError::Index {
+            format,
+            line,
+            column: column_of(line, byte),
+            byte,
+            kind,
+            index,
+            count,
+        },
+        e => e,
+    }
+}
+
+/// At most 40 characters of `s` for a message, control characters (ESC, NUL, …) escaped as
+/// `\u{1b}`, so that a message never echoes raw control bytes from a file to a terminal.
+pub(crate) fn printable(s: &str) -> String {
+    let mut out = String::new();
+    for c in s.chars().take(40) {
+        if c.is_control() {
+            out.extend(c.escape_default());
+        } else {
+            out.push(c);
+        }
+    }
+    out
 }

@@ -25,6 +25,7 @@ fn syntax(line: usize, byte: usize, message: impl Into<String>) -> MeshError {
     MeshError::Syntax {
         format: FMT,
         line,
+        column: 0,
         byte,
         message: message.into(),
     }
@@ -42,7 +43,7 @@ fn number(tok: &str, line: usize, byte: usize, what: &str) -> Result<f64, MeshEr
 }
 
 fn clip(s: &str) -> String {
-    s.chars().take(40).collect()
+    super::printable(s)
 }
 
 /// Resolves a 1-based or negative OBJ index against `count` elements read so far.
@@ -67,6 +68,7 @@ fn resolve(
         return Err(MeshError::Index {
             format: FMT,
             line,
+            column: 0,
             byte,
             kind,
             index: i,
@@ -78,6 +80,10 @@ fn resolve(
 
 /// Reads an OBJ file's bytes.
 pub fn read_obj(bytes: &[u8]) -> Result<ObjRead, MeshError> {
+    read_obj_located(bytes).map_err(|e| super::with_column(e, bytes))
+}
+
+fn read_obj_located(bytes: &[u8]) -> Result<ObjRead, MeshError> {
     let mut mesh = Mesh::default();
     let mut colors: Vec<[f64; 3]> = Vec::new();
     let mut any_color = false;
@@ -123,6 +129,13 @@ pub fn read_obj(bytes: &[u8]) -> Result<ObjRead, MeshError> {
                         return Err(syntax(line, at(vals[3]), "vertex weight w = 0"));
                     }
                     p = [p[0] / w, p[1] / w, p[2] / w];
+                    if !p.iter().all(|c| c.is_finite()) {
+                        return Err(syntax(
+                            line,
+                            at(vals[3]),
+                            format!("vertex weight {w}: the position divided by it is not finite"),
+                        ));
+                    }
                 }
                 let mut c = [0.0; 3];
                 if vals.len() == 6 {
@@ -340,6 +353,7 @@ mod tests {
             MeshError::Index {
                 format: FMT,
                 line: 3,
+                column: 7,
                 byte: 22,
                 kind: "vertex",
                 index: 3,
@@ -373,5 +387,33 @@ mod tests {
     fn vertex_colours_are_kept() {
         let r = read_obj(b"v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 1\nf 1 2 3\n").unwrap();
         assert_eq!(r.mesh.property("green").unwrap(), &[0.0, 1.0, 0.0]);
+    }
+
+    /// Issue 40: OBJ messages echoed raw ESC and NUL bytes from the file.
+    #[test]
+    fn messages_escape_control_bytes() {
+        for text in [
+            &b"v 0 0 \x1b[2J\n"[..],
+            b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 \x003\n",
+            b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3/\x07/\x1b/x\n",
+        ] {
+            let m = read_obj(text).unwrap_err().to_string();
+            assert!(!m.chars().any(|c| c.is_control()), "{m:?}");
+            assert!(m.contains("\\u{"), "{m:?}");
+        }
+        let r = read_obj(b"v 0 0 0\nv 1 0 0\nv 0 1 0\n\x1bx 1\nf 1 2 3\n").unwrap();
+        let w = r.warnings[0].to_string();
+        assert!(!w.chars().any(|c| c.is_control()), "{w:?}");
+        // Located by line and column (characters, not bytes).
+        let e = read_obj("v 0 0 0\n# é\nv 1 é 0\n".as_bytes()).unwrap_err();
+        assert!(
+            e.to_string().starts_with("OBJ line 3, column 5 (byte 17)"),
+            "{e}"
+        );
+        // A weight that makes the position overflow is refused (no inf from finite numbers).
+        assert!(matches!(
+            read_obj(b"v 1e300 0 0 1e-300\n"),
+            Err(MeshError::Syntax { line: 1, .. })
+        ));
     }
 }

@@ -716,6 +716,21 @@ impl Cutter<'_> {
 
 /// Parameterises `mesh` (see the module documentation).
 pub fn parameterise(mesh: &Mesh, options: &UvOptions) -> Result<UvResult, MeshError> {
+    mesh.validate()?;
+    if let Some(k) = super::star::extent_scale(mesh, options.center) {
+        // Scale-free: a mesh of coordinates near 1e100 or 1e-100 (whose areas and volume would
+        // overflow or underflow) is parameterised at 2^k times its size, exactly, and scaled back.
+        let m = super::star::scaled_mesh(mesh, k)?;
+        let mut opts = options.clone();
+        opts.center = options.center.map(|c| c.map(|x| super::star::ldexp(x, k)));
+        let mut r = parameterise(&m, &opts)?;
+        let back = |p: &mut [f64; 3]| *p = p.map(|x| super::star::ldexp(x, -k));
+        r.mesh.positions.iter_mut().for_each(back);
+        let mut c = r.star.center;
+        back(&mut c);
+        r.star.center = c;
+        return Ok(r);
+    }
     let t0 = std::time::Instant::now();
     let star = find_center(mesh, options.center)?;
     let t1 = std::time::Instant::now();

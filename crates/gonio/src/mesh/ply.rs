@@ -6,7 +6,7 @@
 //! Every element count is checked against the bytes present before anything is allocated: a
 //! binary element needs at least its fixed size, an ASCII value at least two bytes.
 
-use super::{Mesh, MeshError, MeshWarning, VertexProperty, MAX_ELEMENTS};
+use super::{printable, Mesh, MeshError, MeshWarning, VertexProperty, MAX_ELEMENTS};
 
 const FMT: &str = "PLY";
 
@@ -83,6 +83,7 @@ fn syntax(line: usize, byte: usize, message: impl Into<String>) -> MeshError {
     MeshError::Syntax {
         format: FMT,
         line,
+        column: 0,
         byte,
         message: message.into(),
     }
@@ -170,18 +171,24 @@ impl Cursor<'_> {
             _ => Err(syntax(
                 self.line,
                 start,
-                format!(
-                    "{what}: `{}` is not a valid {:?} value",
-                    s.chars().take(40).collect::<String>(),
-                    t
-                ),
+                format!("{what}: `{}` is not a valid {:?} value", printable(s), t),
             )),
         }
     }
 }
 
+/// A finite value with no fractional part (an index or a list length; a float PLY property may
+/// hold 1.5 or NaN, which are refused rather than truncated).
+fn whole(v: f64) -> bool {
+    v.is_finite() && v.fract() == 0.0
+}
+
 /// Reads a PLY file's bytes.
 pub fn read_ply(bytes: &[u8]) -> Result<PlyRead, MeshError> {
+    read_ply_located(bytes).map_err(|e| super::with_column(e, bytes))
+}
+
+fn read_ply_located(bytes: &[u8]) -> Result<PlyRead, MeshError> {
     // The header: ASCII lines up to `end_header`.
     let mut pos = 0usize;
     let mut line = 0usize;
@@ -228,9 +235,13 @@ pub fn read_ply(bytes: &[u8]) -> Result<PlyRead, MeshError> {
                 else {
                     return Err(syntax(line, start, "`element` needs a name and a count"));
                 };
-                let count: u64 = count
-                    .parse()
-                    .map_err(|_| syntax(line, start, format!("bad element count `{count}`")))?;
+                let count: u64 = count.parse().map_err(|_| {
+                    syntax(
+                        line,
+                        start,
+                        format!("bad element count `{}`", printable(count)),
+                    )
+                })?;
                 if count > MAX_ELEMENTS {
                     return Err(MeshError::TooLarge {
                         what: "elements",
@@ -273,10 +284,7 @@ pub fn read_ply(bytes: &[u8]) -> Result<PlyRead, MeshError> {
                 return Err(syntax(
                     line,
                     start,
-                    format!(
-                        "unknown header keyword `{}`",
-                        other.chars().take(40).collect::<String>()
-                    ),
+                    format!("unknown header keyword `{}`", printable(other)),
                 ))
             }
         }
@@ -355,9 +363,33 @@ pub fn read_ply(bytes: &[u8]) -> Result<PlyRead, MeshError> {
             for v in 0..n {
                 for (k, p) in el.props.iter().enumerate() {
                     match p {
-                        Property::Scalar(_, t) => vals[k] = cur.read(*t, "vertex data")?,
+                        Property::Scalar(name, t) => {
+                            // Every vertex attribute (position, normal, colour, …) must be finite:
+                            // a binary NaN normal was once written out as `vn NaN NaN NaN`.
+                            let (l, b) = cur.here();
+                            let x = cur.read(*t, "vertex data")?;
+                            if !x.is_finite() {
+                                return Err(syntax(
+                                    l,
+                                    b,
+                                    format!(
+                                        "vertex {v}: property `{}` is {x}, not a finite number",
+                                        printable(name)
+                                    ),
+                                ));
+                            }
+                            vals[k] = x;
+                        }
                         Property::List(_, c, t) => {
+                            let (l, b) = cur.here();
                             let len = cur.read(*c, "vertex list length")?;
+                            if !whole(len) || len < 0.0 {
+                                return Err(syntax(
+                                    l,
+                                    b,
+                                    format!("vertex {v}: bad list length {len}"),
+                                ));
+                            }
                             for _ in 0..len as u64 {
                                 cur.read(*t, "vertex list")?;
                             }
@@ -402,7 +434,10 @@ pub fn read_ply(bytes: &[u8]) -> Result<PlyRead, MeshError> {
                         Property::List(_, c, t) => {
                             let len = cur.read(*c, "face list length")?;
                             let (l, b) = cur.here();
-                            if len < 0.0 || len as u64 > (bytes.len() - cur.pos) as u64 {
+                            if !whole(len)
+                                || len < 0.0
+                                || len as u64 > (bytes.len() - cur.pos) as u64
+                            {
                                 return Err(syntax(
                                     l,
                                     b,
@@ -426,10 +461,20 @@ pub fn read_ply(bytes: &[u8]) -> Result<PlyRead, MeshError> {
                             for _ in 0..len as u64 {
                                 let (l, b) = cur.here();
                                 let i = cur.read(*t, "face indices")?;
+                                if !whole(i) {
+                                    return Err(syntax(
+                                        l,
+                                        b,
+                                        format!(
+                                            "face {f}: the vertex index {i} is not a whole number"
+                                        ),
+                                    ));
+                                }
                                 if !(i >= 0.0 && (i as usize) < mesh.positions.len()) {
                                     return Err(MeshError::Index {
                                         format: FMT,
                                         line: l,
+                                        column: 0,
                                         byte: b,
                                         kind: "vertex",
                                         index: i as i64,
@@ -461,7 +506,10 @@ pub fn read_ply(bytes: &[u8]) -> Result<PlyRead, MeshError> {
                         }
                         Property::List(_, c, t) => {
                             let len = cur.read(*c, "list length")?;
-                            if len < 0.0 || len as u64 > (bytes.len() - cur.pos) as u64 {
+                            if !whole(len)
+                                || len < 0.0
+                                || len as u64 > (bytes.len() - cur.pos) as u64
+                            {
                                 let (l, b) = cur.here();
                                 return Err(syntax(l, b, format!("bad list length {len}")));
                             }
@@ -473,7 +521,7 @@ pub fn read_ply(bytes: &[u8]) -> Result<PlyRead, MeshError> {
                 }
             }
             warnings.push(MeshWarning::Skipped {
-                keyword: el.name.clone(),
+                keyword: printable(&el.name),
                 count: n,
                 first_line: el.line,
             });
@@ -587,5 +635,98 @@ mod tests {
             read_ply(b"plx\n"),
             Err(MeshError::Syntax { line: 1, .. })
         ));
+    }
+
+    /// A binary little-endian tetrahedron: float x y z nx ny nz, face indices of type `index`.
+    fn tetra(normal_of_vertex_2: f32, index: &str, indices: [f32; 3]) -> Vec<u8> {
+        let mut b = format!("ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nproperty float nx\nproperty float ny\nproperty float nz\nelement face 4\nproperty list uchar {index} vertex_indices\nend_header\n").into_bytes();
+        let pts = [
+            [1f32, 1., 1.],
+            [1., -1., -1.],
+            [-1., 1., -1.],
+            [-1., -1., 1.],
+        ];
+        for (k, p) in pts.iter().enumerate() {
+            for c in p {
+                b.extend(c.to_le_bytes());
+            }
+            let n = if k == 2 { normal_of_vertex_2 } else { 0.5 };
+            for _ in 0..3 {
+                b.extend(n.to_le_bytes());
+            }
+        }
+        for (f, t) in [[0f32, 1., 2.], [0., 3., 1.], [0., 2., 3.], [1., 3., 2.]]
+            .iter()
+            .enumerate()
+        {
+            b.push(3);
+            let t = if f == 3 { indices } else { *t };
+            for i in t {
+                if index == "float" {
+                    b.extend(i.to_le_bytes());
+                } else {
+                    b.extend((i as i32).to_le_bytes());
+                }
+            }
+        }
+        b
+    }
+
+    /// Issue 40: a binary PLY with NaN normals was accepted (`uv` wrote `vn NaN NaN NaN`).
+    #[test]
+    fn non_finite_vertex_attributes_are_refused_with_the_vertex() {
+        assert!(read_ply(&tetra(0.5, "int", [1., 3., 2.])).is_ok());
+        for bad in [f32::NAN, f32::INFINITY] {
+            let e = read_ply(&tetra(bad, "int", [1., 3., 2.])).unwrap_err();
+            let header = tetra(0.5, "int", [1., 3., 2.]).len() - 4 * 24 - 4 * 13;
+            match &e {
+                MeshError::Syntax { byte, message, .. } => {
+                    assert_eq!(*byte, header + 2 * 24 + 12, "{e}");
+                    // Binary data: located by byte offset, no line.
+                    assert!(
+                        e.to_string().starts_with(&format!("PLY byte {byte}: ")),
+                        "{e}"
+                    );
+                    assert!(
+                        message.contains("vertex 2") && message.contains("`nx`"),
+                        "{e}"
+                    );
+                }
+                other => panic!("{other:?}"),
+            }
+        }
+    }
+
+    /// Issue 40: fractional float face indices were truncated and a NaN index was reported as
+    /// "vertex index 0 is out of range".
+    #[test]
+    fn float_face_indices_must_be_whole_numbers() {
+        assert!(read_ply(&tetra(0.5, "float", [1., 3., 2.])).is_ok());
+        let e = read_ply(&tetra(0.5, "float", [1., 3.5, 2.])).unwrap_err();
+        assert!(
+            matches!(&e, MeshError::Syntax { message, .. } if message.contains("face 3") && message.contains("3.5") && message.contains("not a whole number")),
+            "{e}"
+        );
+        let e = read_ply(&tetra(0.5, "float", [1., f32::NAN, 2.])).unwrap_err();
+        assert!(
+            matches!(&e, MeshError::Syntax { message, .. } if message.contains("NaN")),
+            "{e}"
+        );
+    }
+
+    /// Issue 40: messages never echo raw control bytes from the file.
+    #[test]
+    fn messages_escape_control_bytes() {
+        let e = read_ply(b"ply\nformat ascii 1.0\n\x1b[31m\0x\nend_header\n").unwrap_err();
+        let m = e.to_string();
+        assert!(!m.bytes().any(|b| b.is_ascii_control()), "{m:?}");
+        assert!(m.contains("\\u{1b}"), "{m:?}");
+        // A skipped element's name, quoted by its warning.
+        let text = ASCII.replace("element edge 1", "element \x1b[2J 1");
+        let r = read_ply(text.as_bytes()).unwrap();
+        for w in &r.warnings {
+            let w = w.to_string();
+            assert!(!w.chars().any(|c| c.is_control()), "{w:?}");
+        }
     }
 }

@@ -9,6 +9,37 @@
 use super::{Mesh, MeshError};
 use std::f64::consts::PI;
 
+/// `x`·2^k, exact while the result is normal (in two steps, so 2^k itself never overflows).
+pub(crate) fn ldexp(x: f64, k: i32) -> f64 {
+    x * 2f64.powi(k / 2) * 2f64.powi(k - k / 2)
+}
+
+/// The exponent k that brings the largest coordinate of the mesh (and of the given centre) near 1
+/// when it is beyond 2^±64, where the cubic products of the volume and the solid angles could
+/// overflow or underflow; `None` for meshes of ordinary size (or no finite extent).
+pub(crate) fn extent_scale(mesh: &Mesh, given: Option<[f64; 3]>) -> Option<i32> {
+    let mut m: f64 = 0.0;
+    for p in mesh.positions.iter().chain(given.iter()) {
+        for x in p {
+            m = m.max(x.abs());
+        }
+    }
+    if !(m.is_finite() && m > 0.0) || (2f64.powi(-64)..=2f64.powi(64)).contains(&m) {
+        return None;
+    }
+    Some(-(m.log2().floor() as i32))
+}
+
+/// A copy of `mesh` with every position times 2^k.
+pub(crate) fn scaled_mesh(mesh: &Mesh, k: i32) -> Result<Mesh, MeshError> {
+    let mut positions = super::try_vec(mesh.positions.len(), "a scaled copy of the vertices")?;
+    positions.extend(mesh.positions.iter().map(|p| p.map(|x| ldexp(x, k))));
+    Ok(Mesh {
+        positions,
+        ..mesh.clone()
+    })
+}
+
 /// A centre that passed the check.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct StarCheck {
@@ -54,7 +85,10 @@ pub fn solid_angle(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
 /// Checks that every edge belongs to exactly two triangles that traverse it in opposite
 /// directions.
 pub fn check_closed(mesh: &Mesh) -> Result<(), MeshError> {
-    let mut edges: Vec<u64> = Vec::with_capacity(mesh.triangles.len() * 3);
+    let mut edges: Vec<u64> = super::try_vec(
+        mesh.triangles.len().saturating_mul(3),
+        "the edge list of the closedness check",
+    )?;
     for t in &mesh.triangles {
         for k in 0..3 {
             let (a, b) = (t[k], t[(k + 1) % 3]);
@@ -201,6 +235,14 @@ fn search(mesh: &Mesh, start: [f64; 3], sigma: f64, rounds: usize) -> ([f64; 3],
 pub fn find_center(mesh: &Mesh, given: Option<[f64; 3]>) -> Result<StarCheck, MeshError> {
     mesh.validate()?;
     check_closed(mesh)?;
+    if let Some(k) = extent_scale(mesh, given) {
+        // The check is scale-free: a mesh of coordinates near 1e100 (whose volume and solid-angle
+        // products overflow) is checked at 2^k times its size, exactly, and the centre scaled back.
+        let m = scaled_mesh(mesh, k)?;
+        let mut s = find_center(&m, given.map(|c| c.map(|x| ldexp(x, k))))?;
+        s.center = s.center.map(|x| ldexp(x, -k));
+        return Ok(s);
+    }
     let (centroid, sigma) = volume_centroid(mesh);
     let four_pi = 4.0 * PI;
     let accept = |c: [f64; 3], how| -> Result<StarCheck, (usize, Vec<usize>, f64)> {
@@ -245,4 +287,74 @@ pub fn find_center(mesh: &Mesh, given: Option<[f64; 3]>) -> Result<StarCheck, Me
         first_failing,
         solid_angle_sum,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::generate;
+
+    /// Issue 40: `texture_uv` with 10⁸ faces aborted allocating the edge list; the allocation is
+    /// fallible now (here forced to fail by a size no allocator grants, nothing allocated).
+    #[test]
+    fn a_buffer_too_large_is_a_typed_error_not_an_abort() {
+        let e = super::super::try_vec::<u64>(usize::MAX / 4, "the edge list").unwrap_err();
+        match e {
+            MeshError::OutOfMemory { what, bytes } => {
+                assert_eq!(what, "the edge list");
+                assert!(bytes > 1 << 60);
+                assert!(e.to_string().contains("out of memory"));
+            }
+            other => panic!("{other:?}"),
+        }
+    }
+
+    /// Issue 40: an OBJ cube of half-side 1e100 was "not star-shaped from [NaN, NaN, NaN] … NaN sr";
+    /// huge and tiny meshes are checked at a power-of-two scale and pass like the unit cube.
+    #[test]
+    fn huge_and_tiny_meshes_are_checked_scale_free() {
+        let mut text = String::new();
+        for z in [-1, 1] {
+            for y in [-1, 1] {
+                for x in [-1, 1] {
+                    text += &format!("v {x}e100 {y}e100 {z}e100\n");
+                }
+            }
+        }
+        text += "f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
+        let big = crate::mesh::obj::read_obj(text.as_bytes()).unwrap().mesh;
+        let s = find_center(&big, None).unwrap();
+        assert!(
+            s.center.iter().all(|c| c.is_finite() && c.abs() < 1e90),
+            "{s:?}"
+        );
+        assert!((s.solid_angle_sum - 4.0 * PI).abs() < 1e-9);
+        for scale in [1e-200, 1e-100, 1e100, 1e300] {
+            let mut m = generate::geodesic_sphere(2);
+            for p in &mut m.positions {
+                *p = p.map(|x| x * scale);
+            }
+            let s = find_center(&m, None).unwrap_or_else(|e| panic!("{scale}: {e}"));
+            assert!(s.solid_angle_sum.is_finite());
+            let r = crate::mesh::parameterise(&m, &crate::mesh::UvOptions::default())
+                .unwrap_or_else(|e| panic!("{scale}: {e}"));
+            assert!(r.mesh.positions.iter().flatten().all(|x| x.is_finite()));
+            assert!(r.mesh.uvs.iter().flatten().all(|x| x.is_finite()));
+            let orig_max = m
+                .positions
+                .iter()
+                .flatten()
+                .fold(0f64, |a, x| a.max(x.abs()));
+            let out_max = r
+                .mesh
+                .positions
+                .iter()
+                .flatten()
+                .fold(0f64, |a, x| a.max(x.abs()));
+            assert!(
+                (out_max / orig_max - 1.0).abs() < 1e-12,
+                "{scale}: {out_max} vs {orig_max}"
+            );
+        }
+    }
 }
