@@ -144,3 +144,32 @@ fn bom_json_reads_and_huge_values_are_refused_located() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Issue 40, item 6: a broken BRDF file named at the top level with `--incident` gets the BRDF
+/// reader's own message (not "unexpected argument '--incident'"), as `gonio brdf info` gives it.
+#[test]
+fn broken_brdf_files_with_incident_get_the_reader_s_message() {
+    let dir = std::env::temp_dir().join(format!("gonio-cli-brdf-broken-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let empty = dir.join("empty.binary");
+    std::fs::write(&empty, b"").unwrap();
+    // A MERL header whose dimensions are 10^9 × 1 × 1 with 24 bytes after it.
+    let lying = dir.join("lying.binary");
+    let mut b = Vec::new();
+    for d in [1_000_000_000i32, 1, 1] {
+        b.extend_from_slice(&d.to_le_bytes());
+    }
+    b.extend_from_slice(&[0u8; 24]);
+    std::fs::write(&lying, &b).unwrap();
+    let missing = dir.join("missing.binary");
+    for f in [&empty, &lying, &missing] {
+        let f = f.to_str().unwrap();
+        let (ok, _, top) = gonio(&["info", f, "--incident", "30,0"]);
+        assert!(!ok, "{f}");
+        assert!(!top.contains("unexpected argument"), "{f}: {top}");
+        let (_, _, sub) = gonio(&["brdf", "info", f, "--incident", "30,0"]);
+        assert_eq!(top, sub, "{f}: the top level and `gonio brdf info` differ");
+        assert!(top.contains(f), "{f}: {top}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

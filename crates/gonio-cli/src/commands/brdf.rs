@@ -268,8 +268,9 @@ pub fn sniff(path: &Path) -> Option<&'static str> {
 }
 
 /// Rewrites `gonio [GLOBAL…] CMD … FILE …` as `gonio [GLOBAL…] brdf CMD … FILE …` when CMD is one
-/// of [`COMMANDS`] and one of its plain arguments names a BRDF file ([`sniff`]). `Err` holds the
-/// usage message when such a command lacks `--incident`.
+/// of [`COMMANDS`] and it has `--incident` (an option of BRDF files only: the BRDF reader then
+/// reports on FILE, whatever it is). `Err` holds the usage message when one of its plain arguments
+/// names a BRDF file ([`sniff`]) and `--incident` is missing.
 pub fn route(
     args: Vec<std::ffi::OsString>,
 ) -> std::result::Result<Vec<std::ffi::OsString>, String> {
@@ -292,22 +293,25 @@ pub fn route(
         return Ok(args);
     }
     let rest = &args[k + 1..];
-    let found = rest
-        .iter()
-        .filter(|a| !a.to_string_lossy().starts_with('-'))
-        .find_map(|a| sniff(Path::new(a)).map(|f| (a.to_string_lossy().into_owned(), f)));
-    let Some((file, format)) = found else {
-        return Ok(args);
-    };
     let has_incident = rest.iter().any(|a| {
         let a = a.to_string_lossy();
         a == "--incident" || a.starts_with("--incident=")
     });
+    // `--incident` exists for BRDF files only: with it the command goes to the BRDF tree whatever
+    // the sniffer says, so that a broken BRDF file gets its reader's message (a missing file, a
+    // FIFO, a MERL header that lies), not "unexpected argument '--incident'".
     if !has_incident {
-        return Err(format!(
-            "{file} is a BRDF file ({format}): `gonio {cmd}` needs the incident direction \
-             --incident THETA,PHI in degrees, e.g. --incident 30,0 (see `gonio brdf {cmd} --help`)"
-        ));
+        let found = rest
+            .iter()
+            .filter(|a| !a.to_string_lossy().starts_with('-'))
+            .find_map(|a| sniff(Path::new(a)).map(|f| (a.to_string_lossy().into_owned(), f)));
+        if let Some((file, format)) = found {
+            return Err(format!(
+                "{file} is a BRDF file ({format}): `gonio {cmd}` needs the incident direction \
+                 --incident THETA,PHI in degrees, e.g. --incident 30,0 (see `gonio brdf {cmd} --help`)"
+            ));
+        }
+        return Ok(args);
     }
     let mut out = args[..k].to_vec();
     out.push("brdf".into());
