@@ -1,9 +1,7 @@
 //! Status codes, enumerations, option and handle types, errors (the thread-local message and
 //! the panic guard), pointer helpers and reading diagrams (path, memory, free).
 
-use gonio::input::file::{
-    read_file_with_meta, read_limit, set_read_limit, FileKind, ReadFileError,
-};
+use gonio::input::file::{check_size, read_file_with_meta, read_limit, set_read_limit, FileKind};
 use gonio::input::{InputKind, LoadError};
 use gonio::photometry::{DirTiltResolver, NoTiltFiles, Photometry};
 use gonio::{Diagram, Sampler};
@@ -352,27 +350,10 @@ pub(crate) fn located(file: &str, line: usize, column: usize, message: &str) -> 
     }
 }
 
-/// The message of an input of `kind` over its limit (the library's, as every front end words
-/// it).
-pub(crate) fn too_large(name: &str, len: u64, kind: FileKind) -> Failure {
-    Failure::new(
-        GONIO_ERR_IO,
-        ReadFileError::TooLarge {
-            path: name.to_string(),
-            size: len,
-            limit: read_limit(kind),
-            kind,
-        }
-        .to_string(),
-    )
-}
-
-/// Bytes handed in memory of `kind`: refused over the kind's limit, as a file would be.
+/// Bytes handed in memory of `kind`: refused over the kind's limit, as a file would be (the
+/// library's check and message).
 pub(crate) fn check_memory_len(name: &str, len: usize, kind: FileKind) -> Result<(), Failure> {
-    if len as u64 > read_limit(kind) {
-        return Err(too_large(name, len as u64, kind));
-    }
-    Ok(())
+    check_size(name, len as u64, kind).map_err(|e| Failure::new(GONIO_ERR_IO, e.to_string()))
 }
 
 /// Reads a regular file of `kind` through the library's one file reader

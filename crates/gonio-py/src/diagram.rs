@@ -132,27 +132,27 @@ pub(crate) fn read(py: Python<'_>, path: PathBuf, format: Option<&str>) -> PyRes
 /// `file`) for a file over the limit, MemoryError when its bytes cannot be allocated. The message
 /// names the file once.
 pub(crate) fn read_input(path: &Path, name: &str, kind: FileKind) -> PyResult<Vec<u8>> {
-    use gonio::input::file::{read_file_with_meta, ReadFileError as E};
-    read_file_with_meta(path, name, kind)
+    gonio::input::file::read_file_with_meta(path, name, kind)
         .map(|(b, _)| b)
-        .map_err(|e| {
-            let msg = e.to_string();
-            match &e {
-                E::NotFound { .. } => pyo3::exceptions::PyFileNotFoundError::new_err(msg),
-                E::Io { message, .. } if message.contains("ermission") => {
-                    pyo3::exceptions::PyPermissionError::new_err(msg)
-                }
-                E::Io { .. } | E::NotRegular { .. } => pyo3::exceptions::PyOSError::new_err(msg),
-                E::TooLarge { .. } | E::Grew { .. } => {
-                    let m = msg
-                        .strip_prefix(&format!("{name}: "))
-                        .unwrap_or(&msg)
-                        .to_string();
-                    parse_error(name, 0, 0, &m)
-                }
-                E::NoMemory { .. } => pyo3::exceptions::PyMemoryError::new_err(msg),
-            }
-        })
+        .map_err(|e| file_error(name, e))
+}
+
+/// The exception of a file the one reader refused (see [`read_input`]).
+fn file_error(name: &str, e: gonio::input::file::ReadFileError) -> PyErr {
+    use gonio::input::file::ReadFileError as E;
+    let msg = e.to_string();
+    match &e {
+        E::NotFound { .. } => pyo3::exceptions::PyFileNotFoundError::new_err(msg),
+        E::Io { message, .. } if message.contains("ermission") => {
+            pyo3::exceptions::PyPermissionError::new_err(msg)
+        }
+        E::Io { .. } | E::NotRegular { .. } => pyo3::exceptions::PyOSError::new_err(msg),
+        E::TooLarge { .. } | E::Grew { .. } => {
+            let m = msg.strip_prefix(&format!("{name}: ")).unwrap_or(&msg);
+            parse_error(name, 0, 0, m)
+        }
+        E::NoMemory { .. } => pyo3::exceptions::PyMemoryError::new_err(msg),
+    }
 }
 
 /// Reads a diagram from the contents of a file, given as bytes or str, in the explicit `format`
@@ -184,21 +184,8 @@ pub(crate) fn read_bytes(
     } else {
         FileKind::Photometry
     };
-    let limit = gonio::input::file::read_limit(kind);
-    if bytes.len() as u64 > limit {
-        let e = gonio::input::file::ReadFileError::TooLarge {
-            path: name.to_string(),
-            size: bytes.len() as u64,
-            limit,
-            kind,
-        }
-        .to_string();
-        let m = e
-            .strip_prefix(&format!("{name}: "))
-            .unwrap_or(&e)
-            .to_string();
-        return Err(parse_error(name, 0, 0, &m));
-    }
+    gonio::input::file::check_size(name, bytes.len() as u64, kind)
+        .map_err(|e| file_error(name, e))?;
     let d = crate::no_panic(name, || load(&bytes, source, name, &NoTiltFiles))??;
     Py::new(py, d)
 }

@@ -241,6 +241,24 @@ pub fn open_regular(path: &Path, shown: &str) -> Result<(File, Metadata), ReadFi
     Ok((file, meta))
 }
 
+/// `size` bytes of kind `kind` (a file's length or a buffer handed in memory) against the kind's
+/// limit ([`read_limit`]): the one size check of every front end, with its message.
+///
+/// # Errors
+/// [`ReadFileError::TooLarge`] naming `shown`.
+pub fn check_size(shown: &str, size: u64, kind: FileKind) -> Result<(), ReadFileError> {
+    let limit = read_limit(kind);
+    if size > limit {
+        return Err(ReadFileError::TooLarge {
+            path: shown.to_string(),
+            size,
+            limit,
+            kind,
+        });
+    }
+    Ok(())
+}
+
 /// Reads the whole regular file `path` of kind `kind` under its limit ([`read_limit`]); `shown`
 /// names it in messages (usually `path` as the user gave it). Returns the bytes and the open
 /// file's metadata (the CLI compares outputs with inputs by it).
@@ -254,14 +272,7 @@ pub fn read_file_with_meta(
 ) -> Result<(Vec<u8>, Metadata), ReadFileError> {
     let limit = read_limit(kind);
     let (file, meta) = open_regular(path, shown)?;
-    if meta.len() > limit {
-        return Err(ReadFileError::TooLarge {
-            path: shown.to_string(),
-            size: meta.len(),
-            limit,
-            kind,
-        });
-    }
+    check_size(shown, meta.len(), kind)?;
     let mut bytes = Vec::new();
     bytes
         .try_reserve_exact(meta.len() as usize)

@@ -840,9 +840,11 @@ fn read_tables<T: ReadFloat>(
     at_most(&phi, &nm(0), 0, MAX_AZIMUTH, "azimuths lie in [0, 2π]")?;
     // The builder's exact ends: φ_0 = 0 and φ_M = 2π, Γ_0 = 0 and Γ_M = 2π (in the blob's
     // precision), and κ = 2π / Σγ = 1 up to round-off (the star domain has the disk's area).
-    let tau = T::exact(f64::from(std::f64::consts::TAU as f32))
-        .filter(|_| T::SIZE == 4)
-        .map_or(std::f64::consts::TAU, |t| t.as_f64());
+    let tau = if T::SIZE == 4 {
+        f64::from(std::f64::consts::TAU as f32)
+    } else {
+        std::f64::consts::TAU
+    };
     let ends = |v: &[T], name: &str| -> Result<(), TablesError> {
         if v[0].as_f64() != 0.0 {
             return Err(content(name, 0, "must be 0"));
