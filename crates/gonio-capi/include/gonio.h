@@ -1559,6 +1559,22 @@ GonioStatus gonio_envmap_tables(const struct GonioEnvMap *map,
                                 size_t capacity,
                                 size_t *size);
 
+/*
+ The family blob of a BRDF sampler (docs/TABLES.md, "Families"): every incident slice's map in
+ `precision` (4 or 8) on their shared grid, the incident grid and the BRDF table, for a device
+ or a kernel that blends the slices as `gonio_brdf_sample` does. Size query and buffer as
+ [`gonio_sampler_tables`]. [`GONIO_ERR_UNSUPPORTED`] for a sampler that is not the "hds" method.
+
+ # Safety
+ `sampler` NULL or a live handle; `size` NULL or valid for writing a `size_t`; `buffer` NULL or
+ valid for writing `capacity` bytes.
+ */
+GonioStatus gonio_brdf_sampler_tables(const struct GonioBrdfSampler *sampler,
+                                      uint32_t precision,
+                                      uint8_t *buffer,
+                                      size_t capacity,
+                                      size_t *size);
+
 #ifdef __cplusplus
 } /* extern "C" */
 #endif /* __cplusplus */

@@ -133,6 +133,16 @@ pub struct GonioBrdfSampler {
     inner: Inner,
 }
 
+impl GonioBrdfSampler {
+    /// The HDS sampler, for the "hds" method.
+    pub(crate) fn hds(&self) -> Option<&BrdfSampler> {
+        match &self.inner {
+            Inner::Hds(s) => Some(s),
+            _ => None,
+        }
+    }
+}
+
 enum Inner {
     Hds(BrdfSampler),
     Cosine(TabulatedBrdf),

@@ -128,3 +128,34 @@ pub unsafe extern "C" fn gonio_envmap_tables(
         deliver(&bytes, buffer, capacity, size)
     })
 }
+
+/// The family blob of a BRDF sampler (docs/TABLES.md, "Families"): every incident slice's map in
+/// `precision` (4 or 8) on their shared grid, the incident grid and the BRDF table, for a device
+/// or a kernel that blends the slices as `gonio_brdf_sample` does. Size query and buffer as
+/// [`gonio_sampler_tables`]. [`GONIO_ERR_UNSUPPORTED`] for a sampler that is not the "hds" method.
+///
+/// # Safety
+/// `sampler` NULL or a live handle; `size` NULL or valid for writing a `size_t`; `buffer` NULL or
+/// valid for writing `capacity` bytes.
+#[no_mangle]
+pub unsafe extern "C" fn gonio_brdf_sampler_tables(
+    sampler: *const super::brdf::GonioBrdfSampler,
+    precision: u32,
+    buffer: *mut u8,
+    capacity: usize,
+    size: *mut usize,
+) -> GonioStatus {
+    guard(|| {
+        let s = r(sampler, "sampler")?;
+        check_out(size, "size")?;
+        let p = self::precision(precision)?;
+        let hds = s.hds().ok_or_else(|| {
+            Failure::new(
+                GONIO_ERR_UNSUPPORTED,
+                "only the \"hds\" BRDF sampler has tables".to_string(),
+            )
+        })?;
+        let bytes = hds.tables(p).map_err(|e| Failure::invalid(e.to_string()))?;
+        deliver(&bytes, buffer, capacity, size)
+    })
+}

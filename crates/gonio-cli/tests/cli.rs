@@ -862,3 +862,35 @@ fn tables_writes_a_blob_that_samples_as_the_map() {
         .collect();
     assert_eq!(names.len(), 3, "{names:?}");
 }
+
+/// `gonio tables BRDF`: the whole family of incident slices (no `--incident`), equal to the
+/// library's family of the same table; a broken BRDF file gets its reader's message.
+#[test]
+fn tables_of_a_brdf_file_is_its_family() {
+    use gonio::brdf::{self, Analytic, BrdfSampler, SamplerOptions};
+    use gonio::mapping::blob::Precision;
+    let dir = temp_dir("tables-brdf");
+    let table = Analytic::Ggx {
+        alpha_x: 0.3,
+        alpha_y: 0.3,
+        f0: [0.9, 0.6, 0.3],
+    }
+    .table(7, 12)
+    .unwrap();
+    let path = dir.join("ggx.json");
+    std::fs::write(&path, brdf::write_json(&table)).unwrap();
+    let out = dir.join("ggx.bin");
+    let o = run(&["tables", s(&path), "-o", s(&out)]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let bytes = std::fs::read(&out).unwrap();
+    let (back, fam) = brdf::from_tables(&bytes).unwrap();
+    assert_eq!(fam.slices.len(), 7);
+    let want = BrdfSampler::new(back, &SamplerOptions::default())
+        .unwrap()
+        .tables(Precision::F32)
+        .unwrap();
+    assert!(want == bytes, "the CLI's family differs from the library's");
+    std::fs::write(&path, "{\"format\": \"gonio-brdf\", \"version\": 1}").unwrap();
+    let e = fails(&["tables", s(&path), "-o", s(&out)]);
+    assert!(e.contains("ggx.json"), "{e}");
+}

@@ -16,6 +16,7 @@ use gonio::sampler::normalize;
 use gonio::{Point2, Vec3};
 use numpy::{PyArray1, PyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
+use pyo3::types::PyBytes;
 use rayon::prelude::*;
 use std::borrow::Cow;
 use std::path::PathBuf;
@@ -239,6 +240,34 @@ impl PyBrdf {
         arrays::new_1d(py, &a)
     }
 
+    /// ``tables(precision="float32", *, theta_o=46, phi_o=90, force_resample=False) -> bytes``:
+    /// the family blob (docs/TABLES.md, "Families") of this table's "hds" sampler with those
+    /// options: every incident slice's map, the incident grid and the table, what
+    /// ``gonio.drjit.BrdfTables`` and the Mitsuba plugin ``gonio_brdf`` read.
+    #[pyo3(signature = (precision = "float32", *, theta_o = 46, phi_o = 90, force_resample = false))]
+    fn tables<'py>(
+        &self,
+        py: Python<'py>,
+        precision: &str,
+        theta_o: usize,
+        phi_o: usize,
+        force_resample: bool,
+    ) -> PyResult<Bound<'py, PyBytes>> {
+        let p = crate::sampler::parse_precision(precision)?;
+        let opts = SamplerOptions {
+            theta_o,
+            phi_o,
+            force_resample,
+        };
+        let brdf = &self.brdf;
+        let bytes = detached(py, "Brdf.tables", || {
+            let s = BrdfSampler::new(TabulatedBrdf::clone(brdf), &opts)?;
+            s.tables(p).map_err(|e| BrdfError::Tables(e.to_string()))
+        })?
+        .map_err(|e| BuildError::new_err(format!("Brdf.tables: {e}")))?;
+        Ok(PyBytes::new(py, &bytes))
+    }
+
     /// ``sampler(method="hds", *, theta_o=46, phi_o=90, force_resample=False)``: a sampler of
     /// f_r·cos θ_o. Methods: "hds" (the HDS map of the blended slice diagrams), "cosine",
     /// "ggx-fit" (a GGX lobe fitted to the table). `theta_o`, `phi_o`: the slices' outgoing grid
@@ -325,6 +354,23 @@ impl PyBrdfSampler {
     #[getter]
     fn resampled(&self) -> bool {
         self.sampler.resampled()
+    }
+
+    /// ``tables(precision="float32") -> bytes``: the family blob of this "hds" sampler
+    /// (docs/TABLES.md, "Families"); InputError for the other methods.
+    #[pyo3(signature = (precision = "float32"))]
+    fn tables<'py>(&self, py: Python<'py>, precision: &str) -> PyResult<Bound<'py, PyBytes>> {
+        let p = crate::sampler::parse_precision(precision)?;
+        if !matches!(self.method, Method::Hds) {
+            return Err(InputError::new_err(
+                "tables: only the \"hds\" BRDF sampler has tables",
+            ));
+        }
+        let s = &self.sampler;
+        let bytes = py
+            .detach(|| s.tables(p))
+            .map_err(|e| InputError::new_err(format!("tables: {e}")))?;
+        Ok(PyBytes::new(py, &bytes))
     }
 
     /// Bytes held by the sampler (slice maps and the table).

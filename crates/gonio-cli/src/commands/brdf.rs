@@ -319,6 +319,19 @@ pub fn route(
     Ok(out)
 }
 
+/// The family blob (docs/TABLES.md, "Families") of the BRDF file `path` with the default MERL
+/// grid and slice grid: every incident slice, so no incident direction is needed (`gonio tables`).
+pub fn family_tables(path: &Path, precision: gonio::mapping::blob::Precision) -> Result<Vec<u8>> {
+    let bytes = read_bytes(path)?;
+    let brdf =
+        read_any(&bytes, &MerlOptions::default()).with_context(|| path.display().to_string())?;
+    let sampler = BrdfSampler::new(brdf, &SamplerOptions::default())
+        .with_context(|| path.display().to_string())?;
+    sampler
+        .tables(precision)
+        .with_context(|| path.display().to_string())
+}
+
 fn sampler_of(c: &Common, brdf: TabulatedBrdf) -> Result<BrdfSampler> {
     let opts = SamplerOptions {
         theta_o: c.theta_o,

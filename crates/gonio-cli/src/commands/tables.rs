@@ -21,7 +21,8 @@ pub enum PrecisionArg {
 /// `gonio tables`.
 #[derive(Debug, Clone, Args)]
 pub struct TablesArgs {
-    /// Input: `.json`, `.ies`, `.ldt`, an environment map (`.hdr`, `.exr`, `.pfm`), or `example`.
+    /// Input: `.json`, `.ies`, `.ldt`, an environment map (`.hdr`, `.exr`, `.pfm`), a BRDF file
+    /// (MERL, UTIA, gonio BRDF JSON: the family of every incident slice), or `example`.
     #[arg(value_name = "FILE")]
     pub input: String,
     /// Output file of the blob.
@@ -35,11 +36,31 @@ pub struct TablesArgs {
 /// Writes the blob of FILE's HDS map (with its diagram, or its environment map's image, as the
 /// target) and prints one line: the layout, grid and size.
 pub fn run(a: &TablesArgs) -> anyhow::Result<()> {
-    let loaded = load(&a.input)?;
     let precision = match a.precision {
         PrecisionArg::F32 => Precision::F32,
         PrecisionArg::F64 => Precision::F64,
     };
+    let path = std::path::Path::new(&a.input);
+    if let Some(format) = crate::commands::brdf::sniff(path) {
+        // A BRDF file: the whole family of incident slices (no --incident needed).
+        let bytes = crate::commands::brdf::family_tables(path, precision)?;
+        let fam = blob::read_family(&bytes).map_err(|e| anyhow::anyhow!("{}: {e}", a.input))?;
+        let mut out = Output::create(Some(&a.output))?;
+        out.write_all(&bytes)?;
+        out.finish()?;
+        eprintln!(
+            "{}: {} bytes, {} tables, BRDF family ({format}) of {} slices ({} without reflectance), grid {} × {}",
+            a.output.display(),
+            bytes.len(),
+            precision.name(),
+            fam.slices.len(),
+            fam.slices.iter().filter(|s| s.is_none()).count(),
+            fam.grid.0,
+            fam.grid.1
+        );
+        return Ok(());
+    }
+    let loaded = load(&a.input)?;
     let bytes = if let Some(env) = &loaded.envmap {
         let img = env.image();
         let target = Target::Image {

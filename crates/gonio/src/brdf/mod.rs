@@ -151,6 +151,9 @@ pub enum BrdfError {
         /// The system's message.
         message: String,
     },
+    /// A family blob ([`from_tables`]) refused: the table reader's message.
+    #[error("{0}")]
+    Tables(String),
     /// The format was not recognised from the content.
     #[error(
         "not a BRDF file this library reads (MERL .binary, UTIA .bin or gonio BRDF JSON): {why}"
@@ -492,6 +495,35 @@ impl TabulatedBrdf {
         }
         Self::new(symmetry, channels, theta_i, phi_i, theta_o, phi_o, values)
     }
+}
+
+/// The BRDF table and the validated family of a family blob ([`BrdfSampler::tables`]): the
+/// table as [`TabulatedBrdf::new`] checks it, and every slice's map.
+///
+/// # Errors
+/// [`BrdfError::Tables`] for a blob [`crate::mapping::blob::read_family`] refuses or whose table
+/// [`TabulatedBrdf::new`] refuses.
+pub fn from_tables(
+    bytes: &[u8],
+) -> Result<(TabulatedBrdf, crate::mapping::blob::FamilyTables), BrdfError> {
+    let t =
+        crate::mapping::blob::read_family(bytes).map_err(|e| BrdfError::Tables(e.to_string()))?;
+    let sym = if t.anisotropic {
+        Symmetry::Anisotropic
+    } else {
+        Symmetry::Isotropic
+    };
+    let brdf = TabulatedBrdf::new(
+        sym,
+        t.channels,
+        t.theta_i.clone(),
+        t.phi_i.clone(),
+        t.theta_o.clone(),
+        t.phi_o.clone(),
+        t.values.clone(),
+    )
+    .map_err(|e| BrdfError::Tables(format!("its BRDF table: {e}")))?;
+    Ok((brdf, t))
 }
 
 /// `n` angles from 0° to `max_deg` inclusive, in radians.

@@ -29,6 +29,7 @@
 
 use super::{periodic, BrdfError, Symmetry, TabulatedBrdf};
 use crate::mapping::blend::MAX_PARTS;
+use crate::mapping::blob::{self, BrdfTable, Precision, TablesError};
 use crate::mapping::BlendedMap;
 use crate::sampler::{spherical, Domain, InvertError, Point2, Sample, Sampler, Vec3};
 use crate::{Diagram, HemisphereMap};
@@ -204,6 +205,32 @@ impl BrdfSampler {
     /// The map of slice `index` (θ_i index × number of φ_i + φ_i index), `None` for an empty one.
     pub fn slice(&self, index: usize) -> Option<&HemisphereMap> {
         self.slices.get(index).and_then(|s| s.as_ref())
+    }
+
+    /// The family blob of this sampler (`docs/TABLES.md`, "Families"): every slice's map in
+    /// `precision` on the shared grid, the incident grid and the BRDF table, for a device or a
+    /// Dr.Jit kernel that blends the slices as [`BrdfSampler::sample`] does. Read it back with
+    /// [`crate::mapping::blob::read_family`] (or [`super::from_tables`]).
+    ///
+    /// # Errors
+    /// [`TablesError::Float32`] for a grid beyond the float32 kernels' limits;
+    /// [`TablesError::Target`] when every slice is empty.
+    pub fn tables(&self, precision: Precision) -> Result<Vec<u8>, TablesError> {
+        let slices: Vec<Option<&HemisphereMap>> = self.slices.iter().map(|s| s.as_ref()).collect();
+        let b = &self.brdf;
+        blob::write_family(
+            &slices,
+            precision,
+            &BrdfTable {
+                anisotropic: b.symmetry() == Symmetry::Anisotropic,
+                channels: b.channels(),
+                theta_i: b.theta_i(),
+                phi_i: b.phi_i(),
+                theta_o: b.theta_o(),
+                phi_o: b.phi_o(),
+                values: b.values(),
+            },
+        )
     }
 
     /// Bytes held: the slices' tables (with the diagrams they keep) and the BRDF table.

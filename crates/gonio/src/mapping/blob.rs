@@ -28,6 +28,9 @@ use crate::envmap::Lookup;
 use crate::sampler::MapRef;
 use crate::Diagram;
 
+mod family;
+pub use family::{read_family, write_family, BrdfTable, FamilyTables, LAYOUT_FAMILY, TARGET_BRDF};
+
 /// The first eight bytes of every blob.
 pub const MAGIC: [u8; 8] = *b"GONIOTAB";
 /// The layout version this library writes and reads.
@@ -489,6 +492,12 @@ fn write_maps<T: BlobFloat>(
             tables.push(floats(ID_IMAGE_RGB, ELEM_F32, rgb));
         }
     }
+    Ok(assemble(header, tables))
+}
+
+/// The blob of `header` (its table count, total size and checksum filled in here) and `tables`,
+/// placed after the directory in order, each on a 64-byte boundary.
+fn assemble(mut header: Vec<u8>, tables: Vec<Pending>) -> Vec<u8> {
     put_u32(&mut header, 48, tables.len() as u32);
     // Place the tables after the directory, each on a 64-byte boundary.
     let dir_end = HEADER_BYTES + ENTRY_BYTES * tables.len();
@@ -516,7 +525,7 @@ fn write_maps<T: BlobFloat>(
     out.resize(total, 0);
     let c = checksum(&out);
     put_u64(&mut out, CHECKSUM_OFFSET, c);
-    Ok(out)
+    out
 }
 
 /// The blob of `map`'s tables in `precision`, with `frame` and `target` (see the module
@@ -809,30 +818,75 @@ fn at_most<T: ReadFloat>(
 
 /// `max_radius`: the disk radius of the map's edge (1 for a hemisphere map, √2 for the Lambert
 /// sphere), `inv_2t` the pdf scale: every density times it must stay finite.
-fn read_tables<T: ReadFloat>(
+/// The scalar parameters of one map (a slot's descriptor, or a family slice's row).
+struct Scalars<T> {
+    inv_uniform_beta: T,
+    kappa: T,
+    guide_scale: T,
+    radius_scale: T,
+    edge: T,
+}
+
+/// The scalars of slot `slot`'s descriptor; `family`: κ and the edge are the slices' own (in
+/// their table) and these fields must be 0.
+fn read_scalars<T: ReadFloat>(
     b: &[u8],
     slot: usize,
+    family: bool,
+) -> Result<Scalars<T>, TablesError> {
+    let at = SLOT_OFFSET + slot * SLOT_BYTES;
+    let zero = |off: usize, name: &'static str| {
+        let v = f64_at(b, at + off);
+        if v != 0.0 || v.is_sign_negative() {
+            return Err(field(name, at + off, v, "reserved bytes must be 0"));
+        }
+        Ok(T::default())
+    };
+    let inv_uniform_beta = scalar::<T>(b, at + 32, "map.inv_uniform_beta", false)?;
+    let (kappa, edge) = if family {
+        (zero(40, "map.kappa")?, zero(64, "map.edge")?)
+    } else {
+        let kappa = scalar::<T>(b, at + 40, "map.kappa", true)?;
+        if !(0.5..=2.0).contains(&kappa.as_f64()) {
+            return Err(field(
+                "map.kappa",
+                at + 40,
+                kappa.as_f64(),
+                "must be 1 up to round-off (the star domain has the disk's area)",
+            ));
+        }
+        (kappa, scalar::<T>(b, at + 64, "map.edge", false)?)
+    };
+    let guide_scale = scalar::<T>(b, at + 48, "map.guide_scale", false)?;
+    let radius_scale = scalar::<T>(b, at + 56, "map.radius_scale", false)?;
+    zero(72, "map.reserved")?;
+    Ok(Scalars {
+        inv_uniform_beta,
+        kappa,
+        guide_scale,
+        radius_scale,
+        edge,
+    })
+}
+
+/// One map's tables from their bytes `placed` (in [`MAP_TABLES`] order), checked; table names
+/// in errors start with `pre`.
+fn read_tables<T: ReadFloat>(
+    pre: &str,
     s: &Slot,
+    sc: Scalars<T>,
     placed: &[Placed<'_>],
     max_radius: f64,
     inv_2t: f64,
 ) -> Result<Tables<T>, TablesError> {
-    let at = SLOT_OFFSET + slot * SLOT_BYTES;
-    let pre = if slot == 0 { "map0." } else { "map1." };
     let nm = |k: usize| format!("{pre}{}", MAP_TABLES[k].0);
-    let inv_uniform_beta = scalar::<T>(b, at + 32, "map.inv_uniform_beta", false)?;
-    let kappa = scalar::<T>(b, at + 40, "map.kappa", true)?;
-    let guide_scale = scalar::<T>(b, at + 48, "map.guide_scale", false)?;
-    let radius_scale = scalar::<T>(b, at + 56, "map.radius_scale", false)?;
-    let edge = scalar::<T>(b, at + 64, "map.edge", false)?;
-    if f64_at(b, at + 72) != 0.0 || f64_at(b, at + 72).is_sign_negative() {
-        return Err(field(
-            "map.reserved",
-            at + 72,
-            f64_at(b, at + 72),
-            "reserved bytes must be 0",
-        ));
-    }
+    let Scalars {
+        inv_uniform_beta,
+        kappa,
+        guide_scale,
+        radius_scale,
+        edge,
+    } = sc;
     let (m, n) = (s.m as usize, s.n as usize);
     let phi = read_floats::<T>(&placed[0], &nm(0))?;
     non_decreasing(&phi, &nm(0), 0)?;
@@ -855,14 +909,6 @@ fn read_tables<T: ReadFloat>(
         Ok(())
     };
     ends(&phi, &nm(0))?;
-    if !(0.5..=2.0).contains(&kappa.as_f64()) {
-        return Err(field(
-            "map.kappa",
-            at + 40,
-            kappa.as_f64(),
-            "must be 1 up to round-off (the star domain has the disk's area)",
-        ));
-    }
     let beta = read_floats::<T>(&placed[1], &nm(1))?;
     non_negative(&beta, &nm(1))?;
     at_most(&beta, &nm(1), 0, MAX_AZIMUTH, "a sector is at most 2π wide")?;
@@ -942,12 +988,9 @@ fn read_tables<T: ReadFloat>(
     })
 }
 
-/// Validates `bytes` as a table blob and reads it back (see the module documentation; every
-/// check is listed in `docs/TABLES.md`).
-///
-/// # Errors
-/// A [`TablesError`] naming the field, directory entry or table entry at fault.
-pub fn read(bytes: &[u8]) -> Result<MapTables, TablesError> {
+/// The checks every blob passes before its layout is read: size, magic, version, header size,
+/// total size, alignment, checksum; answers the precision.
+fn check_header(bytes: &[u8]) -> Result<Precision, TablesError> {
     let len = bytes.len() as u64;
     if bytes.len() < HEADER_BYTES {
         return Err(TablesError::Truncated {
@@ -996,6 +1039,96 @@ pub fn read(bytes: &[u8]) -> Result<MapTables, TablesError> {
         8 => Precision::F64,
         v => return Err(field("precision", 32, v, "must be 4 (f32) or 8 (f64)")),
     };
+    Ok(precision)
+}
+
+/// The directory checked against the tables `expect`ed (ids, element types, counts, offsets
+/// aligned, in order, inside the blob): each table's bytes.
+fn place<'a>(
+    bytes: &'a [u8],
+    expect: &[Expect],
+    table_count: u64,
+) -> Result<Vec<Placed<'a>>, TablesError> {
+    let len = bytes.len() as u64;
+    if table_count != expect.len() as u64 {
+        return Err(field(
+            "table_count",
+            48,
+            table_count,
+            "differs from the tables the header's layout and target need",
+        ));
+    }
+    let dir_end = HEADER_BYTES as u64 + ENTRY_BYTES as u64 * table_count;
+    if dir_end > len {
+        return Err(TablesError::Truncated {
+            what: "the directory",
+            needed: dir_end,
+            present: len,
+        });
+    }
+    let mut placed = Vec::with_capacity(expect.len());
+    let mut prev_end = dir_end;
+    for (k, e) in expect.iter().enumerate() {
+        let at = HEADER_BYTES + k * ENTRY_BYTES;
+        let bad = |why: String| TablesError::Entry {
+            index: k,
+            offset: at,
+            name: e.name.clone(),
+            why,
+        };
+        let (id, el, off, count) = (
+            u32_at(bytes, at),
+            u32_at(bytes, at + 4),
+            u64_at(bytes, at + 8),
+            u64_at(bytes, at + 16),
+        );
+        if id != e.id {
+            return Err(bad(format!("id {id}, expected {}", e.id)));
+        }
+        if el != e.elem {
+            return Err(bad(format!("element type {el}, expected {}", e.elem)));
+        }
+        if count != e.count {
+            return Err(bad(format!(
+                "{count} entries, the header's counts give {}",
+                e.count
+            )));
+        }
+        if u64_at(bytes, at + 24) != 0 {
+            return Err(bad("reserved bytes must be 0".into()));
+        }
+        if off % ALIGN as u64 != 0 {
+            return Err(bad(format!("offset {off} is not a multiple of 64")));
+        }
+        if off < prev_end {
+            return Err(bad(format!("offset {off} overlaps the header, directory or table before it (ends at {prev_end})")));
+        }
+        let size = if el == ELEM_F64 { 8u64 } else { 4 };
+        let end = count.checked_mul(size).and_then(|b| b.checked_add(off));
+        match end {
+            Some(end) if end <= len => {
+                placed.push(Placed {
+                    bytes: &bytes[off as usize..end as usize],
+                });
+                prev_end = end;
+            }
+            _ => {
+                return Err(bad(format!(
+                    "{count} entries at offset {off} run past the blob's {len} bytes"
+                )))
+            }
+        }
+    }
+    Ok(placed)
+}
+
+/// Validates `bytes` as a table blob and reads it back (see the module documentation; every
+/// check is listed in `docs/TABLES.md`).
+///
+/// # Errors
+/// A [`TablesError`] naming the field, directory entry or table entry at fault.
+pub fn read(bytes: &[u8]) -> Result<MapTables, TablesError> {
+    let precision = check_header(bytes)?;
     let layout = match u32_at(bytes, 36) {
         0 => BlobLayout::Hemisphere,
         1 => BlobLayout::SphereLambert,
@@ -1005,7 +1138,7 @@ pub fn read(bytes: &[u8]) -> Result<MapTables, TablesError> {
                 "layout",
                 36,
                 v,
-                "must be 0 (hemisphere), 1 (Lambert sphere) or 2 (split sphere)",
+                "must be 0 (hemisphere), 1 (Lambert sphere) or 2 (split sphere); 3 (a family) is read by blob::read_family",
             ))
         }
     };
@@ -1209,75 +1342,7 @@ pub fn read(bytes: &[u8]) -> Result<MapTables, TablesError> {
         }),
         _ => {}
     }
-    if table_count != expect.len() as u64 {
-        return Err(field(
-            "table_count",
-            48,
-            table_count,
-            "differs from the tables the header's layout and target need",
-        ));
-    }
-    let dir_end = HEADER_BYTES as u64 + ENTRY_BYTES as u64 * table_count;
-    if dir_end > len {
-        return Err(TablesError::Truncated {
-            what: "the directory",
-            needed: dir_end,
-            present: len,
-        });
-    }
-    let mut placed = Vec::with_capacity(expect.len());
-    let mut prev_end = dir_end;
-    for (k, e) in expect.iter().enumerate() {
-        let at = HEADER_BYTES + k * ENTRY_BYTES;
-        let bad = |why: String| TablesError::Entry {
-            index: k,
-            offset: at,
-            name: e.name.clone(),
-            why,
-        };
-        let (id, el, off, count) = (
-            u32_at(bytes, at),
-            u32_at(bytes, at + 4),
-            u64_at(bytes, at + 8),
-            u64_at(bytes, at + 16),
-        );
-        if id != e.id {
-            return Err(bad(format!("id {id}, expected {}", e.id)));
-        }
-        if el != e.elem {
-            return Err(bad(format!("element type {el}, expected {}", e.elem)));
-        }
-        if count != e.count {
-            return Err(bad(format!(
-                "{count} entries, the header's counts give {}",
-                e.count
-            )));
-        }
-        if u64_at(bytes, at + 24) != 0 {
-            return Err(bad("reserved bytes must be 0".into()));
-        }
-        if off % ALIGN as u64 != 0 {
-            return Err(bad(format!("offset {off} is not a multiple of 64")));
-        }
-        if off < prev_end {
-            return Err(bad(format!("offset {off} overlaps the header, directory or table before it (ends at {prev_end})")));
-        }
-        let size = if el == ELEM_F64 { 8u64 } else { 4 };
-        let end = count.checked_mul(size).and_then(|b| b.checked_add(off));
-        match end {
-            Some(end) if end <= len => {
-                placed.push(Placed {
-                    bytes: &bytes[off as usize..end as usize],
-                });
-                prev_end = end;
-            }
-            _ => {
-                return Err(bad(format!(
-                    "{count} entries at offset {off} run past the blob's {len} bytes"
-                )))
-            }
-        }
-    }
+    let placed = place(bytes, &expect, table_count)?;
     // The tables.
     let mut grids = [None, None];
     for s in 0..2 {
@@ -1307,8 +1372,10 @@ pub fn read(bytes: &[u8]) -> Result<MapTables, TablesError> {
             for s in 0..2 {
                 if let Some(sl) = &slots[s] {
                     let r = next_slot();
+                    let pre = if s == 0 { "map0." } else { "map1." };
+                    let sc = read_scalars::<f32>(bytes, s, false)?;
                     t[s] = Some(read_tables::<f32>(
-                        bytes, s, sl, &placed[r], max_radius, inv_2t,
+                        pre, sl, sc, &placed[r], max_radius, inv_2t,
                     )?);
                 }
             }
@@ -1335,8 +1402,10 @@ pub fn read(bytes: &[u8]) -> Result<MapTables, TablesError> {
             for s in 0..2 {
                 if let Some(sl) = &slots[s] {
                     let r = next_slot();
+                    let pre = if s == 0 { "map0." } else { "map1." };
+                    let sc = read_scalars::<f64>(bytes, s, false)?;
                     t[s] = Some(read_tables::<f64>(
-                        bytes, s, sl, &placed[r], max_radius, inv_2t,
+                        pre, sl, sc, &placed[r], max_radius, inv_2t,
                     )?);
                 }
             }
