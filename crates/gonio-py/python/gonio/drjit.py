@@ -64,7 +64,7 @@ import tempfile
 
 import numpy as np
 
-__all__ = ["Tables", "BlobError", "parse", "blob_of", "IEEE"]
+__all__ = ["Tables", "BrdfTables", "BlobError", "parse", "parse_family", "blob_of", "IEEE"]
 
 IEEE = True
 """The default of ``Tables(..., ieee=None)``: trace the map with ``dr.JitFlag.FastMath`` off (scoped to
@@ -838,3 +838,426 @@ class Tables:
 
     def _color(self, c):
         return self.mi.Color3f(*(self._out(v) for v in c))
+
+
+# ---------------------------------------------------------------------------------------------
+# Families (layout 3): a tabulated BRDF's slices, blended per lane.
+# ---------------------------------------------------------------------------------------------
+
+_STACKED = {"r2", "cum", "wedge_guide", "d", "u", "total", "radial_guide"}
+
+
+def parse_family(data):
+    """A family blob's (docs/TABLES.md, "Families") header, shared grid, stacked tables, incident
+    grid and BRDF table as Python values and numpy views (no copy). float32 tables only."""
+    b = bytes(data)
+    if len(b) < 256 or b[:8] != MAGIC:
+        raise BlobError("not a gonio table blob (magic GONIOTAB missing)")
+    version, header_bytes, total = struct.unpack_from("<IIQ", b, 8)
+    if version != 1 or header_bytes != 256 or total != len(b) or total % 64:
+        raise BlobError(f"table blob version {version}, {len(b)} bytes (says {total}): not a version-1 blob")
+    prec, layout, frame, target, count, _res, maps, _lookup = struct.unpack_from("<8I", b, 32)
+    if layout != 3 or target != 3:
+        raise BlobError(f"table blob of layout {layout}, target {target}: not a BRDF family (layout 3); "
+                        "write one with Brdf.tables() or `gonio tables BRDF_FILE`")
+    if prec != 4:
+        raise BlobError(f"family blob of precision {prec} bytes: gonio.drjit reads float32 tables")
+    tables = {}
+    for k in range(count):
+        tid, elem, off, cnt = struct.unpack_from("<IIQQ", b, 256 + 32 * k)
+        if elem not in _ELEM or off % 64 or off + cnt * np.dtype(_ELEM[elem]).itemsize > total:
+            raise BlobError(f"family blob directory entry {k} (id {tid}) is malformed")
+        tables[tid] = np.frombuffer(b, dtype=_ELEM[elem], count=cnt, offset=off)
+    m, n, k_rad, g, g_r = struct.unpack_from("<5I", b, 96)
+    inv_ub, _kappa, guide_scale, radius_scale, _edge = struct.unpack_from("<5d", b, 128)
+    a, bb, aniso, channels, n_to, n_po = struct.unpack_from("<6I", b, 176)
+    s = a * bb
+    out = dict(m=m, n=n, K=k_rad, G=g, Gr=g_r, inv_ub=inv_ub, guide_scale=guide_scale,
+               radius_scale=radius_scale, A=a, B=bb, anisotropic=bool(aniso), channels=channels, S=s)
+    one = dict(phi=m + 1, beta=m, r2=m + 1, cum=m + 1, wedge_guide=g, x=n, d=m * n, u=m * n, total=m,
+               radius_guide=g_r, inv_dx=n - 1, radial_guide=m * (k_rad + 1))
+    for k, name in enumerate(_MAP_TABLES):
+        t = tables.get(k)
+        want = one[name] * (s if name in _STACKED else 1)
+        if t is None or len(t) != want:
+            raise BlobError(f"family blob: table {name} missing or of the wrong length")
+        out[name] = t
+    need = {64: 4 * s, 65: a, 66: bb, 48: n_to, 49: n_po, 50: channels * s * n_to * n_po}
+    for tid, cnt in need.items():
+        if tid not in tables or len(tables[tid]) != cnt:
+            raise BlobError(f"family blob: table id {tid} missing or of the wrong length")
+    out["slice"] = tables[64].reshape(s, 4)
+    out["theta_i"], out["phi_i"] = tables[65], tables[66]
+    out["theta_o"], out["phi_o"] = tables[48], tables[49]
+    out["values"] = tables[50]
+    return out
+
+
+class BrdfTables(Tables):
+    """A family blob (``Brdf.tables(precision="float32")``) as Dr.Jit arrays of the current
+    Mitsuba variant: the blended slice map of a tabulated BRDF and its interpolant, per lane, in
+    Dr.Jit operations only (the rules of ``Tables``). Directions are the local shading frame
+    (z the normal, x the tangent), both pointing away from the surface:
+
+    * ``sample(wi, u) -> (wo, pdf)``: ω_o from the map of the slices blended for ω_i (docs/TABLES.md,
+      "Families"), and its exact pdf per steradian (Σ w_k pdf_k); ω_i below the horizon, or with
+      every neighbouring slice empty, gives the cosine sample with pdf cos θ_o / π and ``valid``
+      False (see ``sample_valid``);
+    * ``pdf(wi, wo) -> Float``: the density of ``sample`` (0 below the horizon);
+    * ``eval(wi, wo) -> Color3f``: the table's multilinear interpolant f_r in 1/sr (0 below the
+      horizon, 0 beyond the table's θ_o range).
+
+    What differs from the library's f64 ``BrdfSampler``: float32 arithmetic, and the two searches
+    of the blended map (the wedge and the radial segment) bisect their whole tables in fixed steps
+    instead of starting from the parts' guide brackets (the same index wherever the blended
+    cumulative is strictly increasing; ``tests/test_drjit_brdf.py`` measures the agreement).
+    """
+
+    def __init__(self, data, mi=None, ieee=None):
+        import drjit as dr
+
+        if mi is None:
+            import mitsuba as mi
+        if mi.variant() is None:
+            raise RuntimeError("gonio.drjit.BrdfTables: set a Mitsuba variant first (mi.set_variant)")
+        self.dr, self.mi = dr, mi
+        self.variant = mi.variant()
+        self.ieee = IEEE if ieee is None else bool(ieee)
+        self.scalar = not dr.is_array_v(mi.Float)
+        if self.scalar:
+            S = dr.scalar
+            self.F, self.I, self.U = S.ArrayXf, S.ArrayXi, S.ArrayXu
+        else:
+            self.F, self.I, self.U = mi.Float, mi.Int32, mi.UInt32
+        f = parse_family(data)
+        self.m, self.n, self.S = f["m"], f["n"], f["S"]
+        self.A, self.B = f["A"], f["B"]
+        self.anisotropic, self.channels = f["anisotropic"], f["channels"]
+        self._t = {name: self._array(f[name], name in _GUIDES) for name in _MAP_TABLES}
+        rows = np.asarray(f["slice"], dtype=np.float32)
+        present = rows[:, 0] > 0
+        if not present.any():
+            raise BlobError("family blob without any slice map")
+        # Per slice: 2·(1/(2T)) (so c_k = w_k · this), κ, present (1/0).
+        self._c2 = self._array(2.0 * rows[:, 0], False)
+        self._kap = self._array(rows[:, 1], False)
+        self._present = self._array(present.astype(np.float32), False)
+        self.edge = float(rows[present, 2].max())
+        self.x_last = float(np.float32(f["x"][-1]))
+        self.inv_ub = float(f["inv_ub"])
+        self.radius_scale = float(f["radius_scale"])
+        rgd = np.minimum(f["radius_guide"].astype(np.int64), self.n - 2)
+        span_r = int(np.max(np.diff(rgd))) if len(rgd) > 1 else 0
+        span_r = max(span_r, int(self.n - 2 - rgd[-1]))
+        self.steps = dict(steps_r=_bits(span_r), steps_wedge=_bits(self.m), steps_rad=_bits(self.n),
+                          steps_phi=_bits(self.m + 1))
+        self._c = _NS(o_phi=0, o_beta=0, o_x=0, o_inv_dx=0, o_radius_guide=0, m=self.m, n=self.n,
+                      inv_ub=self.inv_ub, kmax_r=f["Gr"] - 1, radius_scale=self.radius_scale)
+        self.any_uniform = self.inv_ub > 0
+        self.any_general = not self.any_uniform
+        # The incident grid and the table (float32), and their search steps.
+        self.theta_i = np.asarray(f["theta_i"], dtype=np.float64)
+        self.phi_i = np.asarray(f["phi_i"], dtype=np.float64)
+        self._ti = self._array(f["theta_i"], False)
+        self._pi = self._array(f["phi_i"], False)
+        self._to = self._array(f["theta_o"], False)
+        self._po = self._array(f["phi_o"], False)
+        self._vals = self._array(f["values"], False)
+        self.n_ti, self.n_pi, self.n_to, self.n_po = len(f["theta_i"]), len(f["phi_i"]), len(f["theta_o"]), \
+            len(f["phi_o"])
+        self._to_lo = float(np.float32(f["theta_o"][0]))
+        self._to_hi = float(np.float32(f["theta_o"][-1]))
+        self._tau_div = self._const(np.float32(TAU))
+        self._pi_div = self._const(np.float32(PI))
+
+    # -- small helpers -------------------------------------------------------------------------
+
+    def _angles(self, x, y, z):
+        """(θ, φ) of a direction as the library's ``spherical``: θ = atan2(√(x² + y²), z), φ in
+        [0, 2π), 0 on the axis."""
+        dr = self.dr
+        th = dr.atan2(dr.sqrt(x * x + y * y), z)
+        ph = dr.atan2(y, x)
+        ph = dr.select(ph < 0, ph + TAU, ph)
+        ph = dr.select(ph >= TAU, 0.0, ph)
+        ph = dr.select((x == 0) & (y == 0), 0.0, ph)
+        return th, ph
+
+    def _clamped(self, table, count, x):
+        """Linear weights of x on the increasing grid `table` (count nodes), clamped to its ends:
+        (j0, j1, t), as the library's ``clamped``."""
+        dr, I, F = self.dr, self.I, self.F
+        if count == 1:
+            return I(0), I(0), F(0.0)
+        first = self._gf(table, I(0))
+        last = self._gf(table, I(count - 1))
+        k = self._count_le(table, 0, count, x, _bits(count))
+        j = dr.minimum(dr.maximum(k - 1, 0), count - 2)
+        a0, a1 = self._gf(table, j), self._gf(table, j + 1)
+        t = (x - a0) / (a1 - a0)
+        below = ~(x > first)
+        above = x >= last
+        j0 = dr.select(below, 0, dr.select(above, count - 1, j))
+        j1 = dr.select(below, 0, dr.select(above, count - 1, j + 1))
+        t = dr.select(below | above, 0.0, t)
+        return I(j0), I(j1), t
+
+    def _periodic(self, table, count, x):
+        """Linear weights of azimuth x on the periodic grid `table` ⊂ [0, 2π): (i0, i1, t), as the
+        library's ``periodic``."""
+        dr, I, F = self.dr, self.I, self.F
+        x = x - TAU * dr.floor(x / self._tau_div)
+        x = dr.select(x >= TAU, x - TAU, x)
+        x = dr.select(x < 0, x + TAU, x)
+        if count == 1:
+            return I(0), I(0), F(0.0)
+        first = self._gf(table, I(0))
+        last = self._gf(table, I(count - 1))
+        wrap = (x < first) | (x >= last)
+        xx = dr.select(x < first, x + TAU, x)
+        tw = self._clamp((xx - last) / ((first + TAU) - last), 0.0, 1.0)
+        k = self._count_le(table, 0, count, x, _bits(count))
+        i = dr.minimum(dr.maximum(k - 1, 0), count - 2)
+        a0, a1 = self._gf(table, i), self._gf(table, i + 1)
+        ti = (x - a0) / (a1 - a0)
+        i0 = dr.select(wrap, count - 1, i)
+        i1 = dr.select(wrap, 0, i + 1)
+        return I(i0), I(i1), dr.select(wrap, tw, ti)
+
+    # -- the blend ----------------------------------------------------------------------------
+
+    def _weights(self, ti, pi):
+        """The slices and weights of ω_i = (θ_i, φ_i): a list of (slice index, weight), weights of
+        empty slices 0 and the rest renormalised, and `ok` (some neighbour has a map)."""
+        dr = self.dr
+        a0, a1, ta = self._clamped(self._ti, self.n_ti, ti)
+        parts = []
+        if self.anisotropic:
+            q0, q1, tq = self._periodic(self._pi, self.n_pi, pi)
+            for a, wa in ((a0, 1.0 - ta), (a1, ta)):
+                for q, wq in ((q0, 1.0 - tq), (q1, tq)):
+                    parts.append((a * self.B + q, wa * wq))
+        else:
+            parts = [(a0, 1.0 - ta), (a1, ta)]
+        out, total = [], None
+        for s, w in parts:
+            w = w * self._gf(self._present, s)
+            out.append((s, w))
+            total = w if total is None else total + w
+        ok = total > 0
+        inv = dr.select(ok, 1.0 / dr.select(ok, total, 1.0), 0.0)
+        return [(s, w * inv) for s, w in out], ok
+
+    def _blend_consts(self, parts):
+        """Per part: (slice, w_k, c_k); and κ = Σ w_k κ_k."""
+        out, kappa = [], None
+        for s, w in parts:
+            c = w * self._gf(self._c2, s)
+            k = w * self._gf(self._kap, s)
+            kappa = k if kappa is None else kappa + k
+            out.append((s, w, c))
+        return out, kappa
+
+    def _sum(self, parts, coef, name, idx_of):
+        acc = None
+        for s, w, c in parts:
+            v = (w if coef == "w" else c) * self._gf(self._t[name], idx_of(s))
+            acc = v if acc is None else acc + v
+        return acc
+
+    def _sample_blend(self, parts, kappa, u, v):
+        """The blended map at points (u, v): direction in the slice frame and blended disk
+        density D (the pdf is D / 2)."""
+        dr = self.dr
+        m, n = self.m, self.n
+        a = 2.0 * u - 1.0
+        b = 2.0 * v - 1.0
+        big = dr.abs(a) > dr.abs(b)
+        r = dr.select(big, a, b)
+        num = dr.select(big, b, a)
+        den = dr.select(big, a, b)
+        q = num / den
+        phi = dr.select(big, FRAC_PI_4 * q, FRAC_PI_2 - FRAC_PI_4 * q)
+        negr = r < 0
+        r = dr.select(negr, -r, r)
+        phi = dr.select(negr, phi + PI, phi)
+        phi = dr.select(phi < 0, phi + TAU, phi)
+        phi = dr.select(phi >= TAU, 0.0, phi)
+        origin = (a == 0) & (b == 0)
+        rb = dr.select(origin, 0.0, r)
+        pb = dr.select(origin, 0.0, phi)
+
+        def gamma(i):
+            return self._sum(parts, "w", "cum", lambda s: s * (m + 1) + i)
+
+        def r2(i):
+            return self._sum(parts, "w", "r2", lambda s: s * (m + 1) + i)
+
+        # The wedge: the largest i ≤ M − 1 with Γ_i ≤ φ_B (Γ_0 = 0).
+        wi = self._descend(self.I(0), self.I(m - 1), pb, gamma, self.steps["steps_wedge"])
+        beta = self._gf(self._t["beta"], wi)
+        ra, rbb = r2(wi), r2(wi + 1)
+        g0 = gamma(wi)
+        gam = (pb - g0) / kappa
+        aa = (0.5 * beta) * (rbb - ra)
+        bb = beta * ra
+        cc = dr.maximum(gam, 0.0)
+        dn = bb + dr.sqrt(dr.maximum(bb * bb + (4.0 * aa) * cc, 0.0))
+        eps = dr.select(dn > 0, self._clamp((2.0 * cc) / dn, 0.0, 1.0), 0.0)
+        phic = self._gf(self._t["phi"], wi) + eps * beta
+        w1 = wi + 1
+        wn = dr.select(w1 == m, 0, w1)
+        ome = 1.0 - eps
+        mn = m * n
+
+        def ut(j):
+            return self._sum(parts, "c", "u", lambda s: s * mn + wi * n + j) * ome + \
+                self._sum(parts, "c", "u", lambda s: s * mn + wn * n + j) * eps
+
+        def dt(j):
+            return self._sum(parts, "c", "d", lambda s: s * mn + wi * n + j) * ome + \
+                self._sum(parts, "c", "d", lambda s: s * mn + wn * n + j) * eps
+
+        w = (rb * rb) * ut(self.I(n - 1))
+        j = self._descend(self.I(0), self.I(n - 2), w, ut, self.steps["steps_rad"])
+        (j,) = dr.while_loop((j,), lambda j: (j > 0) & (ut(j) > w), lambda j: (j - 1,),
+                             labels=("j",), label="gonio_brdf_radial_down")
+        (j,) = dr.while_loop((j,), lambda j: (j + 2 < n) & (ut(j + 1) <= w), lambda j: (j + 1,),
+                             labels=("j",), label="gonio_brdf_radial_up")
+        (j,) = dr.while_loop((j,), lambda j: (j > 0) & (ut(j + 1) <= ut(j)), lambda j: (j - 1,),
+                             labels=("j",), label="gonio_brdf_radial_edge")
+        uj = ut(j)
+        d0, d1 = dt(j), dt(j + 1)
+        x0 = self._gf(self._t["x"], j)
+        x1 = self._gf(self._t["x"], j + 1)
+        inv_dx = self._gf(self._t["inv_dx"], j)
+        xr = dr.minimum(self._solve_radius(x0, x1, d0, d1, w - uj), x1)
+        r2x = xr * xr
+        sx = xr * dr.sqrt(dr.maximum(2.0 - r2x, 0.0))
+        sp, cp = dr.sincos(phic)
+        ox, oy, oz = sx * cp, sx * sp, 1.0 - r2x
+        up = oz > 0
+        rd2 = dr.select(up, (ox * ox + oy * oy) / (1.0 + oz), 1.0 - oz)
+        xd = dr.sqrt(dr.minimum(dr.maximum(rd2, 0.0), 2.0))
+        t = dr.minimum(dr.maximum((xd - x0) * inv_dx, 0.0), 1.0)
+        od = dr.maximum(d0 + (d1 - d0) * t, 0.0)
+        return ox, oy, oz, od
+
+    def _density_blend(self, parts, x, y, z):
+        """The blended disk density D at directions of the slice frame (upper hemisphere)."""
+        dr = self.dr
+        n, mn = self.n, self.m * self.n
+        c = self._c
+        xr, p = self._radius_azimuth(x, y, z)
+        i, i1, eps = self._sectors(c, p)
+        j = self._guided(c, "x", "radius_guide", c.radius_scale, xr, n - 2, c.kmax_r, self.steps["steps_r"])
+        t = self._clamp((xr - self._gf(self._t["x"], j)) * self._gf(self._t["inv_dx"], j), 0.0, 1.0)
+
+        def row(r):
+            a0 = self._sum(parts, "c", "d", lambda s: s * mn + r * n + j)
+            a1 = self._sum(parts, "c", "d", lambda s: s * mn + r * n + j + 1)
+            return a0 + t * (a1 - a0)
+
+        d = dr.maximum((1.0 - eps) * row(i) + eps * row(i1), 0.0)
+        return dr.select(xr > self.edge * (1.0 + 1e-6), 0.0, d)
+
+    # -- the public calls ----------------------------------------------------------------------
+
+    def _incident(self, wi):
+        ix, iy, iz = self._in(wi.x), self._in(wi.y), self._in(wi.z)
+        ti, pi = self._angles(ix, iy, iz)
+        ti = self.dr.minimum(ti, FRAC_PI_2)
+        return ix, iy, iz, ti, pi
+
+    def sample(self, wi, u):
+        """(wo Vector3f, pdf Float) for incident directions wi and points u of the square."""
+        wo, pdf, _ = self.sample_valid(wi, u)
+        return wo, pdf
+
+    def sample_valid(self, wi, u):
+        """``sample`` and a mask: False where the cosine fallback was used (ω_i below the horizon,
+        or every neighbouring slice empty: the library's zero-weight sample)."""
+        with self._scope():
+            dr, mi = self.dr, self.mi
+            ix, iy, iz, ti, pi = self._incident(wi)
+            uu, vv = self._in(u.x), self._in(u.y)
+            parts, ok = self._weights(ti, pi)
+            ok = ok & (iz >= 0)
+            parts, kappa = self._blend_consts(parts)
+            kappa = dr.select(ok, kappa, 1.0)
+            ox, oy, oz, od = self._sample_blend(parts, kappa, uu, vv)
+            sp, cp = dr.sincos(pi)
+            rx = cp * ox - sp * oy
+            ry = sp * ox + cp * oy
+            pdf = 0.5 * od
+            # The cosine fallback (the concentric map lifted by z = √(1 − r²)).
+            a = 2.0 * uu - 1.0
+            b = 2.0 * vv - 1.0
+            big = dr.abs(a) > dr.abs(b)
+            r = dr.select(big, a, b)
+            q = dr.select(big, b, a) / dr.select(big, a, b)
+            ph = dr.select(big, FRAC_PI_4 * q, FRAC_PI_2 - FRAC_PI_4 * q)
+            ph = dr.select((a == 0) & (b == 0), 0.0, ph)
+            s2, c2 = dr.sincos(ph)
+            cz = dr.sqrt(dr.maximum(1.0 - r * r, 0.0))
+            wx = dr.select(ok, rx, r * c2)
+            wy = dr.select(ok, ry, r * s2)
+            wz = dr.select(ok, oz, cz)
+            pdf = dr.select(ok, pdf, cz / self._pi_div)
+            out = mi.Vector3f(self._out(wx), self._out(wy), self._out(wz))
+            return out, self._out(pdf), (bool(ok[0]) if self.scalar else ok)
+
+    def pdf(self, wi, wo):
+        """The density of ``sample`` at wo for wi (per steradian; 0 below the horizon)."""
+        with self._scope():
+            dr = self.dr
+            ix, iy, iz, ti, pi = self._incident(wi)
+            x, y, z = self._in(wo.x), self._in(wo.y), self._in(wo.z)
+            parts, ok = self._weights(ti, pi)
+            ok = ok & (iz >= 0)
+            parts, _ = self._blend_consts(parts)
+            sp, cp = dr.sincos(pi)
+            lx = cp * x + sp * y
+            ly = cp * y - sp * x
+            d = self._density_blend(parts, lx, ly, z)
+            p = dr.select(ok, 0.5 * d, dr.maximum(z, 0.0) / self._pi_div)
+            return self._out(dr.select(z >= 0, p, 0.0))
+
+    def eval(self, wi, wo):
+        """f_r (Color3f, 1/sr): the table's multilinear interpolant; 0 below the horizon."""
+        with self._scope():
+            dr, mi = self.dr, self.mi
+            ix, iy, iz, ti, pi = self._incident(wi)
+            x, y, z = self._in(wo.x), self._in(wo.y), self._in(wo.z)
+            to, po = self._angles(x, y, z)
+            inside = (iz >= 0) & (z >= 0) & (to >= self._to_lo - 1e-6) & (to <= self._to_hi + 1e-6)
+            a0, a1, ta = self._clamped(self._ti, self.n_ti, ti)
+            b0, b1, tb = self._clamped(self._to, self.n_to, to)
+            if self.anisotropic:
+                q = self._periodic(self._pi, self.n_pi, pi)
+                az = po
+            else:
+                q = (self.I(0), self.I(0), self.F(0.0))
+                az = po - pi
+            p0, p1, tp = self._periodic(self._po, self.n_po, az)
+            na = self.n_ti * self.n_pi
+            nb, npo = self.n_to, self.n_po
+            out = []
+            for ch in range(self.channels):
+                acc = None
+                for a, wa in ((a0, 1.0 - ta), (a1, ta)):
+                    for qi, wq in ((q[0], 1.0 - q[2]), (q[1], q[2])):
+                        inc = a * self.n_pi + qi
+                        base = (ch * na + inc) * nb
+
+                        def at(bq, pq):
+                            return self._gf(self._vals, (base + bq) * npo + pq)
+
+                        row0 = (1.0 - tp) * at(b0, p0) + tp * at(b0, p1)
+                        row1 = (1.0 - tp) * at(b1, p0) + tp * at(b1, p1)
+                        v = (wa * wq) * ((1.0 - tb) * row0 + tb * row1)
+                        acc = v if acc is None else acc + v
+                out.append(dr.select(inside, dr.maximum(acc, 0.0), 0.0))
+            if self.channels == 1:
+                out = [out[0]] * 3
+            return mi.Color3f(*(self._out(c) for c in out))

@@ -382,9 +382,9 @@ _CLASSES = {}
 
 
 def register(jit_flags=True):
-    """Registers the emitters ``"gonio"`` and ``"gonio_envmap"`` for Mitsuba's current variant
-    (call after ``mi.set_variant``; again after changing variant). Returns the ``"gonio"`` class
-    (``classes()`` returns both).
+    """Registers the emitters ``"gonio"`` and ``"gonio_envmap"`` and the BSDF ``"gonio_brdf"`` for
+    Mitsuba's current variant (call after ``mi.set_variant``; again after changing variant).
+    Returns the ``"gonio"`` class (``classes()`` returns all three).
 
     ``jit_flags`` is accepted for compatibility and does nothing: the emitters are written in
     Dr.Jit operations (``gonio.drjit``) and run inside Mitsuba's symbolic calls and loops, so no
@@ -400,10 +400,12 @@ def register(jit_flags=True):
     if "rgb" not in variant:
         raise RuntimeError(f"gonio.mitsuba supports the RGB variants (scalar_rgb, llvm_ad_rgb, ...), not {variant}")
     if variant not in _CLASSES:
-        _CLASSES[variant] = _make_classes(mi, dr, variant.startswith("scalar"))
-    lum, env = _CLASSES[variant]
+        _CLASSES[variant] = _make_classes(mi, dr, variant.startswith("scalar")) + \
+            (_make_bsdf(mi, dr, variant.startswith("scalar")),)
+    lum, env, brdf = _CLASSES[variant]
     mi.register_emitter("gonio", lambda props: lum(props))
     mi.register_emitter("gonio_envmap", lambda props: env(props))
+    mi.register_bsdf("gonio_brdf", lambda props: brdf(props))
     return lum
 
 
@@ -424,7 +426,8 @@ def prepare(scene):
 
 
 def classes():
-    """The (``"gonio"``, ``"gonio_envmap"``) emitter classes of the current variant (registers them)."""
+    """The (``"gonio"``, ``"gonio_envmap"``, ``"gonio_brdf"``) classes of the current variant
+    (registers them)."""
     import mitsuba as mi
 
     register()
@@ -910,3 +913,121 @@ def luminaire(filename, to_world=None, shape="point", scale=1.0, width=None, len
             "bsdf": {"type": "diffuse", "reflectance": {"type": "rgb", "value": [0.0, 0.0, 0.0]}},
         }
     return out
+
+
+_BRDF_TABLES = {}
+
+
+def _brdf_tables(mi, path, merl_theta, merl_phi, theta_o, phi_o, force_resample):
+    """gonio.drjit.BrdfTables of a BRDF file for the current variant, cached by the variant, the
+    file (path, modification time) and the options; the least recently made entry goes beyond 8."""
+    from . import drjit as gdr
+    from . import read_brdf
+
+    key = (mi.variant(), path, os.path.getmtime(path), merl_theta, merl_phi, theta_o, phi_o, force_resample)
+    hit = _BRDF_TABLES.get(key)
+    if hit is None:
+        brdf = read_brdf(path, merl_theta=merl_theta, merl_phi=merl_phi)
+        blob = brdf.tables("float32", theta_o=theta_o, phi_o=phi_o, force_resample=force_resample)
+        hit = _BRDF_TABLES[key] = gdr.BrdfTables(blob, mi)
+        while len(_BRDF_TABLES) > _TABLES_MAX:
+            _BRDF_TABLES.pop(next(iter(_BRDF_TABLES)))
+    return hit
+
+
+def _make_bsdf(mi, dr, scalar):
+    K = _Kit(mi, dr, scalar)
+
+    class GonioBrdf(mi.BSDF):
+        """Mitsuba BSDF "gonio_brdf": a tabulated BRDF (MERL, UTIA, gonio BRDF JSON) sampled
+        exactly through the HDS map of its slices blended for each incident direction (see the
+        module gonio.mitsuba and docs/MITSUBA.md)."""
+
+        def __init__(self, props):
+            super().__init__(props)
+            name = props.get("filename", None)
+            if name is None:
+                raise ValueError('gonio_brdf: the property "filename" (a MERL, UTIA or gonio BRDF JSON file) '
+                                 "is required")
+            self.filename = _resolve(mi, name)
+            self.scale = float(props.get("scale", 1.0))
+            if not (math.isfinite(self.scale) and self.scale >= 0):
+                raise ValueError(f"gonio_brdf {self.filename}: scale must be finite and >= 0, not {self.scale}")
+            opts = {}
+            for k, d in (("merl_theta", 46), ("merl_phi", 90), ("theta_o", 46), ("phi_o", 90)):
+                v = props.get(k, d)
+                if int(v) != v or int(v) < 1:
+                    raise ValueError(f"gonio_brdf {self.filename}: {k} must be a positive integer, not {v}")
+                opts[k] = int(v)
+            force = bool(props.get("force_resample", False))
+            self.sampling = str(props.get("sampling", "hds"))
+            if self.sampling not in ("hds", "cosine"):
+                raise ValueError(f'gonio_brdf {self.filename}: sampling must be "hds" or "cosine", '
+                                 f"not {self.sampling!r}")
+            self.tables = _brdf_tables(mi, self.filename, opts["merl_theta"], opts["merl_phi"],
+                                       opts["theta_o"], opts["phi_o"], force)
+            self.options = dict(opts, force_resample=force)
+            flags = mi.BSDFFlags.GlossyReflection | mi.BSDFFlags.FrontSide
+            self.m_flags = flags
+            self.m_components = [flags]
+
+        def _cos(self, v):
+            return v.z
+
+        def sample(self, ctx, si, sample1, sample2, active=True):
+            t = self.tables
+            bs = mi.BSDFSample3f()
+            if self.sampling == "cosine":
+                wo = mi.warp.square_to_cosine_hemisphere(sample2)
+                pdf = mi.warp.square_to_cosine_hemisphere_pdf(wo)
+                ok = True
+            else:
+                wo, pdf, ok = t.sample_valid(si.wi, sample2)
+            cos_i, cos_o = self._cos(si.wi), self._cos(wo)
+            enabled = ctx.is_enabled(mi.BSDFFlags.GlossyReflection)
+            valid = active & (cos_i > 0) & (cos_o > 0) & (pdf > 0) & ok & enabled
+            f = t.eval(si.wi, wo)
+            bs.wo = wo
+            bs.pdf = dr.select(valid, pdf, 0.0)
+            bs.eta = 1.0
+            bs.sampled_type = mi.UInt32(+mi.BSDFFlags.GlossyReflection) if not scalar else \
+                int(mi.BSDFFlags.GlossyReflection)
+            bs.sampled_component = 0 if scalar else mi.UInt32(0)
+            k = K.safe_div(cos_o * self.scale, pdf)
+            weight = f * k
+            return bs, dr.select(valid, weight, 0.0)
+
+        def eval(self, ctx, si, wo, active=True):
+            cos_i, cos_o = self._cos(si.wi), self._cos(wo)
+            enabled = ctx.is_enabled(mi.BSDFFlags.GlossyReflection)
+            valid = active & (cos_i > 0) & (cos_o > 0) & enabled
+            f = self.tables.eval(si.wi, wo) * (cos_o * self.scale)
+            return dr.select(valid, f, 0.0)
+
+        def pdf(self, ctx, si, wo, active=True):
+            cos_i, cos_o = self._cos(si.wi), self._cos(wo)
+            enabled = ctx.is_enabled(mi.BSDFFlags.GlossyReflection)
+            valid = active & (cos_i > 0) & (cos_o > 0) & enabled
+            if self.sampling == "cosine":
+                p = mi.warp.square_to_cosine_hemisphere_pdf(wo)
+            else:
+                p = self.tables.pdf(si.wi, wo)
+            return dr.select(valid, p, 0.0)
+
+        def eval_pdf(self, ctx, si, wo, active=True):
+            return self.eval(ctx, si, wo, active), self.pdf(ctx, si, wo, active)
+
+        def traverse(self, callback):
+            pass
+
+        def parameters_changed(self, keys=None):
+            pass
+
+        def to_string(self):
+            t = self.tables
+            return (f"GonioBrdf[filename={self.filename!r}, {'anisotropic' if t.anisotropic else 'isotropic'}, "
+                    f"{t.channels} channel(s), {t.S} slices of {t.m} x {t.n}, scale={self.scale:g}, "
+                    f"sampling={self.sampling}, "
+                    f"options={self.options}]")
+
+    return GonioBrdf
