@@ -965,6 +965,17 @@ class BrdfTables(Tables):
         self._vals = self._array(f["values"], False)
         self.n_ti, self.n_pi, self.n_to, self.n_po = len(f["theta_i"]), len(f["phi_i"]), len(f["theta_o"]), \
             len(f["phi_o"])
+        # Uniform grids (the usual: MERL resampled, analytic and UTIA tables) are searched by their
+        # direct index and one correction step each way, as the library's `interval`; the others
+        # by bisection.
+        self._uniform = {}
+        for key, g in (("ti", f["theta_i"]), ("pi", f["phi_i"]), ("to", f["theta_o"]), ("po", f["phi_o"])):
+            g32 = np.asarray(g, dtype=np.float32).astype(np.float64)
+            if len(g32) >= 2:
+                h = (g32[-1] - g32[0]) / (len(g32) - 1)
+                dev = np.max(np.abs(g32 - (g32[0] + h * np.arange(len(g32)))))
+                if h > 0 and dev <= 1e-3 * h:
+                    self._uniform[key] = (float(np.float32(g32[0])), float(np.float32(1.0 / h)))
         self._to_lo = float(np.float32(f["theta_o"][0]))
         self._to_hi = float(np.float32(f["theta_o"][-1]))
         self._tau_div = self._const(np.float32(TAU))
@@ -983,7 +994,20 @@ class BrdfTables(Tables):
         ph = dr.select((x == 0) & (y == 0), 0.0, ph)
         return th, ph
 
-    def _clamped(self, table, count, x):
+    def _interval(self, key, table, count, x):
+        """The largest j ≤ count − 2 with table[j] ≤ x (0 if none): on a uniform grid the direct
+        index and one correction step each way, else bisection."""
+        dr = self.dr
+        if key in self._uniform:
+            a0, inv_h = self._uniform[key]
+            j = self._to_index((x - a0) * inv_h, count - 2)
+            j = dr.select((j > 0) & (x < self._gf(table, j)), j - 1, j)
+            j = dr.select((j < count - 2) & (x >= self._gf(table, j + 1)), j + 1, j)
+            return j
+        k = self._count_le(table, 0, count, x, _bits(count))
+        return dr.minimum(dr.maximum(k - 1, 0), count - 2)
+
+    def _clamped(self, table, count, x, key=None):
         """Linear weights of x on the increasing grid `table` (count nodes), clamped to its ends:
         (j0, j1, t), as the library's ``clamped``."""
         dr, I, F = self.dr, self.I, self.F
@@ -991,8 +1015,7 @@ class BrdfTables(Tables):
             return I(0), I(0), F(0.0)
         first = self._gf(table, I(0))
         last = self._gf(table, I(count - 1))
-        k = self._count_le(table, 0, count, x, _bits(count))
-        j = dr.minimum(dr.maximum(k - 1, 0), count - 2)
+        j = self._interval(key, table, count, x)
         a0, a1 = self._gf(table, j), self._gf(table, j + 1)
         t = (x - a0) / (a1 - a0)
         below = ~(x > first)
@@ -1002,7 +1025,7 @@ class BrdfTables(Tables):
         t = dr.select(below | above, 0.0, t)
         return I(j0), I(j1), t
 
-    def _periodic(self, table, count, x):
+    def _periodic(self, table, count, x, key=None):
         """Linear weights of azimuth x on the periodic grid `table` ⊂ [0, 2π): (i0, i1, t), as the
         library's ``periodic``."""
         dr, I, F = self.dr, self.I, self.F
@@ -1016,8 +1039,7 @@ class BrdfTables(Tables):
         wrap = (x < first) | (x >= last)
         xx = dr.select(x < first, x + TAU, x)
         tw = self._clamp((xx - last) / ((first + TAU) - last), 0.0, 1.0)
-        k = self._count_le(table, 0, count, x, _bits(count))
-        i = dr.minimum(dr.maximum(k - 1, 0), count - 2)
+        i = self._interval(key, table, count, x)
         a0, a1 = self._gf(table, i), self._gf(table, i + 1)
         ti = (x - a0) / (a1 - a0)
         i0 = dr.select(wrap, count - 1, i)
@@ -1030,10 +1052,10 @@ class BrdfTables(Tables):
         """The slices and weights of ω_i = (θ_i, φ_i): a list of (slice index, weight), weights of
         empty slices 0 and the rest renormalised, and `ok` (some neighbour has a map)."""
         dr = self.dr
-        a0, a1, ta = self._clamped(self._ti, self.n_ti, ti)
+        a0, a1, ta = self._clamped(self._ti, self.n_ti, ti, "ti")
         parts = []
         if self.anisotropic:
-            q0, q1, tq = self._periodic(self._pi, self.n_pi, pi)
+            q0, q1, tq = self._periodic(self._pi, self.n_pi, pi, "pi")
             for a, wa in ((a0, 1.0 - ta), (a1, ta)):
                 for q, wq in ((q0, 1.0 - tq), (q1, tq)):
                     parts.append((a * self.B + q, wa * wq))
@@ -1231,15 +1253,15 @@ class BrdfTables(Tables):
             x, y, z = self._in(wo.x), self._in(wo.y), self._in(wo.z)
             to, po = self._angles(x, y, z)
             inside = (iz >= 0) & (z >= 0) & (to >= self._to_lo - 1e-6) & (to <= self._to_hi + 1e-6)
-            a0, a1, ta = self._clamped(self._ti, self.n_ti, ti)
-            b0, b1, tb = self._clamped(self._to, self.n_to, to)
+            a0, a1, ta = self._clamped(self._ti, self.n_ti, ti, "ti")
+            b0, b1, tb = self._clamped(self._to, self.n_to, to, "to")
             if self.anisotropic:
-                q = self._periodic(self._pi, self.n_pi, pi)
+                q = self._periodic(self._pi, self.n_pi, pi, "pi")
                 az = po
             else:
                 q = (self.I(0), self.I(0), self.F(0.0))
                 az = po - pi
-            p0, p1, tp = self._periodic(self._po, self.n_po, az)
+            p0, p1, tp = self._periodic(self._po, self.n_po, az, "po")
             na = self.n_ti * self.n_pi
             nb, npo = self.n_to, self.n_po
             out = []
