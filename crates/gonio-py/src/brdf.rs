@@ -480,9 +480,88 @@ impl PyBrdfSampler {
 }
 
 /// Adds `read_brdf`, `Brdf` and `BrdfSampler` to the native module.
+/// ``analytic_brdf(path, family, *, format="json", albedo=(0.8, 0.8, 0.8), alpha_x=0.3,
+/// alpha_y=None, f0=(1, 1, 1), n_theta=46, n_phi=90)``: writes the library's analytic BRDF
+/// (``"lambert"``: albedo/π; ``"ggx"``: GGX with height-correlated Smith masking and constant
+/// Fresnel ``f0``, α_x along the tangent, α_y = α_x when None) to ``path`` in a file layout:
+/// ``"merl"`` (the MERL binary, isotropic only, cells at their centres), ``"utia"`` (the UTIA raw
+/// layout, 6 × 48 incident and outgoing nodes to 75°) or ``"json"`` (gonio BRDF JSON on an
+/// ``n_theta`` × ``n_phi`` grid). Ground truth for tests and experiments; returns ``path``.
+#[pyfunction]
+#[pyo3(signature = (path, family, *, format = "json", albedo = [0.8, 0.8, 0.8], alpha_x = 0.3,
+                    alpha_y = None, f0 = [1.0, 1.0, 1.0], n_theta = 46, n_phi = 90))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn analytic_brdf(
+    py: Python<'_>,
+    path: PathBuf,
+    family: &str,
+    format: &str,
+    albedo: [f64; 3],
+    alpha_x: f64,
+    alpha_y: Option<f64>,
+    f0: [f64; 3],
+    n_theta: usize,
+    n_phi: usize,
+) -> PyResult<PathBuf> {
+    use gonio::brdf::Analytic;
+    let alpha_y = alpha_y.unwrap_or(alpha_x);
+    let a = match family {
+        "lambert" => Analytic::Lambert { albedo },
+        "ggx" => {
+            if !(alpha_x > 0.0 && alpha_y > 0.0 && alpha_x.is_finite() && alpha_y.is_finite()) {
+                return Err(InputError::new_err(format!(
+                    "alpha_x, alpha_y: {alpha_x}, {alpha_y} must be finite and > 0"
+                )));
+            }
+            Analytic::Ggx {
+                alpha_x,
+                alpha_y,
+                f0,
+            }
+        }
+        other => {
+            return Err(InputError::new_err(format!(
+                "family: {other:?} is not \"lambert\" or \"ggx\""
+            )))
+        }
+    };
+    if albedo.iter().chain(&f0).any(|v| !(v.is_finite() && *v >= 0.0)) {
+        return Err(InputError::new_err(
+            "albedo, f0: every value must be finite and >= 0",
+        ));
+    }
+    let bytes = match format {
+        "merl" => {
+            if a.symmetry() != Symmetry::Isotropic {
+                return Err(InputError::new_err(
+                    "format \"merl\": the MERL layout holds isotropic BRDFs only (alpha_y = alpha_x)",
+                ));
+            }
+            detached(py, "analytic_brdf", || gonio::brdf::write_merl(|wi, wo| a.eval(wi, wo)))?
+        }
+        "utia" => detached(py, "analytic_brdf", || {
+            gonio::brdf::write_utia_dirs(|wi, wo| a.eval(wi, wo))
+        })?,
+        "json" => {
+            let t = detached(py, "analytic_brdf", || a.table(n_theta, n_phi))?
+                .map_err(|e| InputError::new_err(format!("analytic_brdf: {e}")))?;
+            gonio::brdf::write_json(&t).into_bytes()
+        }
+        other => {
+            return Err(InputError::new_err(format!(
+                "format: {other:?} is not \"merl\", \"utia\" or \"json\""
+            )))
+        }
+    };
+    std::fs::write(&path, bytes)
+        .map_err(|e| GonioError::new_err(format!("{}: {e}", path.display())))?;
+    Ok(path)
+}
+
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyBrdf>()?;
     m.add_class::<PyBrdfSampler>()?;
     m.add_function(wrap_pyfunction!(read_brdf, m)?)?;
+    m.add_function(wrap_pyfunction!(analytic_brdf, m)?)?;
     Ok(())
 }

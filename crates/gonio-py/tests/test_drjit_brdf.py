@@ -8,7 +8,8 @@
   corners and centre included. Bounds below, with the measured maxima.
 * **Mitsuba's chi-square harness** (``mitsuba.chi2.BSDFAdapter``: the plugin's own ``sample`` and
   ``pdf`` through ``mi.load_dict``) accepts ``gonio_brdf`` at incident angles between slices, on
-  Lambert, GGX and anisotropic GGX tables, at the 1 % level with the Šidák correction over this
+  Lambert, GGX and anisotropic GGX tables (gonio BRDF JSON, and the library's analytic BRDFs
+  written in the MERL and UTIA layouts), at the 1 % level with the Šidák correction over this
   file's harness tests (``test_mitsuba_chi2.run_harness``: the integration resolution chosen by
   convergence), fixed seeds.
 * **Rendering against Mitsuba's ``roughconductor``** (``llvm_ad_rgb``, ``path``): a sphere under
@@ -38,14 +39,15 @@ ROOT = Path(__file__).resolve().parents[3]
 ENVMAPS = Path(os.environ.get("GONIO_ENVMAPS") or ROOT.parent / "shared" / "data" / "envmaps")
 SHARED = sorted(ENVMAPS.glob("*.hdr")) if ENVMAPS.is_dir() else []
 VARIANTS = ["scalar_rgb", "llvm_ad_rgb"]
-N = {"scalar_rgb": 64, "llvm_ad_rgb": 20000}
+N = {"scalar_rgb": 256, "llvm_ad_rgb": 20000}
 
 # Bounds of the port against the library's f64 sampler (measured maxima, both variants, this
 # file's seeds, in the comments).
-DIR_TOL = 1e-4  # max |Δ| of ω_o's components where the library's z ≥ 0.01 (measured ≤ 1.5e-5)
-UV_TOL = 1e-5  # max |Δ| of the library's inverse of the port's ω_o against u (measured ≤ 2.1e-6)
-PDF_TOL = 1e-3  # relative (floor 0.01/sr): the sample's pdf against the library's pdf at the
-# port's ω_o, and the port's pdf() at it (measured ≤ 1.9e-4)
+DIR_TOL = 1e-4  # max |Δ| of ω_o's components where the library's pdf ≥ 0.01/sr (measured ≤ 1.1e-5)
+UV_TOL = 1e-5  # max |Δ| of the library's inverse of the port's ω_o against u (measured ≤ 2.6e-6)
+PDF_TOL = 1e-4  # relative (floor 0.01/sr), beyond the conditioning term: the sample's pdf against the
+# library's pdf at the port's ω_o, and the port's pdf() there against the sample's (measured ≤ 1.5e-6)
+RAW_TOL = 1e-3  # the same without the conditioning term, for 99.9 % of the points (measured ≤ 8.5e-5)
 EVAL_TOL = 2e-4  # relative to the largest channel, of f_r at the library's ω_o (measured ≤ 4.4e-5)
 
 SPECULAR = [0.9, 0.6, 0.3]
@@ -101,6 +103,12 @@ def tables(tmp_path_factory):
         "lambert": lambert_table(d / "lambert.json"),
         "ggx": ggx_table(d / "ggx.json", 0.3, 0.3, 10, 24),
         "ggx-aniso": ggx_table(d / "ggx_aniso.json", 0.4, 0.2, 10, 24, anisotropic=True),
+        # The library's analytic BRDFs in the measured layouts (MERL: isotropic, cells at their
+        # centres, resampled on reading; UTIA: 6 × 48 nodes to 75°, the slices resampled).
+        "lambert-merl": gonio.analytic_brdf(d / "lambert.binary", "lambert", format="merl", albedo=[0.8, 0.5, 0.2]),
+        "ggx-merl": gonio.analytic_brdf(d / "ggx.binary", "ggx", format="merl", alpha_x=0.3, f0=SPECULAR),
+        "ggx-aniso-utia": gonio.analytic_brdf(d / "ggx_aniso.bin", "ggx", format="utia", alpha_x=0.4, alpha_y=0.2,
+                                              f0=SPECULAR),
     }
 
 
@@ -142,10 +150,26 @@ def _np(v, n):
     return a.reshape(3, n).T if a.shape[0] == 3 else a.reshape(n, -1)
 
 
+COND_STEP = 5e-7  # radians: ~4 float32 ulps of a unit vector's components
+
+
+def _conditioning(sampler, wi, wo):
+    """Per direction, the largest change of the library's pdf when wo turns by ±COND_STEP in θ or φ."""
+    th = np.arctan2(np.hypot(wo[:, 0], wo[:, 1]), wo[:, 2])
+    ph = np.arctan2(wo[:, 1], wo[:, 0])
+    p0 = sampler.pdf(wi, wo)
+    worst = np.zeros(len(wo))
+    for dt, dp in ((COND_STEP, 0.0), (-COND_STEP, 0.0), (0.0, COND_STEP), (0.0, -COND_STEP)):
+        t = np.clip(th + dt, 0.0, np.pi / 2)
+        d = np.stack([np.sin(t) * np.cos(ph + dp), np.sin(t) * np.sin(ph + dp), np.cos(t)], -1)
+        worst = np.maximum(worst, np.abs(sampler.pdf(wi, d) - p0))
+    return worst
+
+
 INCIDENT = [(0.0, 0.0), (23.0, 31.0), (47.0, 200.0), (76.0, 95.0), (88.0, 10.0)]
 
 
-@pytest.mark.parametrize("name", ["lambert", "ggx", "ggx-aniso"])
+@pytest.mark.parametrize("name", ["lambert", "ggx", "ggx-aniso", "ggx-merl", "ggx-aniso-utia"])
 def test_port_agrees_with_the_library(mi, tables, name):
     from gonio.drjit import BrdfTables
 
@@ -156,6 +180,7 @@ def test_port_agrees_with_the_library(mi, tables, name):
     n = N[mi.variant()]
     scalar = mi.variant().startswith("scalar")
     worst = [0.0, 0.0, 0.0, 0.0]
+    raws = []
     for th, ph in INCIDENT:
         wi = _dir(th, ph)
         u = rng.random((n, 2))
@@ -176,29 +201,40 @@ def test_port_agrees_with_the_library(mi, tables, name):
             wo, pdf = _np(wo_, n), np.array(pdf_, dtype=np.float64)
             pp = np.array(t.pdf(W, _vec(mi, wo)), dtype=np.float64)
             ff = _np(t.eval(W, _vec(mi, wo_ref)), n)
-        # ω_o: near a zero-density edge (the horizon, where f_r·cos θ_o → 0) the radial solve is
-        # ill-conditioned (a round-off δ of the mass moves the radius by ~√δ: at the square's
-        # corners the port's ω_o has z ≈ 3e-4 where the library's has 1e-9). So ω_o itself is
-        # compared where the library's z ≥ 0.01, and everywhere through the point of the square that
+        # ω_o: near a zero-density edge (the horizon, where f_r·cos θ_o → 0; a UTIA table's 75°,
+        # beyond which it has no data) the radial solve is ill-conditioned (a round-off δ of the
+        # mass moves the radius by ~√δ: at the square's corners the port's ω_o has z ≈ 3e-4 where
+        # the library's has 1e-9). So ω_o itself is compared where the library's pdf is ≥ 0.01/sr,
+        # and everywhere through the point of the square that
         # the library's map (f64, closed-form inverse) gives the port's ω_o; the sample's pdf
         # against the library's pdf at the port's ω_o (the exact density at the sample, as the
         # float32 contract of docs/API.md states it).
-        well = wo_ref[:, 2] >= 0.01
+        well = pdf_ref >= 1e-2
         e_dir = np.abs(wo[well] - wo_ref[well]).max()
         back = s.invert(wi, wo)
         e_uv = np.max(np.abs(back - u)) if np.isfinite(back).all() else np.inf
         at = s.pdf(wi, wo)
         # Relative, with a floor of 0.01/sr (the pdf of a horizon sample is ~1e-9).
-        e_pdf = np.max(np.abs(pdf - at) / np.maximum(at, 1e-2))
-        e_self = np.max(np.abs(pp - pdf) / np.maximum(pdf, 1e-2))
+        # Where the density is steep (a table's edge of data), float32's position round-off moves
+        # it: the library's float32 contract (docs/API.md) allows the change of the density over a
+        # few ulps of position; here the largest change of the library's pdf when ω_o turns by
+        # COND_STEP in θ or φ, relative to the same floor.
+        cond = _conditioning(s, wi, wo)
+        e_pdf = np.max(np.maximum(np.abs(pdf - at) - cond, 0.0) / np.maximum(at, 1e-2))
+        e_self = np.max(np.maximum(np.abs(pp - pdf) - cond, 0.0) / np.maximum(pdf, 1e-2))
+        raws.append(np.maximum(np.abs(pdf - at) / np.maximum(at, 1e-2), np.abs(pp - pdf) / np.maximum(pdf, 1e-2)))
         e_f = np.max(np.abs(ff - f_ref).max(axis=1) / np.maximum(f_ref.max(axis=1), 1e-12))
         worst = [max(worst[0], e_dir), max(worst[1], max(e_pdf, e_self)), max(worst[2], e_f), max(worst[3], e_uv)]
         assert e_dir <= DIR_TOL, (th, ph, e_dir)
         assert e_uv <= UV_TOL, (th, ph, e_uv)
         assert e_pdf <= PDF_TOL and e_self <= PDF_TOL, (th, ph, e_pdf, e_self)
         assert e_f <= EVAL_TOL, (th, ph, e_f)
-    SUMMARY.append(f"gonio_brdf port {name} ({mi.variant()}): ω_o ≤ {worst[0]:.1e} (z ≥ 0.01), its point of the "
-                   f"square ≤ {worst[3]:.1e}, pdf ≤ {worst[1]:.1e} rel, f_r ≤ {worst[2]:.1e} rel against the library")
+    # Without the conditioning term, over every incident direction's points: 99.9 % within the bound.
+    worst_raw = float(np.quantile(np.concatenate(raws), 0.999))
+    assert worst_raw <= RAW_TOL, worst_raw
+    SUMMARY.append(f"gonio_brdf port {name} ({mi.variant()}): ω_o ≤ {worst[0]:.1e} (pdf ≥ 0.01), its point of the "
+                   f"square ≤ {worst[3]:.1e}, pdf ≤ {worst[1]:.1e} rel beyond the conditioning "
+                   f"({worst_raw:.1e} without it, 99.9 %), f_r ≤ {worst[2]:.1e} rel against the library")
 
 
 def test_one_sided_and_below_the_horizon(mi_llvm, tables):
@@ -219,7 +255,8 @@ def test_one_sided_and_below_the_horizon(mi_llvm, tables):
 
 
 CHI2 = [("lambert", 37.0, 0.0), ("ggx", 0.0, 0.0), ("ggx", 37.0, 20.0), ("ggx", 71.0, 200.0),
-        ("ggx-aniso", 37.0, 50.0), ("ggx-aniso", 62.0, 290.0)]
+        ("ggx-aniso", 37.0, 50.0), ("ggx-aniso", 62.0, 290.0), ("lambert-merl", 37.0, 0.0),
+        ("ggx-merl", 41.0, 120.0), ("ggx-aniso-utia", 37.0, 50.0), ("ggx-aniso-utia", 52.0, 200.0)]
 
 
 @pytest.mark.parametrize("name,theta_i,phi_i", CHI2)

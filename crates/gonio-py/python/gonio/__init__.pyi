@@ -151,6 +151,15 @@ class Brdf:
         phi_o: int = 90,
         force_resample: bool = False,
     ) -> BrdfSampler: ...
+    def tables(
+        self,
+        precision: Literal["float32", "float64"] = "float32",
+        *,
+        theta_o: int = 46,
+        phi_o: int = 90,
+        force_resample: bool = False,
+    ) -> bytes:
+        """The family blob of this table's "hds" sampler (docs/TABLES.md, "Families")."""
 
 class BrdfSampler:
     """Importance sampling of f_r·cos θ_o with the exact pdf (per sr) and inverse; ``wi`` is one
@@ -167,6 +176,22 @@ class BrdfSampler:
     def sample(self, wi: ArrayLike, u: ArrayLike) -> Tuple[F64Array, F64Array, F64Array]: ...
     def pdf(self, wi: ArrayLike, wo: ArrayLike) -> F64Array: ...
     def invert(self, wi: ArrayLike, wo: ArrayLike) -> F64Array: ...
+    def tables(self, precision: Literal["float32", "float64"] = "float32") -> bytes:
+        """The family blob of this "hds" sampler (docs/TABLES.md, "Families")."""
+
+def analytic_brdf(
+    path: Union[str, os.PathLike[str]],
+    family: Literal["lambert", "ggx"],
+    *,
+    format: Literal["json", "merl", "utia"] = "json",
+    albedo: _Seq[float] = (0.8, 0.8, 0.8),
+    alpha_x: float = 0.3,
+    alpha_y: Optional[float] = None,
+    f0: _Seq[float] = (1.0, 1.0, 1.0),
+    n_theta: int = 46,
+    n_phi: int = 90,
+) -> os.PathLike[str]:
+    """Writes the library's analytic BRDF in the MERL, UTIA or gonio BRDF JSON layout; returns path."""
 
 def read_brdf(
     path: Union[str, os.PathLike[str]], *, merl_theta: int = 46, merl_phi: int = 90
