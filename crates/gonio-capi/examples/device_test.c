@@ -737,6 +737,230 @@ static void refusals(const GonioDiagram *diag) {
 
 /* ------------------------------------------------------------------------------------------ */
 
+
+/* ---------------------------------------------------------------------------------------------
+ * BRDF families (gonio_device_brdf_*): against the library's f64 BrdfSampler through the C ABI.
+ * ------------------------------------------------------------------------------------------- */
+
+/* A gonio BRDF JSON table: GGX (α_x, α_y; separable Smith masking, F = (0.9, 0.6, 0.3)), or
+ * Lambert when ax <= 0; nt polar nodes 0…90°, np azimuths (incident ones too when anisotropic). */
+static char *brdf_json(double ax, double ay, int nt, int np, int aniso) {
+  size_t cap = (size_t)3 * nt * nt * np * (aniso ? np : 1) * 26 + 4096, len = 0;
+  char *s = (char *)malloc(cap);
+  int c, a, q, b, p, npi = aniso ? np : 1;
+  const double F[3] = {0.9, 0.6, 0.3};
+  len += (size_t)sprintf(s + len, "{\"format\": \"gonio-brdf\", \"version\": 1, \"symmetry\": \"%s\", "
+                         "\"channels\": 3, \"theta_i_deg\": [", aniso ? "anisotropic" : "isotropic");
+  for (a = 0; a < nt; a++) len += (size_t)sprintf(s + len, "%s%.17g", a ? ", " : "", 90.0 * a / (nt - 1));
+  len += (size_t)sprintf(s + len, "], \"phi_i_deg\": [");
+  for (q = 0; q < npi; q++) len += (size_t)sprintf(s + len, "%s%.17g", q ? ", " : "", 360.0 * q / np);
+  len += (size_t)sprintf(s + len, "], \"theta_o_deg\": [");
+  for (a = 0; a < nt; a++) len += (size_t)sprintf(s + len, "%s%.17g", a ? ", " : "", 90.0 * a / (nt - 1));
+  len += (size_t)sprintf(s + len, "], \"phi_o_deg\": [");
+  for (p = 0; p < np; p++) len += (size_t)sprintf(s + len, "%s%.17g", p ? ", " : "", 360.0 * p / np);
+  len += (size_t)sprintf(s + len, "], \"values\": [");
+  for (c = 0; c < 3; c++)
+    for (a = 0; a < nt; a++)
+      for (q = 0; q < npi; q++)
+        for (b = 0; b < nt; b++)
+          for (p = 0; p < np; p++) {
+            double ti = 0.5 * PI_D * a / (nt - 1), pi = 2.0 * PI_D * q / np;
+            double to = 0.5 * PI_D * b / (nt - 1), po = 2.0 * PI_D * p / np + (aniso ? 0.0 : pi);
+            double wi[3] = {sin(ti) * cos(pi), sin(ti) * sin(pi), cos(ti)};
+            double wo[3] = {sin(to) * cos(po), sin(to) * sin(po), cos(to)};
+            double f;
+            if (ax <= 0.0) {
+              f = (c == 0 ? 0.8 : c == 1 ? 0.5 : 0.2) / PI_D;
+            } else {
+              double h[3] = {wi[0] + wo[0], wi[1] + wo[1], wi[2] + wo[2]};
+              double hl = sqrt(h[0] * h[0] + h[1] * h[1] + h[2] * h[2]);
+              double ci = wi[2] > 1e-4 ? wi[2] : 1e-4, co = wo[2] > 1e-4 ? wo[2] : 1e-4, t, d, li, lo;
+              h[0] /= hl; h[1] /= hl; h[2] /= hl;
+              t = (h[0] / ax) * (h[0] / ax) + (h[1] / ay) * (h[1] / ay) + h[2] * h[2];
+              d = 1.0 / (PI_D * ax * ay * t * t);
+              li = 0.5 * (-1.0 + sqrt(1.0 + ((wi[0] * ax) * (wi[0] * ax) + (wi[1] * ay) * (wi[1] * ay)) / (ci * ci)));
+              lo = 0.5 * (-1.0 + sqrt(1.0 + ((wo[0] * ax) * (wo[0] * ax) + (wo[1] * ay) * (wo[1] * ay)) / (co * co)));
+              f = F[c] * d / (1.0 + li) / (1.0 + lo) / (4.0 * ci * co);
+            }
+            len += (size_t)sprintf(s + len, "%s%.17g", (c | a | q | b | p) ? ", " : "", f);
+          }
+  sprintf(s + len, "]}");
+  return s;
+}
+
+/* The float32 family blob of a table's "hds" sampler (malloc'd), its size in *size. */
+static unsigned char *brdf_blob(const char *json, const char *name, GonioBrdf **brdf_out,
+                                GonioBrdfSampler **s_out, size_t *size) {
+  GonioBrdf *brdf = NULL;
+  GonioBrdfSampler *s = NULL;
+  unsigned char *blob;
+  if (gonio_brdf_read_memory((const uint8_t *)json, strlen(json), name, NULL, &brdf) != GONIO_OK ||
+      gonio_brdf_sampler_build(brdf, GONIO_BRDF_METHOD_HDS, NULL, &s) != GONIO_OK ||
+      gonio_brdf_sampler_tables(s, 4, NULL, 0, size) != GONIO_OK) {
+    CHECK(0, "%s: %s", name, gonio_last_error_message());
+    gonio_brdf_sampler_free(s);
+    gonio_brdf_free(brdf);
+    return NULL;
+  }
+  blob = (unsigned char *)malloc(*size);
+  CHECK(gonio_brdf_sampler_tables(s, 4, blob, *size, size) == GONIO_OK, "%s: tables", name);
+  *brdf_out = brdf;
+  *s_out = s;
+  return blob;
+}
+
+static void brdf_case(const char *name, double ax, double ay, int nt, int np, int aniso, size_t points) {
+  char *json = brdf_json(ax, ay, nt, np, aniso);
+  GonioBrdf *brdf = NULL;
+  GonioBrdfSampler *s = NULL;
+  GonioDeviceBrdf bf;
+  size_t size = 0, k, total = 0, pdf_over = 0;
+  unsigned char *blob = brdf_blob(json, name, &brdf, &s, &size);
+  double worst_dir = 0.0, worst_uv = 0.0, worst_f = 0.0, worst_pdf = 0.0;
+  const double inc[6][2] = {{0, 0}, {23, 31}, {47, 200}, {76, 95}, {88, 10}, {37, 333}};
+  int e, w;
+  free(json);
+  if (!blob) return;
+  e = gonio_device_brdf_init(&bf, blob, size);
+  CHECK(e == GONIO_DEVICE_OK, "%s: gonio_device_brdf_init = %d", name, e);
+  if (e != GONIO_DEVICE_OK) goto done;
+  for (w = 0; w < 6; w++) {
+    double ti = inc[w][0] * PI_D / 180.0, pi = inc[w][1] * PI_D / 180.0;
+    double wid[3] = {sin(ti) * cos(pi), sin(ti) * sin(pi), cos(ti)};
+    float wif[3] = {(float)wid[0], (float)wid[1], (float)wid[2]};
+    for (k = 0; k < points; k++) {
+      double u = k < 5 ? (double)(k & 1) : radical_inverse((uint32_t)k, 2);
+      double v = k < 5 ? (double)((k >> 1) & 1) : radical_inverse((uint32_t)k, 3);
+      GonioBrdfSample ls;
+      float wo[3], pdf, pp, f[3];
+      double wod[3], back_u = NAN, back_v = NAN, lp = 0.0, lf[3], d = 0.0, fm = 0.0, df = 0.0;
+      int c, ok;
+      if (k == 4) u = v = 0.5;
+      gonio_brdf_sample(s, wid, u, v, &ls);
+      ok = gonio_device_brdf_sample(&bf, wif, (float)u, (float)v, wo, &pdf);
+      CHECK(ok == 1, "%s: sample at (%g, %g) fell back", name, u, v);
+      for (c = 0; c < 3; c++) wod[c] = wo[c];
+      if (ls.pdf >= 0.01)
+        for (c = 0; c < 3; c++) d = fmax(d, fabs(wod[c] - ls.direction[c]));
+      worst_dir = fmax(worst_dir, d);
+      CHECK(d <= 1e-4, "%s wi (%g, %g) u (%g, %g): direction off by %g", name, inc[w][0], inc[w][1], u, v, d);
+      if (gonio_brdf_invert(s, wid, wod, &back_u, &back_v) == GONIO_OK) {
+        double duv = fmax(fabs(back_u - u), fabs(back_v - v));
+        worst_uv = fmax(worst_uv, duv);
+        CHECK(duv <= 1e-5, "%s wi (%g, %g) u (%g, %g): the library inverts ω_o to (%g, %g)", name,
+              inc[w][0], inc[w][1], u, v, back_u, back_v);
+      } else {
+        CHECK(0, "%s: gonio_brdf_invert: %s", name, gonio_last_error_message());
+      }
+      /* pdf: the device's sample pdf against the library's pdf at ω_o and the device's pdf(). */
+      gonio_brdf_pdf(s, wid, wod, &lp);
+      pp = gonio_device_brdf_pdf(&bf, wif, wo);
+      {
+        double r1 = fabs(pdf - lp) / fmax(lp, 1e-2), r2 = fabs(pp - pdf) / fmax(pdf, 1e-2);
+        worst_pdf = fmax(worst_pdf, fmax(r1, r2));
+        if (r1 > 1e-3 || r2 > 1e-3) pdf_over++;
+      }
+      total++;
+      /* f_r at the library's direction. */
+      gonio_brdf_eval(brdf, wid, ls.direction, lf);
+      {
+        float lwo[3] = {(float)ls.direction[0], (float)ls.direction[1], (float)ls.direction[2]};
+        gonio_device_brdf_eval(&bf, wif, lwo, f);
+      }
+      for (c = 0; c < 3; c++) {
+        fm = fmax(fm, lf[c]);
+        df = fmax(df, fabs(f[c] - lf[c]));
+      }
+      if (fm > 0.0) worst_f = fmax(worst_f, df / fm);
+      CHECK(df <= 2e-4 * fm + 1e-30, "%s: f_r off by %g of %g", name, df, fm);
+    }
+  }
+  /* Below the horizon and from below: the documented fallbacks. */
+  {
+    float below[3] = {0.6f, 0.0f, -0.8f}, up[3] = {0.0f, 0.0f, 1.0f}, wo[3], pdf, f[3];
+    CHECK(gonio_device_brdf_pdf(&bf, up, below) == 0.0f, "%s: pdf below the horizon", name);
+    CHECK(gonio_device_brdf_sample(&bf, below, 0.3f, 0.6f, wo, &pdf) == 0 && wo[2] >= 0.0f &&
+              fabsf(pdf - wo[2] / (float)PI_D) <= 1e-6f,
+          "%s: sample from below", name);
+    gonio_device_brdf_eval(&bf, below, up, f);
+    CHECK(f[0] == 0.0f && f[1] == 0.0f && f[2] == 0.0f, "%s: eval from below", name);
+  }
+  /* 99.9 % of the pdfs within 1e-3 (relative, floor 0.01/sr): the rest lie where the density is
+   * steep (float32's position round-off moves it). */
+  CHECK(pdf_over * 1000 <= total, "%s: %zu of %zu pdfs beyond 1e-3", name, pdf_over, total);
+  printf("device_test: brdf %-22s %7zu samples: ω_o ≤ %.1e (pdf ≥ 0.01), library's inverse ≤ %.1e, "
+         "pdf ≤ %.1e (%zu beyond 1e-3), f_r ≤ %.1e\n",
+         name, total, worst_dir, worst_uv, worst_pdf, pdf_over, worst_f);
+done:
+  free(blob);
+  gonio_brdf_sampler_free(s);
+  gonio_brdf_free(brdf);
+}
+
+/* A family blob refused: every truncation, each header and directory byte flipped (checksum
+ * resealed), a table byte changed (checksum), an f64 family, a single-map blob. */
+static void brdf_refusals(void) {
+  char *json = brdf_json(0.4, 0.2, 4, 6, 1);
+  GonioBrdf *brdf = NULL;
+  GonioBrdfSampler *s = NULL;
+  GonioDeviceBrdf bf;
+  size_t size = 0, len, at, refused = 0, tried = 0;
+  unsigned char *blob = brdf_blob(json, "refusals", &brdf, &s, &size), *w;
+  free(json);
+  if (!blob) return;
+  CHECK(gonio_device_brdf_init(&bf, blob, size) == GONIO_DEVICE_OK, "a valid family");
+  w = (unsigned char *)malloc(size);
+  for (len = 0; len < size; len++) {
+    memcpy(w, blob, len);
+    CHECK(gonio_device_brdf_init(&bf, w, len) != GONIO_DEVICE_OK, "family truncated to %zu", len);
+  }
+  for (at = 0; at < 256 + 32 * 18; at++) {
+    int flip;
+    for (flip = 0; flip < 3; flip++) {
+      memcpy(w, blob, size);
+      w[at] ^= flip == 0 ? 0x01 : flip == 1 ? 0x80 : 0xff;
+      reseal(w, size);
+      tried++;
+      if (gonio_device_brdf_init(&bf, w, size) != GONIO_DEVICE_OK) {
+        refused++;
+      } else {
+        /* Accepted (the flip left valid values): it samples in bounds (valgrind watches). */
+        float wi[3] = {0.3f, 0.1f, 0.9486833f}, wo[3], pdf, f[3];
+        gonio_device_brdf_sample(&bf, wi, 0.3f, 0.7f, wo, &pdf);
+        (void)gonio_device_brdf_pdf(&bf, wi, wo);
+        gonio_device_brdf_eval(&bf, wi, wo, f);
+      }
+    }
+  }
+  CHECK(refused * 10 > tried * 9, "only %zu of %zu header/directory flips refused", refused, tried);
+  memcpy(w, blob, size);
+  w[size - 64] ^= 0x10;
+  CHECK(gonio_device_brdf_init(&bf, w, size) == GONIO_DEVICE_E_CHECKSUM, "a table byte changed");
+  /* Table bytes flipped and resealed: refused or accepted, never a read outside (valgrind). */
+  for (at = 256 + 32 * 18; at < size; at += 5) {
+    memcpy(w, blob, size);
+    w[at] ^= 0xff;
+    reseal(w, size);
+    (void)gonio_device_brdf_init(&bf, w, size);
+  }
+  {
+    size_t s64 = 0;
+    unsigned char *b64;
+    gonio_brdf_sampler_tables(s, 8, NULL, 0, &s64);
+    b64 = (unsigned char *)malloc(s64);
+    gonio_brdf_sampler_tables(s, 8, b64, s64, &s64);
+    CHECK(gonio_device_brdf_init(&bf, b64, s64) == GONIO_DEVICE_E_F64, "an f64 family");
+    free(b64);
+  }
+  CHECK(gonio_device_brdf_init(&bf, NULL, 0) == GONIO_DEVICE_E_NULL, "NULL");
+  printf("device_test: brdf refusals: %zu of %zu header/directory flips refused, every truncation\n",
+         refused, tried);
+  free(w);
+  free(blob);
+  gonio_brdf_sampler_free(s);
+  gonio_brdf_free(brdf);
+}
+
 int main(int argc, char **argv) {
   size_t n = 1000000, n_env = 65536, n_file = 0;
   int n_random = 12, refusals_only = 0, a, i;
@@ -766,6 +990,7 @@ int main(int argc, char **argv) {
   free(json);
   if (!example) return 1;
   refusals(example);
+  brdf_refusals();
   if (refusals_only) {
     gonio_diagram_free(example);
     printf("device_test: %s\n", failures ? "FAILED" : "ok");
@@ -817,6 +1042,10 @@ int main(int argc, char **argv) {
     }
     gonio_diagram_free(d);
   }
+  /* BRDF families: isotropic and anisotropic GGX, Lambert. */
+  brdf_case("ggx α 0.3", 0.3, 0.3, 10, 24, 0, n / 50);
+  brdf_case("ggx α 0.4 × 0.2 (aniso)", 0.4, 0.2, 10, 24, 1, n / 50);
+  brdf_case("lambert", 0.0, 0.0, 6, 8, 0, n / 50);
   print_stats(&st_example);
   print_stats(&st_ies);
   print_stats(&st_ldt);

@@ -22,6 +22,11 @@
  *      then gonio_device_view_rebase(&view, dblob) and pass `view` by value to the kernel
  *      (a plain struct of pointers and scalars, 680 bytes on 64-bit targets).
  *   4. In host or device code: gonio_device_sample / _pdf / _invert / _target on &view.
+ *   A tabulated BRDF's family blob (docs/TABLES.md "Families": gonio_brdf_sampler_tables,
+ *   Brdf.tables(), `gonio tables BRDF_FILE`) goes through gonio_device_brdf_init (host) and
+ *   gonio_device_brdf_rebase, then gonio_device_brdf_sample / _pdf / _eval: the slices blended
+ *   for each incident direction, as the library's BrdfSampler (within float32 round-off of its
+ *   f64 results; see "BRDF families" below).
  *
  * FRAMES AND UNITS (docs/TABLES.md, "The frames")
  *   Directions dir[3] = (x, y, z) are unit vectors (to f32 round-off: they are not renormalised)
@@ -63,7 +68,7 @@
  *   gonio_device_view_init refuses to run on a big-endian host (GONIO_DEVICE_E_ENDIAN).
  *
  * No allocation, no recursion, no exceptions, no libc call beyond <math.h>'s sqrtf, fabsf,
- * atan2, hypot, fmod on the host (CUDA's builtins on the device), memcpy for bit casts on the host
+ * floorf, atan2, hypot, fmod on the host (CUDA's builtins on the device), memcpy for bit casts on the host
  * and memcpy/memset/memcmp in the host-only gonio_device_view_init. Every loop states its maximum
  * trip count. The sampling functions read only the blob and the view; any number of threads may
  * use one view at once.
@@ -1117,6 +1122,396 @@ GONIO_DEVICE_FN void gonio_device_view_rebase(GonioDeviceView *view, const void 
 }
 
 /* ---------------------------------------------------------------------------------------------
+ * BRDF families (layout 3, docs/TABLES.md "Families"): a tabulated BRDF's incident slices on
+ * their shared grid, blended per incident direction as the library's BrdfSampler does
+ * (crates/gonio/src/mapping/blend.rs), and the table's multilinear interpolant.
+ *
+ * Contract: the library's f64 BrdfSampler within float32 round-off, not bit for bit (the blend
+ * has no float32 twin in the library): tested against gonio_brdf_sample / _pdf / _invert /
+ * gonio_brdf_eval by device_test.c (ω_o within 1e-4 where the pdf is ≥ 0.01/sr, the library's
+ * inverse of ω_o within 1e-5 of (u, v), the pdf at ω_o and f_r within the bounds printed there).
+ * Plain float operators (an FMA contraction changes results by round-off only).
+ * ------------------------------------------------------------------------------------------- */
+
+/* A validated f32 family blob (gonio_device_brdf_init): pointers into it and its counts. Plain
+ * data: pass it to a kernel by value after gonio_device_brdf_rebase. */
+typedef struct GonioDeviceBrdf {
+  const gonio_u8 *base;
+  gonio_u64 total_bytes;
+  GonioDeviceMap grid;   /* the shared grid (phi, beta, x, radius_guide, inv_dx, m, n, ...) and
+                          * the stacked per-slice tables (r2, cum, d, u, total; len = all slices) */
+  const float *slice;    /* 4 per slice: 1/(2T_s), κ_s, edge_s, 0 (all 0: no map) */
+  const double *theta_i, *phi_i, *theta_o, *phi_o, *values; /* radians; f_r channel-major */
+  gonio_u64 offset[17];  /* byte offsets: the 12 map tables, slice, θ_i, φ_i, θ_o, φ_o (values 17th below) */
+  gonio_u64 values_offset;
+  gonio_i32 slices, a, b, anisotropic, channels, n_to, n_po, slice_len;
+} GonioDeviceBrdf;
+
+#define GONIO_D_BRDF_PARTS_ 4
+
+/* The largest j ≤ len − 2 with (float)a[j] <= x on an increasing double table (0 when x < a_0
+ * or NaN): binary search, at most 32 steps. */
+GONIO_DEVICE_FN gonio_i32 gonio_d_segment64_(const double *a, gonio_i32 len, float x) {
+  gonio_i32 lo = 0, n = len;
+  while (n > 0) {
+    gonio_i32 half = n / 2;
+    if ((float)a[lo + half] <= x) {
+      lo = lo + half + 1;
+      n = n - half - 1;
+    } else {
+      n = half;
+    }
+  }
+  lo = lo > 0 ? lo - 1 : 0;
+  return lo < len - 2 ? lo : len - 2;
+}
+
+/* brdf::clamped: linear weights of x on an increasing grid, clamped to its ends. */
+GONIO_DEVICE_FN void gonio_d_clamped64_(const double *a, gonio_i32 len, float x, gonio_i32 *j0,
+                                        gonio_i32 *j1, float *t) {
+  gonio_i32 j;
+  if (len == 1 || !(x > (float)a[0])) {
+    *j0 = 0; *j1 = 0; *t = 0.0f;
+    return;
+  }
+  if (x >= (float)a[len - 1]) {
+    *j0 = len - 1; *j1 = len - 1; *t = 0.0f;
+    return;
+  }
+  j = gonio_d_segment64_(a, len, x);
+  *j0 = j;
+  *j1 = j + 1;
+  *t = (x - (float)a[j]) / ((float)a[j + 1] - (float)a[j]);
+}
+
+/* brdf::periodic: linear weights of an azimuth on a periodic grid in [0, 2π). */
+GONIO_DEVICE_FN void gonio_d_periodic64_(const double *a, gonio_i32 len, float x, gonio_i32 *i0,
+                                         gonio_i32 *i1, float *t) {
+  float first, last;
+  gonio_i32 i;
+  x = x - GONIO_D_TAU_ * floorf(x / GONIO_D_TAU_);
+  if (x >= GONIO_D_TAU_) x -= GONIO_D_TAU_;
+  if (x < 0.0f) x += GONIO_D_TAU_;
+  if (len == 1) {
+    *i0 = 0; *i1 = 0; *t = 0.0f;
+    return;
+  }
+  first = (float)a[0];
+  last = (float)a[len - 1];
+  if (x < first || x >= last) {
+    float xx = x < first ? x + GONIO_D_TAU_ : x;
+    *i0 = len - 1;
+    *i1 = 0;
+    *t = gonio_d_clamp_((xx - last) / (first + GONIO_D_TAU_ - last), 0.0f, 1.0f);
+    return;
+  }
+  i = gonio_d_segment64_(a, len, x);
+  *i0 = i;
+  *i1 = i + 1;
+  *t = (x - (float)a[i]) / ((float)a[i + 1] - (float)a[i]);
+}
+
+/* spherical(): θ from +z, φ in [0, 2π) from +x toward +y (0 on the axis). */
+GONIO_DEVICE_FN void gonio_d_angles_(float x, float y, float z, float *theta, float *phi) {
+  float p;
+  *theta = gonio_d_atan2_(gonio_d_sqrt_(x * x + y * y), z);
+  p = gonio_d_atan2_(y, x);
+  p = p < 0.0f ? p + GONIO_D_TAU_ : p;
+  p = p >= GONIO_D_TAU_ ? 0.0f : p;
+  *phi = (x == 0.0f && y == 0.0f) ? 0.0f : p;
+}
+
+/* The blend for ω_i = (θ_i, φ_i): up to four slices with weights (empty slices dropped, the rest
+ * renormalised), c_k = 2·w_k/(2T_k) and κ = Σ w_k κ_k. Returns the number of parts (0: every
+ * neighbouring slice is empty). */
+typedef struct GonioDBlend_ {
+  gonio_i32 s[GONIO_D_BRDF_PARTS_];
+  float w[GONIO_D_BRDF_PARTS_], c[GONIO_D_BRDF_PARTS_];
+  gonio_i32 len;
+  float kappa;
+} GonioDBlend_;
+
+GONIO_DEVICE_FN gonio_i32 gonio_d_brdf_blend_(const GonioDeviceBrdf *b, float ti, float pi,
+                                              GonioDBlend_ *o) {
+  gonio_i32 a0, a1, q0 = 0, q1 = 0, k, n = 0;
+  float ta, tq = 0.0f, sum = 0.0f;
+  gonio_d_clamped64_(b->theta_i, b->a, ti, &a0, &a1, &ta);
+  if (b->anisotropic) gonio_d_periodic64_(b->phi_i, b->b, pi, &q0, &q1, &tq);
+  o->kappa = 0.0f;
+  for (k = 0; k < 4; k++) { /* 4 steps */
+    gonio_i32 a = (k & 2) ? a1 : a0, q = (k & 1) ? q1 : q0, s, j;
+    float w = ((k & 2) ? ta : 1.0f - ta) * ((k & 1) ? tq : 1.0f - tq);
+    int merged = 0;
+    s = a * b->b + q;
+    if (!(w > 0.0f) || !(gonio_d_gf_(b->slice, b->slice_len, 4 * s) > 0.0f)) continue;
+    for (j = 0; j < n; j++) /* at most 3 steps */
+      if (o->s[j] == s) {
+        o->w[j] += w;
+        merged = 1;
+      }
+    if (!merged) {
+      o->s[n] = s;
+      o->w[n] = w;
+      n++;
+    }
+  }
+  for (k = 0; k < n; k++) sum += o->w[k];
+  for (k = 0; k < n; k++) {
+    float inv2t = gonio_d_gf_(b->slice, b->slice_len, 4 * o->s[k]);
+    o->w[k] = o->w[k] / sum;
+    o->c[k] = 2.0f * o->w[k] * inv2t;
+    o->kappa += o->w[k] * gonio_d_gf_(b->slice, b->slice_len, 4 * o->s[k] + 1);
+  }
+  o->len = n;
+  return n;
+}
+
+/* Σ w_k t[s_k·stride + i] (which = 0) or Σ c_k (1 − e)·t[s_k·stride + ia] + c_k e·t[s_k·stride + ib]. */
+GONIO_DEVICE_FN float gonio_d_bsum_w_(const GonioDBlend_ *p, const float *t, gonio_i32 len,
+                                      gonio_i32 stride, gonio_i32 i) {
+  float acc = 0.0f;
+  gonio_i32 k;
+  for (k = 0; k < p->len; k++) acc += p->w[k] * gonio_d_gf_(t, len, p->s[k] * stride + i);
+  return acc;
+}
+GONIO_DEVICE_FN float gonio_d_bsum_c_(const GonioDBlend_ *p, const float *t, gonio_i32 len,
+                                      gonio_i32 stride, gonio_i32 ia, gonio_i32 ib, float e) {
+  float acc = 0.0f;
+  gonio_i32 k;
+  for (k = 0; k < p->len; k++) {
+    gonio_i32 o = p->s[k] * stride;
+    acc += p->c[k] * (1.0f - e) * gonio_d_gf_(t, len, o + ia);
+    acc += p->c[k] * e * gonio_d_gf_(t, len, o + ib);
+  }
+  return acc;
+}
+
+/* The blended map at (u, v): direction in the slice frame and the blended disk density. */
+GONIO_DEVICE_FN void gonio_d_brdf_map_(const GonioDeviceBrdf *bf, const GonioDBlend_ *p, float u,
+                                       float v, float o[4]) {
+  const GonioDeviceMap *c = &bf->grid;
+  const gonio_i32 *L = c->len;
+  const gonio_i32 m = c->m, n = c->n, mn = c->m * c->n;
+  float a, b, r, q, phi, rb, pb, beta, ra, rbb, g0, gam, aa, bb, cc, den, eps, phic, w, uj;
+  float d0, d1, x0, x1, inv_dx, xr, r2, s, sp, cp, ox, oy, oz, rd2, xd, t;
+  gonio_i32 wi, wn, j, h, base, top;
+  int big;
+  a = 2.0f * u - 1.0f;
+  b = 2.0f * v - 1.0f;
+  big = gonio_d_abs_(a) > gonio_d_abs_(b);
+  r = big ? a : b;
+  q = (big ? b : a) / (big ? a : b);
+  phi = big ? GONIO_D_FRAC_PI_4_ * q : GONIO_D_FRAC_PI_2_ - GONIO_D_FRAC_PI_4_ * q;
+  if (r < 0.0f) {
+    r = -r;
+    phi += GONIO_D_PI_;
+  }
+  phi = phi < 0.0f ? phi + GONIO_D_TAU_ : phi;
+  phi = phi >= GONIO_D_TAU_ ? 0.0f : phi;
+  rb = (a == 0.0f && b == 0.0f) ? 0.0f : r;
+  pb = (a == 0.0f && b == 0.0f) ? 0.0f : phi;
+  /* The wedge: the largest i <= M − 1 with the blended Γ_i <= φ_B (Γ_0 = 0): ⌈log2 M⌉ steps. */
+  base = 0;
+  top = m - 1;
+  h = 1;
+  while (h <= top / 2) h <<= 1;
+  while (h > 0) { /* at most 23 steps (M < 2^22) */
+    gonio_i32 cand = gonio_d_imin_(base + h, top);
+    if (gonio_d_bsum_w_(p, c->cum, L[GONIO_D_CUM_], m + 1, cand) <= pb) base = cand;
+    h >>= 1;
+  }
+  wi = base;
+  beta = gonio_d_gf_(c->beta, L[GONIO_D_BETA_], wi);
+  ra = gonio_d_bsum_w_(p, c->r2, L[GONIO_D_R2_], m + 1, wi);
+  rbb = gonio_d_bsum_w_(p, c->r2, L[GONIO_D_R2_], m + 1, wi + 1);
+  g0 = gonio_d_bsum_w_(p, c->cum, L[GONIO_D_CUM_], m + 1, wi);
+  gam = (pb - g0) / p->kappa;
+  aa = 0.5f * beta * (rbb - ra);
+  bb = beta * ra;
+  cc = gonio_d_fmax_(gam, 0.0f);
+  den = bb + gonio_d_sqrt_(gonio_d_fmax_(bb * bb + 4.0f * aa * cc, 0.0f));
+  eps = den > 0.0f ? gonio_d_clamp_(2.0f * cc / den, 0.0f, 1.0f) : 0.0f;
+  phic = gonio_d_gf_(c->phi, L[GONIO_D_PHI_], wi) + eps * beta;
+  wn = wi + 1 == m ? 0 : wi + 1;
+#define GONIO_D_BU_(jj) gonio_d_bsum_c_(p, c->u, L[GONIO_D_U_], mn, wi * n + (jj), wn * n + (jj), eps)
+#define GONIO_D_BD_(jj) gonio_d_bsum_c_(p, c->d, L[GONIO_D_D_], mn, wi * n + (jj), wn * n + (jj), eps)
+  w = rb * rb * GONIO_D_BU_(n - 1);
+  /* The radial segment: the largest j <= N − 2 with the blended U(j) <= w, then the settling
+   * loops of the single map (each at most N steps). */
+  base = 0;
+  top = n - 2;
+  h = 1;
+  while (h <= top / 2) h <<= 1;
+  while (h > 0) { /* at most 23 steps */
+    gonio_i32 cand = gonio_d_imin_(base + h, top);
+    if (GONIO_D_BU_(cand) <= w) base = cand;
+    h >>= 1;
+  }
+  j = base;
+  while (j > 0 && GONIO_D_BU_(j) > w) j--;
+  while (j + 2 < n && GONIO_D_BU_(j + 1) <= w) j++;
+  while (j > 0 && GONIO_D_BU_(j + 1) <= GONIO_D_BU_(j)) j--;
+  uj = GONIO_D_BU_(j);
+  d0 = GONIO_D_BD_(j);
+  d1 = GONIO_D_BD_(j + 1);
+#undef GONIO_D_BU_
+#undef GONIO_D_BD_
+  x0 = gonio_d_gf_(c->x, L[GONIO_D_X_], j);
+  x1 = gonio_d_gf_(c->x, L[GONIO_D_X_], j + 1);
+  inv_dx = gonio_d_gf_(c->inv_dx, L[GONIO_D_INVDX_], j);
+  xr = gonio_d_fmin_(gonio_d_solve_radius_(x0, x1, d0, d1, w - uj), x1);
+  r2 = xr * xr;
+  s = xr * gonio_d_sqrt_(gonio_d_fmax_(2.0f - r2, 0.0f));
+  gonio_d_sin_cos_(phic, &sp, &cp);
+  ox = s * cp;
+  oy = s * sp;
+  oz = 1.0f - r2;
+  rd2 = oz > 0.0f ? (ox * ox + oy * oy) / (1.0f + oz) : 1.0f - oz;
+  xd = gonio_d_sqrt_(gonio_d_fmin_(gonio_d_fmax_(rd2, 0.0f), 2.0f));
+  t = gonio_d_fmin_(gonio_d_fmax_((xd - x0) * inv_dx, 0.0f), 1.0f);
+  o[0] = ox;
+  o[1] = oy;
+  o[2] = oz;
+  o[3] = gonio_d_fmax_(d0 + (d1 - d0) * t, 0.0f);
+}
+
+/* The blended disk density at a direction of the slice frame (upper hemisphere). */
+GONIO_DEVICE_FN float gonio_d_brdf_density_(const GonioDeviceBrdf *bf, const GonioDBlend_ *p,
+                                            float x, float y, float z) {
+  const GonioDeviceMap *c = &bf->grid;
+  const gonio_i32 *L = c->len;
+  const gonio_i32 n = c->n, mn = c->m * c->n;
+  float xr, ph, eps, t, acc = 0.0f;
+  gonio_i32 i, i1, j, k;
+  gonio_d_radius_azimuth_(x, y, z, &xr, &ph);
+  gonio_d_sectors_(c, ph, &i, &i1, &eps);
+  j = gonio_d_guided_(c->x, L[GONIO_D_X_], c->radius_guide, L[GONIO_D_RGUIDE_], c->radius_scale, xr,
+                      n - 2);
+  t = gonio_d_clamp_((xr - gonio_d_gf_(c->x, L[GONIO_D_X_], j)) * gonio_d_gf_(c->inv_dx, L[GONIO_D_INVDX_], j),
+                     0.0f, 1.0f);
+  for (k = 0; k < p->len; k++) { /* at most 4 steps */
+    gonio_i32 o = p->s[k] * mn;
+    float a0 = gonio_d_gf_(c->d, L[GONIO_D_D_], o + i * n + j);
+    float a1 = gonio_d_gf_(c->d, L[GONIO_D_D_], o + i * n + j + 1);
+    float b0 = gonio_d_gf_(c->d, L[GONIO_D_D_], o + i1 * n + j);
+    float b1 = gonio_d_gf_(c->d, L[GONIO_D_D_], o + i1 * n + j + 1);
+    float row = (1.0f - eps) * (a0 + t * (a1 - a0)) + eps * (b0 + t * (b1 - b0));
+    float edge = gonio_d_gf_(bf->slice, bf->slice_len, 4 * p->s[k] + 2);
+    acc += xr > edge ? 0.0f : p->c[k] * row;
+  }
+  return gonio_d_fmax_(acc, 0.0f);
+}
+
+/* Samples ω_o for the incident direction wi (unit, local shading frame: z the normal, x the
+ * tangent, both directions away from the surface) at (u, v) in [0, 1]²: wo and its exact pdf
+ * per steradian (the blend of the slices' maps, as gonio_brdf_sample). Returns 1, or 0 where wi
+ * lies below the horizon or every neighbouring slice is empty: then wo is the cosine sample, pdf
+ * cos θ_o / π, and the sample carries no weight (the library's zero-weight sample). */
+GONIO_DEVICE_FN int gonio_device_brdf_sample(const GonioDeviceBrdf *b, const float wi[3], float u,
+                                             float v, float wo[3], float *pdf) {
+  GonioDBlend_ p;
+  float ti, pi, o[4], sp, cp;
+  gonio_d_angles_(wi[0], wi[1], wi[2], &ti, &pi);
+  ti = gonio_d_fmin_(ti, GONIO_D_FRAC_PI_2_);
+  if (!(wi[2] >= 0.0f) || gonio_d_brdf_blend_(b, ti, pi, &p) == 0) {
+    float a = 2.0f * u - 1.0f, bb = 2.0f * v - 1.0f, r, ph, s2, c2;
+    int big = gonio_d_abs_(a) > gonio_d_abs_(bb);
+    r = big ? a : bb;
+    ph = (a == 0.0f && bb == 0.0f) ? 0.0f
+         : big ? GONIO_D_FRAC_PI_4_ * (bb / a)
+               : GONIO_D_FRAC_PI_2_ - GONIO_D_FRAC_PI_4_ * (a / bb);
+    gonio_d_sin_cos_(ph, &s2, &c2);
+    wo[0] = r * c2;
+    wo[1] = r * s2;
+    wo[2] = gonio_d_sqrt_(gonio_d_fmax_(1.0f - r * r, 0.0f));
+    *pdf = wo[2] / GONIO_D_PI_;
+    return 0;
+  }
+  gonio_d_brdf_map_(b, &p, u, v, o);
+  gonio_d_sin_cos_(pi, &sp, &cp);
+  wo[0] = cp * o[0] - sp * o[1];
+  wo[1] = sp * o[0] + cp * o[1];
+  wo[2] = o[2];
+  *pdf = 0.5f * o[3];
+  return 1;
+}
+
+/* The density of gonio_device_brdf_sample at wo for wi, per steradian (0 below the horizon). */
+GONIO_DEVICE_FN float gonio_device_brdf_pdf(const GonioDeviceBrdf *b, const float wi[3],
+                                            const float wo[3]) {
+  GonioDBlend_ p;
+  float ti, pi, sp, cp;
+  if (!(wo[2] >= 0.0f)) return 0.0f;
+  gonio_d_angles_(wi[0], wi[1], wi[2], &ti, &pi);
+  ti = gonio_d_fmin_(ti, GONIO_D_FRAC_PI_2_);
+  if (!(wi[2] >= 0.0f) || gonio_d_brdf_blend_(b, ti, pi, &p) == 0) return wo[2] / GONIO_D_PI_;
+  gonio_d_sin_cos_(pi, &sp, &cp);
+  return 0.5f * gonio_d_brdf_density_(b, &p, cp * wo[0] + sp * wo[1], cp * wo[1] - sp * wo[0], wo[2]);
+}
+
+/* f_r(wi, wo) per channel (1/sr; a one-channel table repeats it): the table's multilinear
+ * interpolant (docs/BRDF.md), 0 below the horizon or outside the table's θ_o range. */
+GONIO_DEVICE_FN void gonio_device_brdf_eval(const GonioDeviceBrdf *b, const float wi[3],
+                                            const float wo[3], float f[3]) {
+  float ti, pi, to, po, ta, tb, tq = 0.0f, tp, az;
+  gonio_i32 a0, a1, b0, b1, q0 = 0, q1 = 0, p0, p1, ch, k;
+  const gonio_i32 na = b->slices, nb = b->n_to, np_ = b->n_po;
+  f[0] = f[1] = f[2] = 0.0f;
+  if (!(wi[2] >= 0.0f && wo[2] >= 0.0f)) return;
+  gonio_d_angles_(wi[0], wi[1], wi[2], &ti, &pi);
+  gonio_d_angles_(wo[0], wo[1], wo[2], &to, &po);
+  if (!(to >= (float)b->theta_o[0] - 1e-6f && to <= (float)b->theta_o[nb - 1] + 1e-6f)) return;
+  gonio_d_clamped64_(b->theta_i, b->a, ti, &a0, &a1, &ta);
+  gonio_d_clamped64_(b->theta_o, nb, to, &b0, &b1, &tb);
+  if (b->anisotropic) {
+    gonio_d_periodic64_(b->phi_i, b->b, pi, &q0, &q1, &tq);
+    az = po;
+  } else {
+    az = po - pi;
+  }
+  gonio_d_periodic64_(b->phi_o, np_, az, &p0, &p1, &tp);
+  for (ch = 0; ch < b->channels; ch++) { /* at most 3 steps */
+    float acc = 0.0f;
+    for (k = 0; k < 4; k++) { /* 4 steps */
+      gonio_i32 a = (k & 2) ? a1 : a0, q = (k & 1) ? q1 : q0;
+      float wa = (k & 2) ? ta : 1.0f - ta, wq = (k & 1) ? tq : 1.0f - tq;
+      const double *row = b->values + ((gonio_u64)(ch * na + a * b->b + q) * (gonio_u64)nb) * (gonio_u64)np_;
+      float r0 = (1.0f - tp) * (float)row[b0 * np_ + p0] + tp * (float)row[b0 * np_ + p1];
+      float r1 = (1.0f - tp) * (float)row[b1 * np_ + p0] + tp * (float)row[b1 * np_ + p1];
+      if (wa * wq == 0.0f) continue;
+      acc += wa * wq * ((1.0f - tb) * r0 + tb * r1);
+    }
+    f[ch] = gonio_d_fmax_(acc, 0.0f);
+  }
+  if (b->channels == 1) f[1] = f[2] = f[0];
+}
+
+/* Points *b at a copy of its blob at `device_tables` (e.g. after cudaMemcpy). */
+GONIO_DEVICE_FN void gonio_device_brdf_rebase(GonioDeviceBrdf *b, const void *device_tables) {
+  const gonio_u8 *p = (const gonio_u8 *)device_tables;
+  GonioDeviceMap *c = &b->grid;
+  b->base = p;
+  c->phi = (const float *)(const void *)(p + b->offset[GONIO_D_PHI_]);
+  c->beta = (const float *)(const void *)(p + b->offset[GONIO_D_BETA_]);
+  c->r2 = (const float *)(const void *)(p + b->offset[GONIO_D_R2_]);
+  c->cum = (const float *)(const void *)(p + b->offset[GONIO_D_CUM_]);
+  c->wedge_guide = (const gonio_u32 *)(const void *)(p + b->offset[GONIO_D_WGUIDE_]);
+  c->x = (const float *)(const void *)(p + b->offset[GONIO_D_X_]);
+  c->d = (const float *)(const void *)(p + b->offset[GONIO_D_D_]);
+  c->u = (const float *)(const void *)(p + b->offset[GONIO_D_U_]);
+  c->total = (const float *)(const void *)(p + b->offset[GONIO_D_TOTAL_]);
+  c->radius_guide = (const gonio_u32 *)(const void *)(p + b->offset[GONIO_D_RGUIDE_]);
+  c->inv_dx = (const float *)(const void *)(p + b->offset[GONIO_D_INVDX_]);
+  c->radial_guide = (const gonio_u32 *)(const void *)(p + b->offset[GONIO_D_RADGUIDE_]);
+  b->slice = (const float *)(const void *)(p + b->offset[12]);
+  b->theta_i = (const double *)(const void *)(p + b->offset[13]);
+  b->phi_i = (const double *)(const void *)(p + b->offset[14]);
+  b->theta_o = (const double *)(const void *)(p + b->offset[15]);
+  b->phi_o = (const double *)(const void *)(p + b->offset[16]);
+  b->values = (const double *)(const void *)(p + b->values_offset);
+}
+
+/* ---------------------------------------------------------------------------------------------
  * The validating reader (host only): blob::read's checks, in its order.
  * ------------------------------------------------------------------------------------------- */
 #if !defined(__CUDACC_RTC__)
@@ -1478,6 +1873,208 @@ GONIO_DEVICE_HOST_FN int gonio_device_view_init(GonioDeviceView *view, const voi
   if (view == NULL) return GONIO_DEVICE_E_NULL;
   r = gonio_d_view_init_(view, tables, bytes);
   if (r != GONIO_DEVICE_OK) memset(view, 0, sizeof *view);
+  return r;
+}
+
+
+/* Validates `bytes` bytes at `tables` as an f32 family blob (docs/TABLES.md, "Families": layout
+ * 3, target 3) and fills *b with pointers into it. Returns GONIO_DEVICE_OK or the code of the
+ * first failed check (on failure *b is zeroed); never reads outside the bytes. Checks: the
+ * header steps 1–3 of gonio_device_view_init (size, magic, version, checksum), precision 4, the
+ * fixed family fields, the directory (ids, element types, counts from the header in 64-bit
+ * arithmetic, alignment, order, inside the blob) before any table is read, then the contents as
+ * the library's read_family: every float finite; each present slice's φ/Γ from 0 to 2π, Γ, x and
+ * every row of U non-decreasing, D, R², β, 1/Δx ≥ 0, total = the row's last U, its guides within
+ * their tables, 1/(2T) > 0, κ in [0.5, 2]; absent slices all zero; the angle grids strictly
+ * increasing in range; the values finite and ≥ 0. */
+GONIO_DEVICE_HOST_FN int gonio_d_brdf_init_(GonioDeviceBrdf *bf, const void *tables, size_t bytes) {
+  const gonio_u8 *p = (const gonio_u8 *)tables;
+  const gonio_u64 len = (gonio_u64)bytes;
+  const gonio_u32 one = 1u;
+  unsigned char endian;
+  gonio_u64 m, n, k, g, rg, a, bb, aniso, ch, nto, npo, s, counts[12], cnt[18], off[18], prev, sl;
+  gonio_u32 ids[18], elem[18], table_count, e;
+  const int stacked[12] = {0, 0, 1, 1, 1, 0, 1, 1, 1, 0, 0, 1};
+  GonioDeviceMap *c = &bf->grid;
+  double tau32 = (double)(float)6.283185307179586;
+  memset(bf, 0, sizeof *bf);
+  if (tables == NULL) return GONIO_DEVICE_E_NULL;
+  memcpy(&endian, &one, 1);
+  if (endian != 1) return GONIO_DEVICE_E_ENDIAN;
+  if (len < 256) return GONIO_DEVICE_E_TRUNCATED;
+  if (memcmp(p, "GONIOTAB", 8) != 0) return GONIO_DEVICE_E_MAGIC;
+  if (gonio_d_rd32_(p, 8) != 1u) return GONIO_DEVICE_E_VERSION;
+  if (gonio_d_rd32_(p, 12) != 256u) return GONIO_DEVICE_E_HEADER;
+  if (gonio_d_rd64_(p, 16) > len) return GONIO_DEVICE_E_TRUNCATED;
+  if (gonio_d_rd64_(p, 16) != len || len % 64u != 0u) return GONIO_DEVICE_E_HEADER;
+  if (gonio_d_rd64_(p, 24) != gonio_device_checksum(p, bytes)) return GONIO_DEVICE_E_CHECKSUM;
+  if (gonio_d_rd32_(p, 32) == 8u) return GONIO_DEVICE_E_F64;
+  if (gonio_d_rd32_(p, 32) != 4u) return GONIO_DEVICE_E_PRECISION;
+  /* The tables are read in place as float, u32 and double: 8-byte alignment. */
+  if (((size_t)p) % 8u != 0u) return GONIO_DEVICE_E_ALIGNMENT;
+  /* Layout 3, frame 0, target 3, maps_present 1, the fixed values of a family. */
+  if (gonio_d_rd32_(p, 36) != 3u || gonio_d_rd32_(p, 40) != 0u || gonio_d_rd32_(p, 44) != 3u ||
+      gonio_d_rd32_(p, 52) != 0u || gonio_d_rd32_(p, 56) != 1u || gonio_d_rd32_(p, 60) != 0u ||
+      !gonio_d_plus_zero_(p, 64) || gonio_d_rdf64_(p, 72) != 0.5 || !gonio_d_plus_zero_(p, 80) ||
+      gonio_d_rd32_(p, 88) != 0u || gonio_d_rd32_(p, 92) != 0u)
+    return GONIO_DEVICE_E_HEADER;
+  table_count = gonio_d_rd32_(p, 48);
+  m = gonio_d_rd32_(p, 96);
+  n = gonio_d_rd32_(p, 100);
+  k = gonio_d_rd32_(p, 104);
+  g = gonio_d_rd32_(p, 108);
+  rg = gonio_d_rd32_(p, 112);
+  if (m < 1 || n < 2 || k < 1 || g < 1 || rg < 1 || m >= (1u << 22) || n >= (1u << 22) ||
+      k >= (1u << 24) || g >= (1u << 24) || rg >= (1u << 24))
+    return GONIO_DEVICE_E_HEADER;
+  for (e = 116; e < 128; e++)
+    if (p[e] != 0) return GONIO_DEVICE_E_HEADER;
+  if (!gonio_d_plus_zero_(p, 136) || !gonio_d_plus_zero_(p, 160) || !gonio_d_plus_zero_(p, 168))
+    return GONIO_DEVICE_E_HEADER; /* κ, edge, reserved */
+  {
+    double iub = gonio_d_rdf64_(p, 128), gs = gonio_d_rdf64_(p, 144), rs = gonio_d_rdf64_(p, 152);
+    if (!(gonio_d_f64_finite_(iub) && iub >= 0.0 && gonio_d_is_f32_(iub)) ||
+        !(gonio_d_f64_finite_(gs) && gs >= 0.0 && gonio_d_is_f32_(gs)) ||
+        !(gonio_d_f64_finite_(rs) && rs >= 0.0 && gonio_d_is_f32_(rs)))
+      return GONIO_DEVICE_E_HEADER;
+    c->inv_uniform_beta = (float)iub;
+    c->guide_scale = (float)gs;
+    c->radius_scale = (float)rs;
+  }
+  a = gonio_d_rd32_(p, 176);
+  bb = gonio_d_rd32_(p, 180);
+  aniso = gonio_d_rd32_(p, 184);
+  ch = gonio_d_rd32_(p, 188);
+  nto = gonio_d_rd32_(p, 192);
+  npo = gonio_d_rd32_(p, 196);
+  if (a < 1 || bb < 1 || nto < 1 || npo < 1 || aniso > 1 || (aniso == 0 && bb != 1) ||
+      (ch != 1 && ch != 3))
+    return GONIO_DEVICE_E_HEADER;
+  for (e = 200; e < 256; e++)
+    if (p[e] != 0) return GONIO_DEVICE_E_HEADER;
+  s = a * bb;
+  /* Counts in 64-bit arithmetic: every stacked table and the values below 2^31 entries (the
+   * kernels' 32-bit indices). */
+  counts[0] = m + 1; counts[1] = m; counts[2] = m + 1; counts[3] = m + 1; counts[4] = g;
+  counts[5] = n; counts[6] = m * n; counts[7] = m * n; counts[8] = m; counts[9] = rg;
+  counts[10] = n - 1; counts[11] = m * (k + 1);
+  for (e = 0; e < 12; e++) { /* 12 steps */
+    if (stacked[e] && counts[e] > ((1ull << 31) - 1) / s) return GONIO_DEVICE_E_HEADER;
+    cnt[e] = stacked[e] ? counts[e] * s : counts[e];
+    ids[e] = e;
+    elem[e] = (e == 4 || e == 9 || e == 11) ? 3u : 1u;
+  }
+  if (s > (1ull << 28) || nto * npo > (1ull << 31) / (ch * s)) return GONIO_DEVICE_E_HEADER;
+  ids[12] = 64; elem[12] = 1; cnt[12] = 4 * s;
+  ids[13] = 65; elem[13] = 2; cnt[13] = a;
+  ids[14] = 66; elem[14] = 2; cnt[14] = bb;
+  ids[15] = 48; elem[15] = 2; cnt[15] = nto;
+  ids[16] = 49; elem[16] = 2; cnt[16] = npo;
+  ids[17] = 50; elem[17] = 2; cnt[17] = ch * s * nto * npo;
+  if (table_count != 18u) return GONIO_DEVICE_E_DIRECTORY;
+  prev = 256u + 32u * 18u;
+  if (prev > len) return GONIO_DEVICE_E_TRUNCATED;
+  for (e = 0; e < 18; e++) { /* 18 steps */
+    gonio_u64 at = 256u + 32u * e, size = elem[e] == 2u ? 8u : 4u;
+    off[e] = gonio_d_rd64_(p, at + 8);
+    if (gonio_d_rd32_(p, at) != ids[e] || gonio_d_rd32_(p, at + 4) != elem[e] ||
+        gonio_d_rd64_(p, at + 16) != cnt[e] || gonio_d_rd64_(p, at + 24) != 0u ||
+        off[e] % 64u != 0u || off[e] < prev || off[e] > len || cnt[e] > (len - off[e]) / size)
+      return GONIO_DEVICE_E_DIRECTORY;
+    prev = off[e] + cnt[e] * size;
+  }
+  /* Contents. Floats finite (f32 tables and the f64 grids and values). */
+  for (e = 0; e < 13; e++)
+    if (elem[e] == 1u && !gonio_d_all_finite_(p, off[e], cnt[e])) return GONIO_DEVICE_E_CONTENT;
+  for (e = 13; e < 18; e++) {
+    gonio_u64 i;
+    for (i = 0; i < cnt[e]; i++) {
+      double v = gonio_d_rdf64_(p, off[e] + 8 * i);
+      if (!gonio_d_f64_finite_(v)) return GONIO_DEVICE_E_CONTENT;
+      if (e == 17 && v < 0.0) return GONIO_DEVICE_E_CONTENT;
+      if (e < 17) {
+        double hi = (e == 13 || e == 15) ? 1.5707963267948966 * (1.0 + 1e-12) : 6.283185307179586;
+        int open = (e == 14 || e == 16);
+        if (v < 0.0 || (open ? v >= hi : v > hi)) return GONIO_DEVICE_E_CONTENT;
+        if (i > 0 && !(v > gonio_d_rdf64_(p, off[e] + 8 * (i - 1)))) return GONIO_DEVICE_E_CONTENT;
+      }
+    }
+  }
+  if (aniso == 0 && gonio_d_rdf64_(p, off[14]) != 0.0) return GONIO_DEVICE_E_CONTENT;
+  /* The shared grid. */
+  if (gonio_d_rdf32_(p, off[0]) != 0.0f || (double)gonio_d_rdf32_(p, off[0] + 4 * m) != tau32 ||
+      !gonio_d_nondecreasing_(p, off[0], m + 1) || !gonio_d_all_nonneg_(p, off[1], m) ||
+      !gonio_d_all_le_(p, off[1], m, 6.283185307179586 * (1.0 + 1e-6)) ||
+      gonio_d_rdf32_(p, off[5]) < 0.0f || !gonio_d_nondecreasing_(p, off[5], n) ||
+      !gonio_d_all_le_(p, off[5], n, 1.0 + 1e-6) || !gonio_d_all_nonneg_(p, off[10], n - 1) ||
+      !gonio_d_guides_le_(p, off[9], rg, n - 2))
+    return GONIO_DEVICE_E_CONTENT;
+  /* Each slice. */
+  for (sl = 0; sl < s; sl++) { /* s steps */
+    gonio_u64 row = off[12] + 16 * sl, i;
+    float inv2t = gonio_d_rdf32_(p, row), kap = gonio_d_rdf32_(p, row + 4);
+    float edge = gonio_d_rdf32_(p, row + 8), res = gonio_d_rdf32_(p, row + 12);
+    gonio_u64 o_r2 = off[2] + 4 * sl * (m + 1), o_cum = off[3] + 4 * sl * (m + 1);
+    gonio_u64 o_wg = off[4] + 4 * sl * g, o_d = off[6] + 4 * sl * m * n, o_u = off[7] + 4 * sl * m * n;
+    gonio_u64 o_t = off[8] + 4 * sl * m, o_rg = off[11] + 4 * sl * m * (k + 1);
+    if (inv2t == 0.0f && kap == 0.0f && edge == 0.0f && res == 0.0f) {
+      /* No map: every part zero. */
+      const gonio_u64 o[7] = {o_r2, o_cum, o_wg, o_d, o_u, o_t, o_rg};
+      const gonio_u64 l[7] = {m + 1, m + 1, g, m * n, m * n, m, m * (k + 1)};
+      gonio_u64 q;
+      for (q = 0; q < 7; q++)
+        for (i = 0; i < 4 * l[q]; i++)
+          if (p[o[q] + i] != 0) return GONIO_DEVICE_E_CONTENT;
+      continue;
+    }
+    if (!(inv2t > 0.0f) || !(kap >= 0.5f && kap <= 2.0f) || !(edge >= 0.0f) || res != 0.0f ||
+        !((double)inv2t * 3.4028234663852886e38 > 0.0))
+      return GONIO_DEVICE_E_CONTENT;
+    if (!gonio_d_all_nonneg_(p, o_r2, m + 1) || gonio_d_rdf32_(p, o_cum) != 0.0f ||
+        (double)gonio_d_rdf32_(p, o_cum + 4 * m) != tau32 || !gonio_d_nondecreasing_(p, o_cum, m + 1) ||
+        !gonio_d_guides_le_(p, o_wg, g, m - 1) || !gonio_d_all_nonneg_(p, o_d, m * n) ||
+        !gonio_d_all_le_(p, o_d, m * n, 3.4028234663852886e38 / ((double)inv2t > 1.0 ? (double)inv2t : 1.0)) ||
+        !gonio_d_guides_le_(p, o_rg, m * (k + 1), n - 2))
+      return GONIO_DEVICE_E_CONTENT;
+    for (i = 0; i < m; i++) { /* m steps */
+      gonio_u64 ro = o_u + 4 * i * n;
+      if (gonio_d_rdf32_(p, ro) < 0.0f || !gonio_d_nondecreasing_(p, ro, n) ||
+          gonio_d_rdf32_(p, o_t + 4 * i) != gonio_d_rdf32_(p, ro + 4 * (n - 1)))
+        return GONIO_DEVICE_E_CONTENT;
+    }
+  }
+  bf->total_bytes = len;
+  c->m = (gonio_i32)m;
+  c->n = (gonio_i32)n;
+  c->k = (gonio_i32)k;
+  c->wedge_guide_len = (gonio_i32)g;
+  c->radius_guide_len = (gonio_i32)rg;
+  c->kappa = 1.0f;
+  c->edge = 1.0f;
+  for (e = 0; e < 12; e++) {
+    c->offset[e] = off[e];
+    c->len[e] = (gonio_i32)cnt[e];
+    bf->offset[e] = off[e];
+  }
+  for (e = 12; e < 17; e++) bf->offset[e] = off[e];
+  bf->values_offset = off[17];
+  bf->slices = (gonio_i32)s;
+  bf->slice_len = (gonio_i32)(4 * s);
+  bf->a = (gonio_i32)a;
+  bf->b = (gonio_i32)bb;
+  bf->anisotropic = (gonio_i32)aniso;
+  bf->channels = (gonio_i32)ch;
+  bf->n_to = (gonio_i32)nto;
+  bf->n_po = (gonio_i32)npo;
+  gonio_device_brdf_rebase(bf, p);
+  return GONIO_DEVICE_OK;
+}
+
+GONIO_DEVICE_HOST_FN int gonio_device_brdf_init(GonioDeviceBrdf *b, const void *tables, size_t bytes) {
+  int r;
+  if (b == NULL) return GONIO_DEVICE_E_NULL;
+  r = gonio_d_brdf_init_(b, tables, bytes);
+  if (r != GONIO_DEVICE_OK) memset(b, 0, sizeof *b);
   return r;
 }
 

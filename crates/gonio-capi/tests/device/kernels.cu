@@ -23,6 +23,27 @@ extern "C" __global__ void soa_sample(const __grid_constant__ GonioDeviceView v,
   pdf[i] = p;
 }
 
+/* A BRDF family (gonio_device_brdf_*): sample ω_o for per-lane incident directions, with the
+ * pdf at the sample from gonio_device_brdf_pdf and f_r from gonio_device_brdf_eval. */
+extern "C" __global__ void brdf_sample(const __grid_constant__ GonioDeviceBrdf b,
+                                       const float *__restrict__ wi, const float *__restrict__ u,
+                                       const float *__restrict__ w, float *__restrict__ wo,
+                                       float *__restrict__ pdf, float *__restrict__ pdf2,
+                                       float *__restrict__ f, long long n) {
+  GONIO_T_INDEX
+  float in[3] = {wi[3 * i], wi[3 * i + 1], wi[3 * i + 2]}, o[3], p, rgb[3];
+  gonio_device_brdf_sample(&b, in, u[i], w[i], o, &p);
+  pdf2[i] = gonio_device_brdf_pdf(&b, in, o);
+  gonio_device_brdf_eval(&b, in, o, rgb);
+  wo[3 * i] = o[0];
+  wo[3 * i + 1] = o[1];
+  wo[3 * i + 2] = o[2];
+  pdf[i] = p;
+  f[3 * i] = rgb[0];
+  f[3 * i + 1] = rgb[1];
+  f[3 * i + 2] = rgb[2];
+}
+
 extern "C" __global__ void soa_pdf(const __grid_constant__ GonioDeviceView v,
                                    const float *__restrict__ x, const float *__restrict__ y,
                                    const float *__restrict__ z, float *__restrict__ pdf,
