@@ -525,7 +525,11 @@ pub(crate) fn analytic_brdf(
             )))
         }
     };
-    if albedo.iter().chain(&f0).any(|v| !(v.is_finite() && *v >= 0.0)) {
+    if albedo
+        .iter()
+        .chain(&f0)
+        .any(|v| !(v.is_finite() && *v >= 0.0))
+    {
         return Err(InputError::new_err(
             "albedo, f0: every value must be finite and >= 0",
         ));
@@ -537,7 +541,9 @@ pub(crate) fn analytic_brdf(
                     "format \"merl\": the MERL layout holds isotropic BRDFs only (alpha_y = alpha_x)",
                 ));
             }
-            detached(py, "analytic_brdf", || gonio::brdf::write_merl(|wi, wo| a.eval(wi, wo)))?
+            detached(py, "analytic_brdf", || {
+                gonio::brdf::write_merl(|wi, wo| a.eval(wi, wo))
+            })?
         }
         "utia" => detached(py, "analytic_brdf", || {
             gonio::brdf::write_utia_dirs(|wi, wo| a.eval(wi, wo))
