@@ -107,4 +107,7 @@ else
   echo "test-c: SKIPPED the valgrind runs: valgrind is not installed"
 fi
 scripts/test-device.sh || [ $? -eq 77 ]  # NVRTC + ptxas on gonio_device.h (no GPU)
+# The install (scripts/install-c.sh) found by CMake and pkg-config consumers, shared and static.
+echo "== the installed library, found by pkg-config and CMake"
+bash scripts/test-install.sh
 echo "test-c: ok"

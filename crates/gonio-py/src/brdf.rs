@@ -240,6 +240,37 @@ impl PyBrdf {
         arrays::new_1d(py, &a)
     }
 
+    /// ``write(path, format="json")``: writes this table to ``path``: ``"json"`` (gonio BRDF
+    /// JSON, the table exactly), ``"merl"`` (the MERL binary: the table's interpolant at the
+    /// cells' centres; isotropic tables only) or ``"utia"`` (the UTIA raw layout: the interpolant
+    /// at its 6 × 48 × 6 × 48 nodes). Returns ``path``.
+    #[pyo3(signature = (path, format = "json"))]
+    fn write(&self, py: Python<'_>, path: PathBuf, format: &str) -> PyResult<PathBuf> {
+        let b = &self.brdf;
+        let bytes = match format {
+            "json" => gonio::brdf::write_json(b).into_bytes(),
+            "merl" => {
+                if b.symmetry() != Symmetry::Isotropic {
+                    return Err(InputError::new_err(
+                        "format \"merl\": the MERL layout holds isotropic tables only",
+                    ));
+                }
+                detached(py, "Brdf.write", || gonio::brdf::write_merl(|wi, wo| b.eval(wi, wo)))?
+            }
+            "utia" => detached(py, "Brdf.write", || {
+                gonio::brdf::write_utia_dirs(|wi, wo| b.eval(wi, wo))
+            })?,
+            other => {
+                return Err(InputError::new_err(format!(
+                    "format: {other:?} is not \"json\", \"merl\" or \"utia\""
+                )))
+            }
+        };
+        std::fs::write(&path, bytes)
+            .map_err(|e| GonioError::new_err(format!("{}: {e}", path.display())))?;
+        Ok(path)
+    }
+
     /// ``tables(precision="float32", *, theta_o=46, phi_o=90, force_resample=False) -> bytes``:
     /// the family blob (docs/TABLES.md, "Families") of this table's "hds" sampler with those
     /// options: every incident slice's map, the incident grid and the table, what

@@ -151,6 +151,10 @@ class Brdf:
         phi_o: int = 90,
         force_resample: bool = False,
     ) -> BrdfSampler: ...
+    def write(
+        self, path: Union[str, os.PathLike[str]], format: Literal["json", "merl", "utia"] = "json"
+    ) -> os.PathLike[str]:
+        """Writes the table: JSON exactly, MERL (isotropic) or UTIA by its interpolant."""
     def tables(
         self,
         precision: Literal["float32", "float64"] = "float32",
