@@ -255,7 +255,9 @@ impl PyBrdf {
                         "format \"merl\": the MERL layout holds isotropic tables only",
                     ));
                 }
-                detached(py, "Brdf.write", || gonio::brdf::write_merl(|wi, wo| b.eval(wi, wo)))?
+                detached(py, "Brdf.write", || {
+                    gonio::brdf::write_merl(|wi, wo| b.eval(wi, wo))
+                })?
             }
             "utia" => detached(py, "Brdf.write", || {
                 gonio::brdf::write_utia_dirs(|wi, wo| b.eval(wi, wo))
