@@ -62,12 +62,32 @@ if [ -z "${DRJIT_LIBLLVM_PATH:-}" ]; then
   fi
 fi
 
-# The wheel: release, abi3, installed into the environment.
+# The wheel: release, abi3, the manylinux2014 x86_64 wheel of scripts/build-wheels.sh (zig,
+# glibc 2.17, checked by auditwheel) where ziglang installs, else the machine's own build; installed
+# into a fresh virtual environment (it must import and sample there with numpy alone), then into
+# the test environment.
 wheels="$root/target/python-wheel"
 rm -rf "$wheels"
-"$venv/bin/maturin" build --release --locked -q -m crates/gonio-py/Cargo.toml -o "$wheels" \
-  --interpreter "$vpy"
-"$vpy" -m pip install "${pip_quiet[@]}" --force-reinstall --no-deps "$wheels"/gonio-*.whl
+if [ "$(uname -m)" = x86_64 ] && GONIO_VENV="$venv" bash scripts/build-wheels.sh --arch x86_64 --out "$wheels"; then
+  rm -f "$wheels"/*.tar.gz
+else
+  echo "test-python: the manylinux2014 wheel could not be built (see above): testing the machine's own wheel"
+  rm -rf "$wheels"
+  "$venv/bin/maturin" build --release --locked -q -m crates/gonio-py/Cargo.toml -o "$wheels" \
+    --interpreter "$vpy"
+fi
+whl="$(ls "$wheels"/gonio-*.whl | head -n 1)"
+echo "test-python: the wheel under test: $(basename "$whl")"
+fresh="$(mktemp -d)"
+"$PY" -m venv "$fresh/venv"
+"$fresh/venv/bin/python" -m pip install "${pip_quiet[@]}" "$whl"
+(cd "$fresh" && "$fresh/venv/bin/python" -c '
+import gonio, numpy as np
+d, p = gonio.Sampler(gonio.example()).sample(np.array([[0.25, 0.75]]))
+assert abs(np.linalg.norm(d[0]) - 1) < 1e-12 and p[0] > 0
+print("test-python: the wheel installs and samples in a fresh environment: gonio", gonio.__version__)')
+rm -rf "$fresh"
+"$vpy" -m pip install "${pip_quiet[@]}" --force-reinstall --no-deps "$whl"
 "$vpy" -c 'import gonio; print("gonio", gonio.__version__, "from", gonio.__file__)'
 
 # The CLI, to compare the package's results with it: the test profile, which `cargo test
