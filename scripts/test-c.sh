@@ -59,6 +59,16 @@ files=(
   "$corpus/ldt/isym4_two_lamp_sets_144x73.ldt"
   "$corpus/ies/lm63_2002_lithonia_type_b_flood_quadrant.ies"
 )
+# gonio.hpp covers the whole C ABI: every function gonio.h declares is called in it.
+missing=()
+while read -r f; do
+  grep -q "\b$f(" "$inc/gonio.hpp" || missing+=("$f")
+done < <(grep -o '^[A-Za-z].* \*\?gonio_[a-z0-9_]*(' "$inc/gonio.h" | sed 's/.*\(gonio_[a-z0-9_]*\)(/\1/' | sort -u)
+if [ "${#missing[@]}" -gt 0 ]; then
+  echo "test-c: FAILED: gonio.hpp does not wrap: ${missing[*]}"
+  exit 1
+fi
+echo "test-c: gonio.hpp wraps every function of gonio.h ($(grep -c '^[A-Za-z].* \*\?gonio_[a-z0-9_]*(' "$inc/gonio.h") declarations)"
 echo "== C example"
 "$out/example_c" "${files[@]}"
 echo "== C++ example"

@@ -7,7 +7,8 @@
 //! reruns when `GONIO_CORPUS` changes or the directory found changes; a corpus that appears later
 //! at a default place needs `GONIO_CORPUS` set (as `.ci/run` does) or `cargo clean -p gonio-cli`.
 
-#[path = "../gonio/tests/common/corpus.rs"]
+// `corpus_helper.rs` links to the workspace helper, so that the packaged crate carries it.
+#[path = "corpus_helper.rs"]
 mod corpus;
 
 fn main() {

@@ -1401,6 +1401,50 @@ GonioStatus gonio_envmap_eval(const struct GonioEnvMap *map,
                               float *rgb);
 
 /*
+ The densities `pdf[n]` of [`gonio_envmap_sample`] at the `n` directions `dirs[3n]` (x, y, z
+ interleaved, normalised first), per steradian: element i as [`gonio_envmap_pdf`]. A zero or
+ non-finite direction stops the batch with `GONIO_ERR_INVALID_ARGUMENT` naming its index, before
+ anything is written (an output may overlap `dirs`). `n = 0` does nothing.
+
+ # Safety
+ `map` must be NULL or a live handle; `dirs` NULL or valid for reading 3n doubles; `pdf` NULL or
+ valid for writing n doubles.
+ */
+GonioStatus gonio_envmap_pdf_batch(const struct GonioEnvMap *map,
+                                   const double *dirs,
+                                   size_t n,
+                                   double *pdf);
+
+/*
+ The points `uv[2n]` (u, v interleaved) of the unit square that [`gonio_envmap_sample`] maps to
+ the `n` directions `dirs[3n]`: element i as [`gonio_envmap_invert`], but (NaN, NaN) where the
+ density is 0 (no point maps there) and the batch goes on. A zero or non-finite direction stops
+ the batch with `GONIO_ERR_INVALID_ARGUMENT` naming its index, before anything is written.
+
+ # Safety
+ `map` must be NULL or a live handle; `dirs` NULL or valid for reading 3n doubles; `uv` NULL or
+ valid for writing 2n doubles.
+ */
+GonioStatus gonio_envmap_invert_batch(const struct GonioEnvMap *map,
+                                      const double *dirs,
+                                      size_t n,
+                                      double *uv);
+
+/*
+ The image's linear RGB radiance `rgb[3n]` at the `n` directions `dirs[3n]`: element i as
+ [`gonio_envmap_eval`]. A zero or non-finite direction stops the batch with
+ `GONIO_ERR_INVALID_ARGUMENT` naming its index, before anything is written.
+
+ # Safety
+ `map` must be NULL or a live handle; `dirs` NULL or valid for reading 3n doubles; `rgb` NULL
+ or valid for writing 3n floats.
+ */
+GonioStatus gonio_envmap_eval_batch(const struct GonioEnvMap *map,
+                                    const double *dirs,
+                                    size_t n,
+                                    float *rgb);
+
+/*
  Samples `n` points `uv[2n]` (u, v interleaved): unit directions into `dirs[3n]`, densities
  into `pdf[n]`, RGB radiance into `rgb[3n]`, through the sphere map's SIMD batch path
  ([`gonio::envmap::EnvironmentMap::sample_batch_rgb`]): element i as [`gonio_envmap_sample`]

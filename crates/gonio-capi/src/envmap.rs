@@ -471,6 +471,110 @@ pub unsafe extern "C" fn gonio_envmap_eval(
     })
 }
 
+/// The `n` directions `dirs[3n]` (x, y, z interleaved, each normalised in double), all checked
+/// before anything is written: a zero or non-finite one is `GONIO_ERR_INVALID_ARGUMENT` naming its
+/// index.
+///
+/// # Safety
+/// `dirs` valid for reading 3n doubles.
+unsafe fn env_dirs(dirs: *const f64, n: usize) -> Result<Vec<gonio::Vec3>, Failure> {
+    let raw = std::slice::from_raw_parts(dirs, 3 * n);
+    raw.chunks_exact(3)
+        .enumerate()
+        .map(|(i, d)| {
+            unit([d[0], d[1], d[2]])
+                .map_err(|e| Failure::invalid(format!("direction #{i}: {}", e.message)))
+        })
+        .collect()
+}
+
+/// The densities `pdf[n]` of [`gonio_envmap_sample`] at the `n` directions `dirs[3n]` (x, y, z
+/// interleaved, normalised first), per steradian: element i as [`gonio_envmap_pdf`]. A zero or
+/// non-finite direction stops the batch with `GONIO_ERR_INVALID_ARGUMENT` naming its index, before
+/// anything is written (an output may overlap `dirs`). `n = 0` does nothing.
+///
+/// # Safety
+/// `map` must be NULL or a live handle; `dirs` NULL or valid for reading 3n doubles; `pdf` NULL or
+/// valid for writing n doubles.
+#[no_mangle]
+pub unsafe extern "C" fn gonio_envmap_pdf_batch(
+    map: *const GonioEnvMap,
+    dirs: *const f64,
+    n: usize,
+    pdf: *mut f64,
+) -> GonioStatus {
+    guard(|| {
+        let m = r(map, "map")?;
+        check_in(dirs, "dirs")?;
+        check_out(pdf, "pdf")?;
+        check_len::<f64>(n, 3)?;
+        let d = env_dirs(dirs, n)?;
+        for (i, d) in d.iter().enumerate() {
+            pdf.add(i).write(m.inner.pdf(*d));
+        }
+        Ok(())
+    })
+}
+
+/// The points `uv[2n]` (u, v interleaved) of the unit square that [`gonio_envmap_sample`] maps to
+/// the `n` directions `dirs[3n]`: element i as [`gonio_envmap_invert`], but (NaN, NaN) where the
+/// density is 0 (no point maps there) and the batch goes on. A zero or non-finite direction stops
+/// the batch with `GONIO_ERR_INVALID_ARGUMENT` naming its index, before anything is written.
+///
+/// # Safety
+/// `map` must be NULL or a live handle; `dirs` NULL or valid for reading 3n doubles; `uv` NULL or
+/// valid for writing 2n doubles.
+#[no_mangle]
+pub unsafe extern "C" fn gonio_envmap_invert_batch(
+    map: *const GonioEnvMap,
+    dirs: *const f64,
+    n: usize,
+    uv: *mut f64,
+) -> GonioStatus {
+    guard(|| {
+        let m = r(map, "map")?;
+        check_in(dirs, "dirs")?;
+        check_out(uv, "uv")?;
+        check_len::<f64>(n, 3)?;
+        let d = env_dirs(dirs, n)?;
+        for (i, d) in d.iter().enumerate() {
+            let p = m.inner.invert(*d).unwrap_or([f64::NAN; 2]);
+            uv.add(2 * i).write(p[0]);
+            uv.add(2 * i + 1).write(p[1]);
+        }
+        Ok(())
+    })
+}
+
+/// The image's linear RGB radiance `rgb[3n]` at the `n` directions `dirs[3n]`: element i as
+/// [`gonio_envmap_eval`]. A zero or non-finite direction stops the batch with
+/// `GONIO_ERR_INVALID_ARGUMENT` naming its index, before anything is written.
+///
+/// # Safety
+/// `map` must be NULL or a live handle; `dirs` NULL or valid for reading 3n doubles; `rgb` NULL
+/// or valid for writing 3n floats.
+#[no_mangle]
+pub unsafe extern "C" fn gonio_envmap_eval_batch(
+    map: *const GonioEnvMap,
+    dirs: *const f64,
+    n: usize,
+    rgb: *mut f32,
+) -> GonioStatus {
+    guard(|| {
+        let m = r(map, "map")?;
+        check_in(dirs, "dirs")?;
+        check_out(rgb, "rgb")?;
+        check_len::<f64>(n, 3)?;
+        let d = env_dirs(dirs, n)?;
+        for (i, d) in d.iter().enumerate() {
+            for (k, c) in m.inner.eval(*d).into_iter().enumerate() {
+                rgb.add(3 * i + k).write(c);
+            }
+        }
+        Ok(())
+    })
+}
+
 /// Samples `n` points `uv[2n]` (u, v interleaved): unit directions into `dirs[3n]`, densities
 /// into `pdf[n]`, RGB radiance into `rgb[3n]`, through the sphere map's SIMD batch path
 /// ([`gonio::envmap::EnvironmentMap::sample_batch_rgb`]): element i as [`gonio_envmap_sample`]

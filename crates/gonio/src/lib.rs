@@ -49,6 +49,11 @@ pub mod sampler;
 pub mod sequence;
 pub mod synthetic;
 
+/// The crate's README example, compiled and run as a doctest (`cargo test --doc`).
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeDoctests;
+
 pub use check::{run_battery, BatteryOptions, Report};
 pub use diagram::{Diagram, DiagramError};
 pub use error::Error;

@@ -1,0 +1,1 @@
+../gonio/tests/common/corpus.rs
