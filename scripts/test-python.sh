@@ -97,6 +97,16 @@ if [ -z "${GONIO_BIN:-}" ]; then
   export GONIO_BIN="$root/target/debug/gonio"
 fi
 
+# The stubs and the annotated gonio.mitsuba, checked by mypy --strict on the typed examples
+# (and the typed API example run): a stub that drifts from the package fails here.
+if "$vpy" -m pip install "${pip_quiet[@]}" mypy; then
+  (cd "$(mktemp -d)" && "$vpy" -m mypy --strict --ignore-missing-imports --no-incremental \
+    "$root/examples/python/typed_api.py" "$root/examples/python/floor_illuminance.py")
+  "$vpy" "$root/examples/python/typed_api.py"
+else
+  echo "SKIPPED (python): mypy cannot be installed here: the stubs are not type-checked"
+fi
+
 # Run from a scratch directory: Mitsuba writes chi2_data.py into the working directory on failure.
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT

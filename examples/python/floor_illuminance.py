@@ -27,7 +27,7 @@ import numpy as np  # noqa: E402
 import gonio  # noqa: E402
 
 
-def default_file():
+def default_file() -> pathlib.Path:
     corpus = os.environ.get("GONIO_CORPUS") or pathlib.Path(__file__).resolve().parents[2] / ".." / "shared" / "data" / "photometry"
     f = pathlib.Path(corpus) / "ies" / "lm63_2002_lithonia_area_full_h0_360.ies"
     if f.is_file():
@@ -37,7 +37,7 @@ def default_file():
     return f
 
 
-def main():
+def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("file", nargs="?", type=pathlib.Path)
     ap.add_argument("-o", "--output", default="floor.png")

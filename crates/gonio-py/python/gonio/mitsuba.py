@@ -59,6 +59,7 @@ run as Python scalars in ``scalar_*`` ones; ``register()`` touches no JIT flag.
 import math
 import os
 import warnings
+from typing import Any, Dict, Optional, Tuple, Union
 
 import numpy as np
 
@@ -263,7 +264,7 @@ class Opening:
     ``height`` along z; a disk's or cylinder's diameter in ``length`` and ``width``, a sphere's in
     all three), and its ``parts`` (the surfaces that emit), centred on the photometric centre."""
 
-    def __init__(self, kind, length, width, height):
+    def __init__(self, kind: str, length: float, width: float, height: float) -> None:
         self.kind, self.length, self.width, self.height = kind, length, width, height
         a, b, h = 0.5 * length, 0.5 * width, 0.5 * height
         if kind == "rectangle":
@@ -291,7 +292,7 @@ class Opening:
             raise ValueError(f"unknown opening kind {kind!r}")
         self.area = sum(p.area for p in self.parts)
 
-    def projected_area(self, w):
+    def projected_area(self, w: Any) -> Any:
         """A_proj(ω) in m² for local unit directions ``w`` (n, 3)."""
         w = np.asarray(w, dtype=np.float64).reshape(-1, 3)
         return sum(p.proj(w) for p in self.parts)
@@ -304,7 +305,7 @@ class Opening:
             out = a if out is None else out + a
         return out
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return (f"gonio.mitsuba.Opening({self.kind!r}, length={self.length:g} m, width={self.width:g} m, "
                 f"height={self.height:g} m)")
 
@@ -335,7 +336,8 @@ def _from_signed(width, length, height, where):
     )
 
 
-def opening(diagram, width=None, length=None, height=None, where="luminaire"):
+def opening(diagram: Any, width: Optional[float] = None, length: Optional[float] = None,
+            height: Optional[float] = None, where: str = "luminaire") -> Optional["Opening"]:
     """The luminous opening of a photometric ``diagram`` (gonio.Diagram), or None for a point.
 
     IES LM-63: the width, length, height fields (feet or metres by the units field; width along
@@ -381,7 +383,7 @@ def opening(diagram, width=None, length=None, height=None, where="luminaire"):
 _CLASSES = {}
 
 
-def register(jit_flags=True):
+def register(jit_flags: bool = True) -> Any:
     """Registers the emitters ``"gonio"`` and ``"gonio_envmap"`` and the BSDF ``"gonio_brdf"`` for
     Mitsuba's current variant (call after ``mi.set_variant``; again after changing variant).
     Returns the ``"gonio"`` class (``classes()`` returns all three).
@@ -414,7 +416,7 @@ DEFAULT_RADIUS = 1e5
 shadow rays of next-event estimation in any ordinary scene; light tracing needs ``prepare``."""
 
 
-def prepare(scene):
+def prepare(scene: Any) -> Any:
     """Tells each ``gonio_envmap`` emitter of ``scene`` the scene's bounding sphere (what Mitsuba's
     ``envmap`` learns from ``set_scene``, which Mitsuba does not call on Python emitters). Needed
     for light tracing (``ptracer``, ``scene.sample_emitter_ray``): its rays start on a disk of that
@@ -425,7 +427,7 @@ def prepare(scene):
     return scene
 
 
-def classes():
+def classes() -> Tuple[Any, Any, Any]:
     """The (``"gonio"``, ``"gonio_envmap"``, ``"gonio_brdf"``) classes of the current variant
     (registers them)."""
     import mitsuba as mi
@@ -879,8 +881,9 @@ def _make_classes(mi, dr, scalar):
     return GonioEmitter, GonioEnvMapEmitter
 
 
-def luminaire(filename, to_world=None, shape="point", scale=1.0, width=None, length=None, height=None,
-              name="gonio"):
+def luminaire(filename: Union[str, "os.PathLike[str]"], to_world: Any = None, shape: str = "point",
+              scale: float = 1.0, width: Optional[float] = None, length: Optional[float] = None,
+              height: Optional[float] = None, name: str = "gonio") -> Dict[str, Any]:
     """Scene-dict entries for a luminaire: ``{name: {"type": "gonio", ...}}`` for a point;
     for ``shape="opening"`` one Mitsuba shape per part of the opening (``name_0``, ...), each
     carrying its ``"gonio"`` emitter. Merge them into the scene dict (``scene.update(...)``).
