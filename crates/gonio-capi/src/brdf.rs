@@ -19,7 +19,6 @@ use gonio::brdf::{
 };
 use gonio::Vec3;
 use std::ffi::{c_char, CStr};
-use std::mem::ManuallyDrop;
 
 /// The format of a BRDF file: one of the `GONIO_BRDF_FORMAT_*` constants.
 pub type GonioBrdfFormat = i32;
@@ -147,43 +146,8 @@ enum Inner {
     Hds(BrdfSampler),
     Cosine(TabulatedBrdf),
     Ggx(TabulatedBrdf, (f64, f64)),
-    Pc(PcOwned),
-}
-
-/// The piecewise-constant method borrows the HDS sampler whose slices it tabulates: the sampler
-/// lives on the heap (from `Box::into_raw`), is never moved nor mutated, and is freed only after
-/// the method is dropped ([`Drop`] below).
-struct PcOwned {
-    method: ManuallyDrop<PerSliceConstant<'static>>,
-    owner: *mut BrdfSampler,
-}
-
-// SAFETY: `owner` is only read through shared references (BrdfSampler is Send + Sync) and freed
-// once, in `drop`; the method itself is Send + Sync (a `BrdfMethod`).
-unsafe impl Send for PcOwned {}
-unsafe impl Sync for PcOwned {}
-
-impl PcOwned {
-    fn new(sampler: BrdfSampler, resolution: usize) -> Self {
-        let owner = Box::into_raw(Box::new(sampler));
-        // SAFETY: `owner` is a live allocation until `drop`, which drops the method first.
-        let borrowed: &'static BrdfSampler = unsafe { &*owner };
-        PcOwned {
-            method: ManuallyDrop::new(PerSliceConstant::new(borrowed, resolution)),
-            owner,
-        }
-    }
-}
-
-impl Drop for PcOwned {
-    fn drop(&mut self) {
-        // SAFETY: the method (the only borrower) goes first; `owner` came from Box::into_raw and
-        // is freed exactly once.
-        unsafe {
-            ManuallyDrop::drop(&mut self.method);
-            drop(Box::from_raw(self.owner));
-        }
-    }
+    /// The piecewise-constant method owns (shares) the HDS sampler whose slices it tabulates.
+    Pc(PerSliceConstant<std::sync::Arc<BrdfSampler>>),
 }
 
 impl GonioBrdfSampler {
@@ -191,8 +155,7 @@ impl GonioBrdfSampler {
         match &self.inner {
             Inner::Hds(s) => s.brdf(),
             Inner::Cosine(b) | Inner::Ggx(b, _) => b,
-            // SAFETY: see PcOwned: `owner` is live while `self` is.
-            Inner::Pc(p) => unsafe { (*p.owner).brdf() },
+            Inner::Pc(p) => p.sampler().brdf(),
         }
     }
 
@@ -201,7 +164,7 @@ impl GonioBrdfSampler {
             Inner::Hds(s) => f(s),
             Inner::Cosine(b) => f(&CosineBrdf::new(b)),
             Inner::Ggx(b, (ax, ay)) => f(&GgxFit::with_alpha(b, *ax, *ay)),
-            Inner::Pc(p) => f(&*p.method),
+            Inner::Pc(p) => f(p),
         }
     }
 }
@@ -528,7 +491,10 @@ pub unsafe extern "C" fn gonio_brdf_sampler_build(
                 let alpha = GgxFit::fit(&b.table).alpha();
                 Inner::Ggx(b.table.clone(), alpha)
             }
-            _ => Inner::Pc(PcOwned::new(hds()?, o.resolution)),
+            _ => Inner::Pc(PerSliceConstant::new(
+                std::sync::Arc::new(hds()?),
+                o.resolution,
+            )),
         };
         w(
             out,

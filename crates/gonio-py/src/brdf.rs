@@ -10,7 +10,7 @@ use crate::diagram::parse_error;
 use crate::{arrays, detached, BuildError, GonioError, InputError};
 use gonio::brdf::{
     read_any, scalar_albedo, BrdfError, BrdfMethod, BrdfSampler, CosineBrdf, GgxFit, MerlOptions,
-    SamplerOptions, Symmetry, TabulatedBrdf,
+    PerSliceConstant, SamplerOptions, Symmetry, TabulatedBrdf,
 };
 use gonio::sampler::normalize;
 use gonio::{Point2, Vec3};
@@ -301,11 +301,14 @@ impl PyBrdf {
         Ok(PyBytes::new(py, &bytes))
     }
 
-    /// ``sampler(method="hds", *, theta_o=46, phi_o=90, force_resample=False)``: a sampler of
-    /// f_r·cos θ_o. Methods: "hds" (the HDS map of the blended slice diagrams), "cosine",
-    /// "ggx-fit" (a GGX lobe fitted to the table). `theta_o`, `phi_o`: the slices' outgoing grid
-    /// when the table's own cannot be used (or `force_resample`).
-    #[pyo3(signature = (method = "hds", *, theta_o = 46, phi_o = 90, force_resample = false))]
+    /// ``sampler(method="hds", *, theta_o=46, phi_o=90, force_resample=False, resolution=128)``:
+    /// a sampler of f_r·cos θ_o. Methods (the C ABI's): "hds" (the HDS map of the blended slice
+    /// diagrams), "cosine", "ggx-fit" (a GGX lobe fitted to the table), "piecewise-constant" (the
+    /// nearest slice tabulated as a `resolution`² image, discontinuous in ω_i). `theta_o`,
+    /// `phi_o`: the slices' outgoing grid when the table's own cannot be used (or
+    /// `force_resample`).
+    #[pyo3(signature = (method = "hds", *, theta_o = 46, phi_o = 90, force_resample = false,
+                        resolution = 128))]
     fn sampler(
         &self,
         py: Python<'_>,
@@ -313,10 +316,16 @@ impl PyBrdf {
         theta_o: usize,
         phi_o: usize,
         force_resample: bool,
+        resolution: usize,
     ) -> PyResult<PyBrdfSampler> {
-        if !matches!(method, "hds" | "cosine" | "ggx-fit") {
+        if !matches!(method, "hds" | "cosine" | "ggx-fit" | "piecewise-constant") {
             return Err(InputError::new_err(format!(
-                "method: {method:?} is not \"hds\", \"cosine\" or \"ggx-fit\""
+                "method: {method:?} is not \"hds\", \"cosine\", \"ggx-fit\" or \"piecewise-constant\""
+            )));
+        }
+        if method == "piecewise-constant" && !(1..=4096).contains(&resolution) {
+            return Err(InputError::new_err(format!(
+                "resolution: {resolution} is not in 1…4096"
             )));
         }
         let opts = SamplerOptions {
@@ -331,24 +340,30 @@ impl PyBrdf {
             Ok::<_, BrdfError>((s, alpha))
         })?
         .map_err(|e| BuildError::new_err(format!("Brdf.sampler: {e}")))?;
+        let sampler = Arc::new(sampler);
         let method = match alpha {
             Some((ax, ay)) => Method::Ggx(ax, ay),
             None if method == "cosine" => Method::Cosine,
+            None if method == "piecewise-constant" => {
+                let s = Arc::clone(&sampler);
+                Method::Pc(Arc::new(detached(py, "Brdf.sampler", || {
+                    PerSliceConstant::new(s, resolution)
+                })?))
+            }
             None => Method::Hds,
         };
-        Ok(PyBrdfSampler {
-            sampler: Arc::new(sampler),
-            method,
-        })
+        Ok(PyBrdfSampler { sampler, method })
     }
 }
 
 /// The sampling method of a [`PyBrdfSampler`].
-#[derive(Clone, Copy)]
+#[derive(Clone)]
 enum Method {
     Hds,
     Cosine,
     Ggx(f64, f64),
+    /// Shares the HDS sampler whose slices it tabulates.
+    Pc(Arc<PerSliceConstant<Arc<BrdfSampler>>>),
 }
 
 /// Importance sampling of a tabulated BRDF's f_r·cos θ_o, with exact pdf and inverse.
@@ -361,10 +376,11 @@ pub struct PyBrdfSampler {
 impl PyBrdfSampler {
     fn with<T>(&self, f: impl FnOnce(&dyn BrdfMethod) -> T) -> T {
         let s = &*self.sampler;
-        match self.method {
+        match &self.method {
             Method::Hds => f(s),
             Method::Cosine => f(&CosineBrdf::new(s.brdf())),
-            Method::Ggx(ax, ay) => f(&GgxFit::with_alpha(s.brdf(), ax, ay)),
+            Method::Ggx(ax, ay) => f(&GgxFit::with_alpha(s.brdf(), *ax, *ay)),
+            Method::Pc(p) => f(&**p),
         }
     }
 }

@@ -135,7 +135,7 @@ def test_one_channel(tmp_path):
     assert weight.shape == (100, 1) and b.eval([0.0, 0.0, 1.0], wo).shape == (100, 1)
 
 
-@pytest.mark.parametrize("method", ["cosine", "ggx-fit"])
+@pytest.mark.parametrize("method", ["cosine", "ggx-fit", "piecewise-constant"])
 def test_other_methods(brdf, method):
     s = brdf.sampler(method)
     assert s.method == method

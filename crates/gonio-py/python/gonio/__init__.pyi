@@ -145,11 +145,12 @@ class Brdf:
     def albedo(self, wi: ArrayLike) -> F64Array: ...
     def sampler(
         self,
-        method: Literal["hds", "cosine", "ggx-fit"] = "hds",
+        method: Literal["hds", "cosine", "ggx-fit", "piecewise-constant"] = "hds",
         *,
         theta_o: int = 46,
         phi_o: int = 90,
         force_resample: bool = False,
+        resolution: int = 128,
     ) -> BrdfSampler: ...
     def write(
         self, path: Union[str, os.PathLike[str]], format: Literal["json", "merl", "utia"] = "json"

@@ -288,14 +288,26 @@ impl GgxFit<'_> {
 /// Piecewise-constant sampling of the **nearest** tabulated incident slice: each slice diagram of
 /// the HDS sampler tabulated as a pixel image over the equal-area hemisphere map
 /// ([`PiecewiseConstant`], `resolution` pixels per side), turned by φ_i. Discontinuous in ω_i.
-pub struct PerSliceConstant<'a> {
-    sampler: &'a BrdfSampler,
+///
+/// `S` is how it holds the HDS sampler whose slices it tabulates: a reference
+/// (`PerSliceConstant::new(&sampler, 128)`) or a shared owner (`Arc<BrdfSampler>`, the default,
+/// for a method that must own its sampler: the C ABI's and Python's handles).
+pub struct PerSliceConstant<S = std::sync::Arc<BrdfSampler>>
+where
+    S: std::ops::Deref<Target = BrdfSampler>,
+{
+    sampler: S,
     images: Vec<Option<PiecewiseConstant>>,
 }
 
-impl<'a> PerSliceConstant<'a> {
+impl<S: std::ops::Deref<Target = BrdfSampler>> PerSliceConstant<S> {
+    /// The HDS sampler whose slices are tabulated.
+    pub fn sampler(&self) -> &BrdfSampler {
+        &self.sampler
+    }
+
     /// The per-slice images of `sampler`'s slices at `resolution` pixels per side.
-    pub fn new(sampler: &'a BrdfSampler, resolution: usize) -> Self {
+    pub fn new(sampler: S, resolution: usize) -> Self {
         let (n, _) = sampler.slice_counts();
         let images = (0..n)
             .map(|k| {
@@ -334,7 +346,7 @@ fn rotate(d: Vec3, phi: f64) -> Vec3 {
     [c * d[0] - s * d[1], s * d[0] + c * d[1], d[2]]
 }
 
-impl BrdfMethod for PerSliceConstant<'_> {
+impl<S: std::ops::Deref<Target = BrdfSampler> + Send + Sync> BrdfMethod for PerSliceConstant<S> {
     fn name(&self) -> &'static str {
         "piecewise-constant"
     }
