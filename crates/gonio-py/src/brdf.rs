@@ -48,21 +48,26 @@ fn brdf_error(path: &std::path::Path, e: BrdfError) -> PyErr {
 /// the content (gonio BRDF JSON, UTIA raw, MERL binary resampled to `merl_theta` polar nodes and
 /// `merl_phi` relative azimuths).
 #[pyfunction]
-#[pyo3(signature = (path, *, merl_theta = 46, merl_phi = 90))]
-pub(crate) fn read_brdf(
-    py: Python<'_>,
+#[pyo3(signature = (path, *, merl_theta = 46, merl_phi = 90, progress = None))]
+pub(crate) fn read_brdf<'py>(
+    py: Python<'py>,
     path: PathBuf,
     merl_theta: usize,
     merl_phi: usize,
+    progress: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<PyBrdf> {
+    let progress = crate::progress::Progress::new(py, progress, "read_brdf")?;
     let merl = MerlOptions {
         n_theta: merl_theta,
         n_phi: merl_phi,
     };
     let name = path.display().to_string();
+    progress.report("reading the file", 0.0)?;
     let bytes = crate::diagram::read_input(&path, &name, gonio::input::file::FileKind::Brdf)?;
+    progress.report("decoding (a MERL file: resampling)", 0.1)?;
     let brdf =
         detached(py, "read_brdf", || read_any(&bytes, &merl))?.map_err(|e| brdf_error(&path, e))?;
+    progress.report("done", 1.0)?;
     Ok(PyBrdf {
         brdf: Arc::new(brdf),
     })

@@ -100,14 +100,17 @@ impl PyEnvMap {
     }
 
     #[new]
-    #[pyo3(signature = (path, lookup = "nearest", mis_compensation = false, weight = None, precision = "float64"))]
-    fn new(
+    #[pyo3(signature = (path, lookup = "nearest", mis_compensation = false, weight = None, precision = "float64", *, progress = None))]
+    fn new<'py>(
+        py: Python<'py>,
         path: std::path::PathBuf,
         lookup: &str,
         mis_compensation: bool,
-        weight: Option<&Bound<'_, PyAny>>,
+        weight: Option<&Bound<'py, PyAny>>,
         precision: &str,
+        progress: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Self> {
+        let progress = crate::progress::Progress::new(py, progress, "EnvMap")?;
         let float32 = match precision {
             "float64" => false,
             "float32" => true,
@@ -128,7 +131,9 @@ impl PyEnvMap {
         };
         let (weight, custom_shape) = parse_weight(weight)?;
         let name = path.display().to_string();
+        progress.report("reading the file", 0.0)?;
         let bytes = crate::diagram::read_input(&path, &name, gonio::input::file::FileKind::Image)?;
+        progress.report("decoding the image", 0.1)?;
         let img = no_panic("EnvMap", || {
             let format = gonio::image::ImageFormat::sniff(&bytes)
                 .or_else(|| gonio::image::ImageFormat::from_path(&path));
@@ -153,6 +158,7 @@ impl PyEnvMap {
             lookup,
             mis_compensation,
         };
+        progress.report("building the map", 0.35)?;
         let inner = no_panic("EnvMap", || {
             let env = EnvironmentMap::with_options(img, options)
                 .map_err(|e| format!("{}: {e}", path.display()))?;
@@ -165,6 +171,7 @@ impl PyEnvMap {
             }
         })?
         .map_err(GonioError::new_err)?;
+        progress.report("done", 1.0)?;
         Ok(Self { inner })
     }
 

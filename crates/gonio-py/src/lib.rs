@@ -27,6 +27,7 @@ mod diagram;
 mod envmap;
 mod mesh;
 mod misc;
+mod progress;
 mod sampler;
 mod types;
 

@@ -19,7 +19,8 @@ use pyo3::types::PyDict;
 /// for the other layouts). Errors: `gonio.InputError` (shapes, indices, an open or not
 /// star-shaped mesh, with the message of docs/TEXTURE.md).
 #[pyfunction]
-#[pyo3(signature = (vertices, faces, density = "surface", weights = None, center = None, layout = "hds"))]
+#[pyo3(signature = (vertices, faces, density = "surface", weights = None, center = None, layout = "hds", *, progress = None))]
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn texture_uv<'py>(
     py: Python<'py>,
     vertices: &Bound<'py, PyAny>,
@@ -28,7 +29,10 @@ pub(crate) fn texture_uv<'py>(
     weights: Option<&Bound<'py, PyAny>>,
     center: Option<[f64; 3]>,
     layout: &str,
+    progress: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let progress = crate::progress::Progress::new(py, progress, "texture_uv")?;
+    progress.report("reading the arrays", 0.0)?;
     let v = arrays::rows::<3>(vertices, "vertices")?;
     let f = arrays::rows::<3>(faces, "faces")?;
     let mut positions: Vec<[f64; 3]> = arrays::try_vec(v.as_slice().len(), "vertices")?;
@@ -83,6 +87,7 @@ pub(crate) fn texture_uv<'py>(
         layout,
         ..UvOptions::default()
     };
+    progress.report("parameterising (star-shape check, map, seam cut)", 0.1)?;
     let r = detached(py, "texture_uv", || parameterise(&mesh, &opts))?.map_err(|e| match e {
         // Memory exhaustion is Python's MemoryError, not a fault of the input.
         gonio::mesh::MeshError::OutOfMemory { .. } => {
@@ -90,6 +95,7 @@ pub(crate) fn texture_uv<'py>(
         }
         e => InputError::new_err(e.to_string()),
     })?;
+    progress.report("writing the arrays", 0.9)?;
     let m = &r.mesh;
     let out = PyDict::new(py);
     out.set_item(
@@ -120,5 +126,6 @@ pub(crate) fn texture_uv<'py>(
     out.set_item("center", r.star.center.to_vec())?;
     out.set_item("cut_faces", r.cut_triangles)?;
     out.set_item("seam", r.texture.as_ref().map(|t| t.seam()))?;
+    progress.report("done", 1.0)?;
     Ok(out)
 }

@@ -68,7 +68,7 @@ pub(crate) fn methods() -> Vec<&'static str> {
 /// runs the cheaper settings of `gonio check --quick`; `samples` overrides the chi-square and
 /// flux sample counts; `seed` seeds every item.
 #[pyfunction]
-#[pyo3(signature = (diagram, method = "hds", *, samples = None, seed = 0, quick = false))]
+#[pyo3(signature = (diagram, method = "hds", *, samples = None, seed = 0, quick = false, progress = None))]
 pub(crate) fn check<'py>(
     py: Python<'py>,
     diagram: &Bound<'py, PyDiagram>,
@@ -76,7 +76,9 @@ pub(crate) fn check<'py>(
     samples: Option<usize>,
     seed: u64,
     quick: bool,
+    progress: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyAny>> {
+    let progress = crate::progress::Progress::new(py, progress, "check")?;
     let mut opts = if quick {
         BatteryOptions::quick()
     } else {
@@ -95,14 +97,19 @@ pub(crate) fn check<'py>(
     opts.ratio.claimed_bound = s.ratio_bound_value();
     opts.flux_total = s.target_power_value();
     let d = &diagram.get().diagram;
-    let json = interruptible(py, "check", |stop| {
+    let json = interruptible(py, "check", Some(&progress), |stop, state| {
         opts.round_trip.extra_points =
             cell_boundary_points(s.inner(), d, if quick { 16 } else { 64 });
         // The battery reports its progress after every chunk of samples: there a pending
-        // Ctrl-C ends it (unwinding with a payload that is no panic, so no hook prints).
-        let report = run_battery_with_progress(s.inner(), &opts, &|_, _| {
+        // Ctrl-C (or an exception of the progress callable) ends it (unwinding with a payload
+        // that is no panic, so no hook prints), and the latest (item, fraction) is left for the
+        // calling thread to report.
+        let report = run_battery_with_progress(s.inner(), &opts, &|item, fraction| {
             if stop.load(Ordering::Relaxed) {
                 std::panic::resume_unwind(Box::new(Interrupted));
+            }
+            if let Ok(mut st) = state.lock() {
+                *st = Some((item.to_string(), fraction));
             }
         });
         serde_json::to_string(&report)
@@ -114,19 +121,27 @@ pub(crate) fn check<'py>(
 /// The payload that ends an [`interruptible`] computation early.
 struct Interrupted;
 
+/// The latest progress a worker left for the calling thread: (item, fraction).
+type ProgressState = std::sync::Mutex<Option<(String, f64)>>;
+
 /// Runs `f` on a worker thread while this thread, GIL released, handles signals every 10 ms:
 /// when a signal handler raises (Ctrl-C: KeyboardInterrupt), `stop` is set, the worker ends at
-/// its next check and the exception is returned. A panic of `f` becomes InternalError.
+/// its next check and the exception is returned. A panic of `f` becomes InternalError. The
+/// progress `f` leaves in its state is reported to `progress` from this thread (an exception of
+/// the callable stops the worker as a signal does).
 fn interruptible<T: Send>(
     py: Python<'_>,
     what: &str,
-    f: impl FnOnce(&AtomicBool) -> T + Send,
+    progress: Option<&crate::progress::Progress<'_>>,
+    f: impl FnOnce(&AtomicBool, &ProgressState) -> T + Send,
 ) -> PyResult<T> {
     let stop = AtomicBool::new(false);
+    let state: ProgressState = std::sync::Mutex::new(None);
     std::thread::scope(|scope| {
-        let worker =
-            scope.spawn(|| std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| f(&stop))));
+        let worker = scope
+            .spawn(|| std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| f(&stop, &state))));
         let mut signal = None;
+        let mut last: Option<(String, f64)> = None;
         while !worker.is_finished() {
             py.detach(|| std::thread::sleep(std::time::Duration::from_millis(10)));
             if signal.is_none() {
@@ -134,6 +149,22 @@ fn interruptible<T: Send>(
                     stop.store(true, Ordering::Relaxed);
                     signal = Some(e);
                 }
+            }
+            if let (None, Some(p)) = (&signal, progress.filter(|p| p.active())) {
+                let now = state.lock().ok().and_then(|s| s.clone());
+                if now.is_some() && now != last {
+                    let (item, fraction) = now.clone().expect("checked");
+                    if let Err(e) = p.report(&item, fraction) {
+                        stop.store(true, Ordering::Relaxed);
+                        signal = Some(e);
+                    }
+                    last = now;
+                }
+            }
+        }
+        if let (None, Some(p)) = (&signal, progress.filter(|p| p.active())) {
+            if let Err(e) = p.report("done", 1.0) {
+                signal = Some(e);
             }
         }
         let result = py.detach(|| worker.join());

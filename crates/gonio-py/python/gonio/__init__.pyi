@@ -6,10 +6,13 @@ toward +y; densities are per steradian. Photometric files: γ = 0° (nadir) is �
 """
 
 import os
-from typing import Any, Literal, Optional, Sequence as _Seq, Tuple, Union
+from typing import Any, Callable, Literal, Optional, Sequence as _Seq, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
+
+# The progress= option: None, True (a tqdm bar, or lines on stderr) or f(what, fraction).
+Progress = Union[None, bool, Callable[[str, float], object]]
 
 __version__: str
 
@@ -104,6 +107,8 @@ class EnvMap:
         mis_compensation: bool = False,
         weight: Union[Literal["luminance", "red", "green", "blue"], int, ArrayLike, None] = None,
         precision: Literal["float64", "float32"] = "float64",
+        *,
+        progress: Progress = None,
     ) -> None: ...
     @property
     def precision(self) -> Literal["float64", "float32"]: ...
@@ -199,7 +204,11 @@ def analytic_brdf(
     """Writes the library's analytic BRDF in the MERL, UTIA or gonio BRDF JSON layout; returns path."""
 
 def read_brdf(
-    path: Union[str, os.PathLike[str]], *, merl_theta: int = 46, merl_phi: int = 90
+    path: Union[str, os.PathLike[str]],
+    *,
+    merl_theta: int = 46,
+    merl_phi: int = 90,
+    progress: Progress = None,
 ) -> Brdf: ...
 
 class Sampler:
@@ -277,6 +286,7 @@ def check(
     samples: Optional[int] = None,
     seed: int = 0,
     quick: bool = False,
+    progress: Progress = None,
 ) -> dict[str, Any]:
     """The ``gonio check --json`` report as a dict; ``report["passed"]`` is the verdict."""
 
@@ -292,6 +302,8 @@ def texture_uv(
     weights: Optional[ArrayLike] = None,
     center: Optional[tuple[float, float, float]] = None,
     layout: str = "hds",
+    *,
+    progress: Progress = None,
 ) -> dict[str, Any]:
     """One-chart UVs of a closed star-shaped mesh from the inverse map (docs/TEXTURE.md): a dict
     with ``positions``, ``uvs``, ``faces``, ``face_uvs``, ``source_face``, ``center``,
