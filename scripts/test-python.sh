@@ -97,11 +97,11 @@ if [ -z "${GONIO_BIN:-}" ]; then
   export GONIO_BIN="$root/target/debug/gonio"
 fi
 
-# The stubs and the annotated gonio.mitsuba, checked by mypy --strict on the typed examples
-# (and the typed API example run): a stub that drifts from the package fails here.
+# The stubs and the annotated gonio.mitsuba, checked by mypy --strict on every example (and the
+# typed API example run): a stub that drifts from the package fails here.
 if "$vpy" -m pip install "${pip_quiet[@]}" mypy; then
   (cd "$(mktemp -d)" && "$vpy" -m mypy --strict --ignore-missing-imports --no-incremental \
-    "$root/examples/python/typed_api.py" "$root/examples/python/floor_illuminance.py")
+    "$root"/examples/python/*.py)
   "$vpy" "$root/examples/python/typed_api.py"
 else
   echo "SKIPPED (python): mypy cannot be installed here: the stubs are not type-checked"

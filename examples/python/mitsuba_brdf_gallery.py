@@ -25,12 +25,12 @@ import time
 import numpy as np
 
 
-def srgb(x):
+def srgb(x: "np.typing.NDArray[np.floating]") -> "np.typing.NDArray[np.floating]":
     x = np.clip(x, 0.0, 1.0)
     return np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055)
 
 
-def main():
+def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--spp", type=int, default=128)
     p.add_argument("--out-dir", default="docs/gallery")
@@ -76,13 +76,13 @@ def main():
                 "to_world": mi.ScalarTransform4f().rotate([1, 0, 0], 90)},
         **balls})
     t0 = time.perf_counter()
-    img = np.array(mi.render(scene, seed=1))
+    img = np.array(mi.render(scene, seed=1))  # type: ignore[arg-type]  # (Mitsuba's stub: UInt32)
     t = time.perf_counter() - t0
     out_dir = pathlib.Path(a.out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     out = out_dir / "mitsuba-brdf-materials.png"
     exposure = 0.3 / max(float(np.mean(img)), 1e-6)
-    mi.util.write_bitmap(str(out), srgb(img * exposure).astype(np.float32), write_async=False)
+    mi.util.write_bitmap(str(out), srgb(img * exposure).astype(np.float32), write_async=False)  # type: ignore[no-untyped-call]
     print(f"{out}: {w} x {w // 2}, {a.spp} spp, {t:.1f} s")
 
 

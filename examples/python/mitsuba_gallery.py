@@ -18,6 +18,7 @@ The luminaire file is looked up in $GONIO_CORPUS (default ../shared/data/photome
 $GONIO_ENVMAPS (default ../shared/data/envmaps).
 """
 
+from typing import Any
 import argparse
 import os
 import pathlib
@@ -26,12 +27,12 @@ import time
 import numpy as np
 
 
-def srgb(x):
+def srgb(x: "np.typing.NDArray[np.floating]") -> "np.typing.NDArray[np.floating]":
     x = np.clip(x, 0.0, 1.0)
     return np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055)
 
 
-def main():
+def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--spp", type=int, default=128)
     p.add_argument("--out-dir", default="docs/gallery")
@@ -56,7 +57,7 @@ def main():
     out_dir.mkdir(parents=True, exist_ok=True)
     T = mi.ScalarTransform4f
 
-    def diffuse(v):
+    def diffuse(v: Any) -> dict[str, Any]:
         return {"type": "diffuse", "reflectance": {"type": "rgb", "value": v}}
 
     if a.only in (None, "road"):
@@ -119,7 +120,7 @@ def main():
                 "env": em,
             })
             t0 = time.perf_counter()
-            imgs[kind] = np.array(mi.render(sc, seed=0), dtype=np.float64)
+            imgs[kind] = np.array(mi.render(sc, seed=0), dtype=np.float64)  # type: ignore[arg-type]  # (Mitsuba's stub: UInt32)
             print(f"{kind}: {imgs[kind].shape[1]} x {imgs[kind].shape[0]} px, {a.spp} spp, {time.perf_counter() - t0:.1f} s, "
                   f"image mean {imgs[kind].mean():.4f}")
         print(f"gonio_envmap / envmap − 1 (image mean): {imgs['gonio_envmap'].mean() / imgs['envmap'].mean() - 1:+.4f}")

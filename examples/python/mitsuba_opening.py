@@ -11,6 +11,7 @@ render (its brightest pixel, partly covered) and from
 the file (I(ω)/A_proj(ω)), in cd/m².
 """
 
+from typing import Any
 import argparse
 import os
 import pathlib
@@ -18,7 +19,7 @@ import pathlib
 import numpy as np
 
 
-def main():
+def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("file", nargs="?", default=None)
     p.add_argument("-o", "--out", default="docs/gallery/mitsuba-opening.png")
@@ -40,10 +41,10 @@ def main():
     lamp_T = T().translate(head.tolist()) @ T().rotate([0, 0, 1], 90)  # C0 → +y (along the road)
     eye = np.array([0.5, -16.0, 1.5])
 
-    def diffuse(v):
+    def diffuse(v: Any) -> dict[str, Any]:
         return {"type": "diffuse", "reflectance": {"type": "rgb", "value": v}}
 
-    def scene(shape):
+    def scene(shape: str) -> Any:
         return mi.load_dict({
             "type": "scene",
             "integrator": {"type": "path", "max_depth": 3},
@@ -63,6 +64,7 @@ def main():
 
     imgs = {s: np.array(mi.render(scene(s)), dtype=np.float64) for s in ("point", "opening")}
     o = gm.opening(d)
+    assert o is not None, "the file has a luminous opening"
     w_world = (eye - head) / np.linalg.norm(eye - head)
     M = np.array(lamp_T.matrix, dtype=np.float64)
     wl = M[:3, :3].T @ w_world
@@ -81,7 +83,7 @@ def main():
     low = imgs["point"][2 * imgs["point"].shape[0] // 3:, :, 0]
     road = np.median(low[low > 0])  # the lit road in the lower third
 
-    def tonemap(img):
+    def tonemap(img: Any) -> Any:
         x = np.clip(img / (8.0 * road), 0.0, 1.0)
         return np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055)
 

@@ -18,6 +18,7 @@ at equal samples per pixel and at equal time (the uniform emitter gets as many m
 cheaper sample_ray buys). Written: the picture (reference | uniform | gonio at equal time).
 """
 
+from typing import Any
 import argparse
 import math
 import os
@@ -27,13 +28,13 @@ import time
 import numpy as np
 
 
-def corpus_file():
+def corpus_file() -> pathlib.Path:
     env = os.environ.get("GONIO_CORPUS")
     root = pathlib.Path(env) if env else pathlib.Path(__file__).resolve().parents[2] / ".." / "shared" / "data" / "photometry"
     return root / "ldt" / "isym0_ledil_strada_72x181.ldt"
 
 
-def main():
+def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("file", nargs="?", default=None, help="IES or LDT file (default: the corpus's Strada)")
     p.add_argument("--spp", type=int, default=256, help="light-tracing samples per pixel (256, in passes of 16)")
@@ -55,11 +56,11 @@ def main():
     dr.set_flag(dr.JitFlag.SymbolicCalls, False)
     dr.set_flag(dr.JitFlag.SymbolicLoops, False)
 
-    class UniformProfile(Gonio):
+    class UniformProfile(Gonio):  # type: ignore[valid-type,misc]  # (a class made at run time)
         """The community approach: a point light that samples rays uniformly over the sphere,
         weight 4π·I(ω), and lights points by I(ω)/r² (the same as gonio's)."""
 
-        def sample_ray(self, time, sample1, sample2, sample3, active=True):
+        def sample_ray(self, time: Any, sample1: Any, sample2: Any, sample3: Any, active: Any = True) -> Any:
             u = np.stack(np.broadcast_arrays(np.asarray(sample3.x, np.float64).reshape(-1),
                                              np.asarray(sample3.y, np.float64).reshape(-1)), axis=1)
             z = 1.0 - 2.0 * u[:, 0]
@@ -69,7 +70,9 @@ def main():
             w = 4.0 * math.pi * self._intensity(d)
             dw = self._world_dir(d)
             n = len(d)
-            f = lambda x: mi.Float(np.ascontiguousarray(x, dtype=np.float32))  # noqa: E731
+            def f(x: Any) -> Any:
+                return mi.Float(np.ascontiguousarray(x, dtype=np.float32))
+
             o = np.broadcast_to(self.t, (n, 3))
             ray = mi.Ray3f(mi.Point3f(f(o[:, 0]), f(o[:, 1]), f(o[:, 2])), mi.Vector3f(f(dw[:, 0]), f(dw[:, 1]), f(dw[:, 2])))
             return ray, mi.Color3f(f(w))
@@ -83,10 +86,10 @@ def main():
     head = [-4.0 + 1.5, 0.0, 8.0]  # kerb at x = −4; the arm reaches 1.5 m over the road
     lamp_T = T().translate(head) @ T().rotate([0, 0, 1], -90)  # C0 → −y (along), C90 → +x (across)
 
-    def diffuse(v):
+    def diffuse(v: Any) -> dict[str, Any]:
         return {"type": "diffuse", "reflectance": {"type": "rgb", "value": v}}
 
-    def scene(emitter_type, integrator, spp, seed):
+    def scene(emitter_type: str, integrator: str, spp: int, seed: int) -> Any:
         return mi.load_dict({
             "type": "scene",
             "integrator": {"type": integrator, "max_depth": 2},
@@ -109,14 +112,14 @@ def main():
             "lamp": {"type": emitter_type, "filename": str(path), "to_world": lamp_T},
         })
 
-    def render(emitter_type, integrator, spp, seed):
+    def render(emitter_type: str, integrator: str, spp: int, seed: int) -> Any:
         sc = scene(emitter_type, integrator, spp, seed)
         t0 = time.perf_counter()
-        img = np.array(mi.render(sc, spp=spp, seed=seed), dtype=np.float64)
+        img = np.array(mi.render(sc, spp=spp, seed=seed), dtype=np.float64)  # type: ignore[arg-type]  # (Mitsuba's stub: UInt32)
         dr.sync_thread()
         return img, time.perf_counter() - t0
 
-    def passes(emitter_type, integrator, n, seed):
+    def passes(emitter_type: str, integrator: str, n: int, seed: int) -> Any:
         """Mean of n renders of PASS spp (one wavefront of the whole image each, so memory stays
         small), the total time, and the fastest pass's time."""
         acc, total, best = 0.0, 0.0, float("inf")
@@ -129,7 +132,7 @@ def main():
     ref_spp = 16 * PASS
     mean = ref.mean()
 
-    def rmse(img):
+    def rmse(img: Any) -> float:
         return float(np.sqrt(((img - ref) ** 2).mean()) / mean)
 
     # Warm-up (JIT compilation, the sampler's first use) before any timing.
@@ -156,7 +159,7 @@ def main():
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    def tonemap(img):
+    def tonemap(img: Any) -> Any:
         x = np.clip(img / (4.0 * mean), 0.0, 1.0)
         return np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055)
 
