@@ -107,16 +107,24 @@ pub fn env_options() -> EnvOptions {
 /// ([`env_options`]); the reader's and the map's warnings go to standard error. (`load::load`
 /// wraps it into its `Loaded`.)
 pub fn load_envmap(name: &str) -> anyhow::Result<EnvironmentMap> {
+    load_envmap_timed(name).map(|(env, _)| env)
+}
+
+/// [`load_envmap`] and the wall-clock time its map took to build (weights and sphere map, the
+/// image already decoded).
+pub fn load_envmap_timed(name: &str) -> anyhow::Result<(EnvironmentMap, std::time::Duration)> {
     let bytes = read_regular(Path::new(name), name, FileKind::Image)?;
     let format = ImageFormat::sniff(&bytes).or_else(|| ImageFormat::from_path(Path::new(name)));
     let image = Image::from_bytes(&bytes, format).map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
     drop(bytes);
+    let start = std::time::Instant::now();
     let env = EnvironmentMap::with_options(image, env_options())
         .map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
+    let took = start.elapsed();
     for w in env.warnings() {
         eprintln!("gonio: warning: {name}: {w}");
     }
-    Ok(env)
+    Ok((env, took))
 }
 
 /// What `gonio info --json` reports of an environment map (key `envmap`).

@@ -59,6 +59,8 @@ pub struct Loaded {
     pub photometry: Option<Box<gonio::photometry::Photometry>>,
     /// The environment map, for image input (its diagram is `diagram`).
     pub envmap: Option<Box<gonio::envmap::EnvironmentMap>>,
+    /// The build time of the environment map's own HDS map (zero for other inputs).
+    pub envmap_build: Duration,
 }
 
 impl Loaded {
@@ -112,16 +114,18 @@ pub fn load(name: &str) -> anyhow::Result<Loaded> {
             diagram: gonio::synthetic::example_luminaire(),
             photometry: None,
             envmap: None,
+            envmap_build: Duration::ZERO,
         });
     }
     if crate::envmap_in::is_image_name(name) {
-        let env = crate::envmap_in::load_envmap(name)?;
+        let (env, took) = crate::envmap_in::load_envmap_timed(name)?;
         return Ok(Loaded {
             name: name.to_string(),
             kind: InputKind::EnvMap,
             diagram: env.diagram(),
             photometry: None,
             envmap: Some(Box::new(env)),
+            envmap_build: took,
         });
     }
     let bytes = read_file(name)?;
@@ -166,6 +170,7 @@ pub fn load(name: &str) -> anyhow::Result<Loaded> {
         diagram,
         photometry,
         envmap: None,
+        envmap_build: Duration::ZERO,
     })
 }
 
@@ -416,7 +421,7 @@ pub fn tolerance() -> Option<f64> {
 /// on the domain [`domain`] chooses, with the global `--tolerance` (which only the HDS map reads;
 /// a warning goes to stderr when refinement did not reach it). Every zone the sampler completed
 /// with zero light ([`Sampler::completions`]) is a warning on stderr too.
-pub fn build_sampler(method: Method, loaded: &Loaded) -> anyhow::Result<Box<dyn Sampler>> {
+pub fn build_sampler(method: Method, loaded: &Loaded) -> anyhow::Result<Box<dyn Sampler + '_>> {
     let (sampler, _) = build_sampler_timed(method, loaded)?;
     for c in sampler.completions() {
         eprintln!("gonio: warning: {}: {c}", loaded.name);
@@ -429,9 +434,17 @@ pub fn build_sampler(method: Method, loaded: &Loaded) -> anyhow::Result<Box<dyn 
 pub fn build_sampler_timed(
     method: Method,
     loaded: &Loaded,
-) -> anyhow::Result<(Box<dyn Sampler>, Duration)> {
+) -> anyhow::Result<(Box<dyn Sampler + '_>, Duration)> {
     let start = Instant::now();
     let options = BuildOptions::default().tolerance(tolerance());
+    // An environment map's HDS map is the one its environment map built (the split sphere map
+    // of its weight, the same as the factory's): borrowed, not built a second time (issue 40: a
+    // second map cost `info` 18 bytes a pixel of a big sky).
+    if let (Method::Hds, Some(env), None, Domain::Sphere) =
+        (method, &loaded.envmap, options.tolerance, domain(loaded))
+    {
+        return Ok((Box::new(env.map()), loaded.envmap_build));
+    }
     let sampler = method
         .build_with(&loaded.diagram, domain(loaded), &options)
         .with_context(|| match method {

@@ -450,6 +450,80 @@ pub trait Sampler: Send + Sync {
     }
 }
 
+/// A shared reference to a sampler is the sampler: every call forwards, so that a borrowed map
+/// (an environment map's own sphere map, say) goes wherever a `Box<dyn Sampler + '_>` does.
+impl<T: Sampler + ?Sized> Sampler for &T {
+    fn name(&self) -> &'static str {
+        (**self).name()
+    }
+    fn domain(&self) -> Domain {
+        (**self).domain()
+    }
+    fn sample(&self, u: Point2) -> Sample {
+        (**self).sample(u)
+    }
+    fn pdf(&self, direction: Vec3) -> f64 {
+        (**self).pdf(direction)
+    }
+    fn invert(&self, direction: Vec3) -> Result<Point2, InvertError> {
+        (**self).invert(direction)
+    }
+    fn target_pdf(&self, direction: Vec3) -> f64 {
+        (**self).target_pdf(direction)
+    }
+    fn memory_bytes(&self) -> usize {
+        (**self).memory_bytes()
+    }
+    fn target_power(&self) -> f64 {
+        (**self).target_power()
+    }
+    fn ratio_bound(&self) -> Option<(f64, f64)> {
+        (**self).ratio_bound()
+    }
+    fn refinement(&self) -> Option<&crate::mapping::Refinement> {
+        (**self).refinement()
+    }
+    fn completions(&self) -> &[crate::mapping::Completion] {
+        (**self).completions()
+    }
+    fn stages(&self, u: Point2) -> Option<crate::mapping::Stages> {
+        (**self).stages(u)
+    }
+    fn hds_map(&self) -> Option<MapRef<'_>> {
+        (**self).hds_map()
+    }
+    fn sample_batch(&self, u: &[Point2], out: &mut [Sample]) {
+        (**self).sample_batch(u, out)
+    }
+    fn sample_batch_split(&self, u: &[Point2], dirs: &mut [Vec3], pdf: &mut [f64]) {
+        (**self).sample_batch_split(u, dirs, pdf)
+    }
+    fn pdf_batch(&self, dirs: &[Vec3], out: &mut [f64]) {
+        (**self).pdf_batch(dirs, out)
+    }
+    fn invert_batch(&self, dirs: &[Vec3], out: &mut [Result<Point2, InvertError>]) {
+        (**self).invert_batch(dirs, out)
+    }
+    fn sample_batch_soa(&self, u: &[f64], v: &[f64], dir: [&mut [f64]; 3], pdf: &mut [f64]) {
+        (**self).sample_batch_soa(u, v, dir, pdf)
+    }
+    fn pdf_batch_soa(&self, dir: [&[f64]; 3], pdf: &mut [f64]) {
+        (**self).pdf_batch_soa(dir, pdf)
+    }
+    fn invert_batch_soa(&self, dir: [&[f64]; 3], uv: [&mut [f64]; 2]) {
+        (**self).invert_batch_soa(dir, uv)
+    }
+    fn sample_batch_soa_f32(&self, u: &[f32], v: &[f32], dir: [&mut [f32]; 3], pdf: &mut [f32]) {
+        (**self).sample_batch_soa_f32(u, v, dir, pdf)
+    }
+    fn pdf_batch_soa_f32(&self, dir: [&[f32]; 3], pdf: &mut [f32]) {
+        (**self).pdf_batch_soa_f32(dir, pdf)
+    }
+    fn invert_batch_soa_f32(&self, dir: [&[f32]; 3], uv: [&mut [f32]; 2]) {
+        (**self).invert_batch_soa_f32(dir, uv)
+    }
+}
+
 /// f32 values widened into the first entries of an f64 buffer.
 fn widen(src: &[f32], buf: &mut [f64; CHUNK]) {
     for (b, &x) in buf.iter_mut().zip(src) {
