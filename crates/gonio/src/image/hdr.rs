@@ -43,6 +43,7 @@ pub fn read_hdr(bytes: &[u8]) -> Result<Image, ImageError> {
     let header_err = |line: usize, offset: usize, message: String| ImageError::Header {
         format: FORMAT,
         line,
+        column: super::column_of(bytes, offset),
         offset,
         message,
     };
@@ -59,6 +60,7 @@ pub fn read_hdr(bytes: &[u8]) -> Result<Image, ImageError> {
             None => Err(ImageError::Header {
                 format: FORMAT,
                 line: *line_no,
+                column: super::column_of(bytes, start),
                 offset: start,
                 message: "the file ends inside the header (no empty line and resolution line)"
                     .into(),
@@ -96,7 +98,7 @@ pub fn read_hdr(bytes: &[u8]) -> Result<Image, ImageError> {
         }
     }
     let (off, res) = next_line(&mut pos, &mut line_no)?;
-    let orient = parse_resolution(&res).map_err(|m| header_err(line_no, off, m))?;
+    let orient = parse_resolution(&res).map_err(|(at, m)| header_err(line_no, off + at, m))?;
     let (width, height) = orient.size();
     check_size(FORMAT, width, height)?;
     let (slow, fast) = (orient.slow.count, orient.fast.count);
@@ -209,20 +211,28 @@ impl Orientation {
     }
 }
 
-fn parse_resolution(text: &str) -> Result<Orientation, String> {
+/// The resolution line; an error says where in `text` (a byte index) and what.
+fn parse_resolution(text: &str) -> Result<Orientation, (usize, String)> {
     let t: Vec<&str> = text.split_ascii_whitespace().collect();
-    let bad = || format!("expected a resolution line such as \"-Y 512 +X 1024\", found {text:?}");
+    // The byte index of a token of `text`.
+    let at = |tok: &str| tok.as_ptr() as usize - text.as_ptr() as usize;
+    let bad = |i: usize| {
+        (
+            i,
+            format!("expected a resolution line such as \"-Y 512 +X 1024\", found {text:?}"),
+        )
+    };
     if t.len() != 4 {
-        return Err(bad());
+        return Err(bad(0));
     }
-    let axis = |sign: &str, n: &str| -> Result<Axis, String> {
+    let axis = |sign: &str, n: &str| -> Result<Axis, (usize, String)> {
         let b = sign.as_bytes();
         if b.len() != 2 || !(b[0] == b'+' || b[0] == b'-') || !(b[1] == b'X' || b[1] == b'Y') {
-            return Err(bad());
+            return Err(bad(at(sign)));
         }
         let count: usize = n
             .parse()
-            .map_err(|_| format!("{n:?} is not a pixel count (in {text:?})"))?;
+            .map_err(|_| (at(n), format!("{n:?} is not a pixel count (in {text:?})")))?;
         Ok(Axis {
             is_x: b[1] == b'X',
             plus: b[0] == b'+',
@@ -232,10 +242,11 @@ fn parse_resolution(text: &str) -> Result<Orientation, String> {
     let slow = axis(t[0], t[1])?;
     let fast = axis(t[2], t[3])?;
     if slow.is_x == fast.is_x {
-        return Err(format!("both axes of {text:?} are the same"));
+        return Err((at(t[2]), format!("both axes of {text:?} are the same")));
     }
     if slow.count == 0 || fast.count == 0 {
-        return Err(format!("a side of {text:?} is zero"));
+        let z = if slow.count == 0 { t[1] } else { t[3] };
+        return Err((at(z), format!("a side of {text:?} is zero")));
     }
     Ok(Orientation { slow, fast })
 }

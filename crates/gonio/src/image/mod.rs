@@ -131,12 +131,14 @@ pub enum ImageError {
         first: Vec<u8>,
     },
     /// The header is malformed.
-    #[error("{format} header, line {line} (byte {offset}): {message}")]
+    #[error("{format} header, line {line}, column {column} (byte {offset}): {message}")]
     Header {
         /// The format being read.
         format: &'static str,
         /// 1-based header line (for PFM: the token's line).
         line: usize,
+        /// 1-based column of `offset` in its line (in bytes).
+        column: usize,
         /// Byte offset where the problem was found.
         offset: usize,
         /// What is wrong.
@@ -219,6 +221,17 @@ pub struct Image {
     height: usize,
     rgb: Vec<f32>,
     warnings: Vec<String>,
+}
+
+/// The 1-based column (in bytes) of `offset` in its line of `bytes` (a header's location).
+pub(crate) fn column_of(bytes: &[u8], offset: usize) -> usize {
+    let offset = offset.min(bytes.len());
+    offset
+        - bytes[..offset]
+            .iter()
+            .rposition(|&b| b == b'\n')
+            .map_or(0, |k| k + 1)
+        + 1
 }
 
 impl Image {

@@ -22,6 +22,7 @@ pub fn read_pfm(bytes: &[u8]) -> Result<Image, ImageError> {
     let header_err = |line: usize, offset: usize, message: String| ImageError::Header {
         format: FORMAT,
         line,
+        column: super::column_of(bytes, offset),
         offset,
         message,
     };
@@ -41,6 +42,7 @@ pub fn read_pfm(bytes: &[u8]) -> Result<Image, ImageError> {
                 return Err(ImageError::Header {
                     format: FORMAT,
                     line: *line,
+                    column: super::column_of(bytes, start),
                     offset: start,
                     message: format!("the {what} is longer than 64 characters"),
                 });
@@ -49,6 +51,7 @@ pub fn read_pfm(bytes: &[u8]) -> Result<Image, ImageError> {
                 return Err(ImageError::Header {
                     format: FORMAT,
                     line: *line,
+                    column: super::column_of(bytes, start),
                     offset: start,
                     message: format!("the file ends before the {what}"),
                 });

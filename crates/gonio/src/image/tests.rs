@@ -157,6 +157,21 @@ fn hdr_errors_are_typed_and_located() {
         ImageError::Header { .. }
     ));
     assert!(matches!(err(&header("Y 2 X 3")), ImageError::Header { .. }));
+    // The column points at the token at fault (issue 40: line and column for text).
+    assert!(matches!(
+        err(&header("-Y 4 +X abc")),
+        ImageError::Header {
+            line: 6,
+            column: 9,
+            ..
+        }
+    ));
+    assert!(matches!(
+        err(&header("-Y 2 -Y 3")),
+        ImageError::Header { column: 6, .. }
+    ));
+    let e = err(&header("-Y 4 +X abc")).to_string();
+    assert!(e.contains("line 6, column 9"), "{e}");
     // Huge sizes are refused before allocation: by the limit, or by the bytes present.
     assert!(matches!(
         err(&header("-Y 60000 +X 60000")),
@@ -251,6 +266,14 @@ fn pfm_scale_header_variants_and_errors() {
     assert!(matches!(
         err(b"PF\nx 1\n-1\n"),
         ImageError::Header { line: 2, .. }
+    ));
+    assert!(matches!(
+        err(b"PF\n2 x\n-1\n"),
+        ImageError::Header {
+            line: 2,
+            column: 3,
+            ..
+        }
     ));
     assert!(matches!(
         err(b"PF\n1 1\n0\n"),
