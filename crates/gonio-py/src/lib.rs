@@ -126,6 +126,7 @@ fn _gonio(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(misc::convert, m)?)?;
     m.add_function(wrap_pyfunction!(misc::methods, m)?)?;
     m.add_function(wrap_pyfunction!(mesh::texture_uv, m)?)?;
+    m.add_function(wrap_pyfunction!(mesh::read_mesh, m)?)?;
     m.add_function(wrap_pyfunction!(misc::read_limit, m)?)?;
     m.add_function(wrap_pyfunction!(misc::set_read_limit, m)?)?;
     m.add_function(wrap_pyfunction!(misc::panic_for_test, m)?)?;

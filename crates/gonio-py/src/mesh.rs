@@ -129,3 +129,42 @@ pub(crate) fn texture_uv<'py>(
     progress.report("done", 1.0)?;
     Ok(out)
 }
+
+/// ``read_mesh(path) -> dict``: a PLY (ASCII or binary) or OBJ mesh file, by its extension or
+/// content, through the one file reader (regular files only, the mesh size limit of
+/// ``read_limit("mesh")``): ``vertices`` (n, 3) float64, ``faces`` (m, 3) uint32 (polygons
+/// fan-triangulated), ``normals`` (k, 3) float64 (empty when the file has none) and
+/// ``warnings`` (what the reader triangulated or skipped). The arrays go to ``texture_uv``.
+/// Errors: FileNotFoundError, GonioError for a refused file, InputError for a malformed one
+/// (located: line and column, or element and byte).
+#[pyfunction]
+pub(crate) fn read_mesh<'py>(
+    py: Python<'py>,
+    path: std::path::PathBuf,
+) -> PyResult<Bound<'py, PyDict>> {
+    let name = path.display().to_string();
+    let bytes = crate::diagram::read_input(&path, &name, gonio::input::file::FileKind::Mesh)?;
+    let (mesh, warnings) = detached(py, "read_mesh", || {
+        gonio::mesh::read_any(&bytes, Some(&path))
+    })?
+    .map_err(|e| InputError::new_err(format!("{name}: {e}")))?;
+    drop(bytes);
+    let out = PyDict::new(py);
+    out.set_item(
+        "vertices",
+        arrays::new_2d(py, mesh.positions.as_flattened(), 3)?,
+    )?;
+    out.set_item(
+        "faces",
+        arrays::new_2d(py, mesh.triangles.as_flattened(), 3)?,
+    )?;
+    out.set_item(
+        "normals",
+        arrays::new_2d(py, mesh.normals.as_flattened(), 3)?,
+    )?;
+    out.set_item(
+        "warnings",
+        warnings.iter().map(|w| w.to_string()).collect::<Vec<_>>(),
+    )?;
+    Ok(out)
+}

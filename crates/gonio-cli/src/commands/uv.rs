@@ -23,7 +23,7 @@ use gonio::mesh::bake::{
 use gonio::mesh::metrics::{measure, surface_target};
 use gonio::mesh::param::{area3, default_grid};
 use gonio::mesh::star::solid_angle;
-use gonio::mesh::{obj, parameterise, ply, Density, Layout, Mesh, UvOptions, UvResult};
+use gonio::mesh::{obj, parameterise, Density, Layout, Mesh, UvOptions, UvResult};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -91,22 +91,8 @@ fn shown(p: &Path) -> String {
 fn read_mesh(path: &Path) -> Result<Mesh> {
     let name = shown(path);
     let bytes = read_regular(path, &name, crate::input::FileKind::Mesh)?;
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    let is_ply = match ext.as_deref() {
-        Some("ply") => true,
-        Some("obj") => false,
-        _ => bytes.starts_with(b"ply"),
-    };
-    let (mesh, warnings) = if is_ply {
-        let r = ply::read_ply(&bytes).with_context(|| name.clone())?;
-        (r.mesh, r.warnings)
-    } else {
-        let r = obj::read_obj(&bytes).with_context(|| name.clone())?;
-        (r.mesh, r.warnings)
-    };
+    let (mesh, warnings) =
+        gonio::mesh::read_any(&bytes, Some(path)).with_context(|| name.clone())?;
     for w in warnings {
         eprintln!("gonio: warning: {name}: {w}");
     }

@@ -203,6 +203,9 @@ def analytic_brdf(
 ) -> os.PathLike[str]:
     """Writes the library's analytic BRDF in the MERL, UTIA or gonio BRDF JSON layout; returns path."""
 
+def read_mesh(path: Union[str, os.PathLike[str]]) -> dict[str, Any]:
+    """A PLY or OBJ mesh: vertices (n, 3), faces (m, 3) uint32, normals (k, 3), warnings."""
+
 def read_brdf(
     path: Union[str, os.PathLike[str]],
     *,

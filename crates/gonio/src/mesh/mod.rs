@@ -139,6 +139,34 @@ pub struct Corner {
     pub normal: u32,
 }
 
+/// A mesh file's contents, PLY or OBJ: by the name's extension (`.ply`, `.obj`, any letter case)
+/// when `name` has one, else by the content (a PLY file begins with `ply`). The readers'
+/// warnings come back beside the mesh, never dropped. The CLI (`gonio uv`, `gonio bake`) and
+/// Python (`gonio.read_mesh`) read meshes here, after the one file reader
+/// ([`crate::input::file`], [`crate::input::file::FileKind::Mesh`]).
+///
+/// # Errors
+/// The reader's [`MeshError`], located.
+pub fn read_any(
+    bytes: &[u8],
+    name: Option<&std::path::Path>,
+) -> Result<(Mesh, Vec<MeshWarning>), MeshError> {
+    let ext = name
+        .and_then(|p| p.extension())
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    let is_ply = match ext.as_deref() {
+        Some("ply") => true,
+        Some("obj") => false,
+        _ => bytes.starts_with(b"ply"),
+    };
+    if is_ply {
+        ply::read_ply(bytes).map(|r| (r.mesh, r.warnings))
+    } else {
+        obj::read_obj(bytes).map(|r| (r.mesh, r.warnings))
+    }
+}
+
 /// The largest element count (vertices, faces, list length) a reader accepts.
 pub const MAX_ELEMENTS: u64 = 1 << 28;
 
