@@ -894,3 +894,101 @@ fn tables_of_a_brdf_file_is_its_family() {
     let e = fails(&["tables", s(&path), "-o", s(&out)]);
     assert!(e.contains("ggx.json"), "{e}");
 }
+
+/// `gonio sample BRDF --incident`: the options of `gonio sample` work for a BRDF too (issue 36
+/// item 6): `--sequence`, `--seed`, `--points` (a user's own points of the square, checked before
+/// anything is written) and `-o`; each row is the library's sample of its point.
+#[test]
+fn brdf_sample_takes_sequences_points_and_an_output() {
+    use gonio::brdf::{self, Analytic, BrdfSampler, SamplerOptions};
+    let dir = temp_dir("brdf-sample-points");
+    let table = Analytic::Ggx {
+        alpha_x: 0.3,
+        alpha_y: 0.3,
+        f0: [0.9, 0.6, 0.3],
+    }
+    .table(7, 12)
+    .unwrap();
+    let path = dir.join("ggx.json");
+    std::fs::write(&path, brdf::write_json(&table)).unwrap();
+    let sampler = BrdfSampler::new(table, &SamplerOptions::default()).unwrap();
+    let wi = gonio::sampler::direction(30f64.to_radians(), 0.0);
+    let check_rows = |csv: &str, n: usize| {
+        let rows: Vec<Vec<f64>> = csv
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+            .collect();
+        assert_eq!(rows.len(), n, "{csv}");
+        for r in &rows {
+            let s = sampler.sample(wi, [r[0], r[1]]);
+            for c in 0..3 {
+                assert!((s.direction[c] - r[2 + c]).abs() < 1e-12, "{r:?} vs {s:?}");
+            }
+            assert!((s.pdf - r[5]).abs() <= 1e-12 * s.pdf, "{r:?} vs {s:?}");
+        }
+        rows
+    };
+    let p = s(&path);
+    for seq in ["halton", "sobol", "random"] {
+        let csv = ok(&[
+            "sample",
+            p,
+            "--incident",
+            "30,0",
+            "--sequence",
+            seq,
+            "--seed",
+            "4",
+            "-n",
+            "6",
+        ]);
+        check_rows(&csv, 6);
+    }
+    // Halton skips the corner (0, 0), as `gonio sample` does.
+    let h = ok(&[
+        "sample",
+        p,
+        "--incident",
+        "30,0",
+        "--sequence",
+        "halton",
+        "-n",
+        "1",
+    ]);
+    assert!(h.lines().nth(1).unwrap().starts_with("0.5,0.333"), "{h}");
+    // The user's own points, to a file.
+    let uv = dir.join("uv.csv");
+    std::fs::write(&uv, "u,v\n0.1,0.2\n0.9,0.95\n0.5,0.5\n").unwrap();
+    let out = dir.join("out.csv");
+    ok(&[
+        "sample",
+        p,
+        "--incident",
+        "30,0",
+        "--points",
+        s(&uv),
+        "-o",
+        s(&out),
+    ]);
+    let rows = check_rows(&std::fs::read_to_string(&out).unwrap(), 3);
+    assert_eq!((rows[1][0], rows[1][1]), (0.9, 0.95));
+    // A point outside the square is refused with its row, and nothing is written.
+    std::fs::write(&uv, "u,v\n0.1,0.2\n1.5,0.5\n").unwrap();
+    let bad = dir.join("bad.csv");
+    let e = fails(&[
+        "sample",
+        p,
+        "--incident",
+        "30,0",
+        "--points",
+        s(&uv),
+        "-o",
+        s(&bad),
+    ]);
+    assert!(
+        e.contains("row 2") && e.contains("outside the unit square"),
+        "{e}"
+    );
+    assert!(!bad.exists());
+}

@@ -78,11 +78,28 @@ struct SampleArgs {
     #[command(flatten)]
     common: Common,
     /// Number of samples.
-    #[arg(short = 'n', long, visible_alias = "samples", default_value_t = 10)]
+    #[arg(
+        short = 'n',
+        long,
+        visible_alias = "samples",
+        default_value_t = 10,
+        conflicts_with = "points"
+    )]
     count: usize,
-    /// Seed of the iid points of the square.
+    /// Point sequence on the unit square (as `gonio sample`: Halton from index 1; the default
+    /// here is iid points of `--seed`).
+    #[arg(long, default_value = "random")]
+    sequence: SequenceKind,
+    /// Seed (the random stream, Sobol' scrambling; Halton ignores it).
     #[arg(long, default_value_t = 1)]
     seed: u64,
+    /// Map these points instead of a sequence: a CSV file with columns `u,v` (by header name;
+    /// `-` reads standard input), every point checked before anything is written.
+    #[arg(long, value_name = "UV.csv")]
+    points: Option<String>,
+    /// Output file (`-` or absent: standard output).
+    #[arg(short = 'o', long = "output", value_name = "OUT")]
+    output: Option<PathBuf>,
     /// Sampling method.
     #[arg(long, value_enum, default_value = "hds")]
     method: MethodArg,
@@ -459,21 +476,50 @@ pub fn run(a: &BrdfArgs) -> Result<bool> {
             let l = load(&sa.common)?;
             let s = sampler_of(&sa.common, l.brdf)?;
             let wi = incident(&sa.common);
-            let seq = Sequence::new(SequenceKind::Random, sa.seed);
+            // The points: a CSV file, checked whole before anything is written, or a sequence.
+            let points: Vec<[f64; 2]> = match &sa.points {
+                Some(path) => {
+                    let rows = crate::csv_in::read_columns(path, ["u", "v"])?;
+                    let mut pts = Vec::with_capacity(rows.len());
+                    for r in &rows {
+                        for (k, name) in ["u", "v"].iter().enumerate() {
+                            let x = r.values[k];
+                            if !(0.0..=1.0).contains(&x) {
+                                anyhow::bail!(
+                                    "{}: {name} = {x} is outside the unit square [0, 1]",
+                                    r.locate(path)
+                                );
+                            }
+                        }
+                        pts.push(r.values);
+                    }
+                    pts
+                }
+                None => {
+                    let seq = match sa.sequence {
+                        SequenceKind::Halton => {
+                            Sequence::Halton(gonio::sequence::Halton::with_skip(1))
+                        }
+                        kind => Sequence::new(kind, sa.seed),
+                    };
+                    (0..sa.count as u64).map(|k| seq.point(k)).collect()
+                }
+            };
+            let mut out = crate::output::Output::create(sa.output.as_deref())?;
             with_method(sa.method, &s, |m| -> Result<()> {
-                writeln!(w, "u,v,x,y,z,pdf,w_r,w_g,w_b")?;
-                for k in 0..sa.count {
-                    let u = seq.point(k as u64);
-                    let r = m.sample(wi, u);
+                writeln!(out, "u,v,x,y,z,pdf,w_r,w_g,w_b")?;
+                for u in &points {
+                    let r = m.sample(wi, *u);
                     let d = r.direction;
                     writeln!(
-                        w,
+                        out,
                         "{},{},{},{},{},{},{},{},{}",
                         u[0], u[1], d[0], d[1], d[2], r.pdf, r.weight[0], r.weight[1], r.weight[2]
                     )?;
                 }
                 Ok(())
             })?;
+            out.finish()?;
             Ok(true)
         }
         BrdfCommand::Pdf(da) | BrdfCommand::Invert(da) => {
