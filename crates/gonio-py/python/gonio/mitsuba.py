@@ -1,8 +1,8 @@
 """gonio inside Mitsuba 3: IES LM-63 and EULUMDAT luminaires and environment maps as Mitsuba
-emitters (docs/MITSUBA.md).
+emitters, and tabulated BRDFs as a Mitsuba BSDF (docs/MITSUBA.md).
 
-``register()`` registers the emitter plugins ``"gonio"`` and ``"gonio_envmap"`` for the current
-Mitsuba variant::
+``register()`` registers the emitter plugins ``"gonio"`` and ``"gonio_envmap"`` and the BSDF
+``"gonio_brdf"`` for the current Mitsuba variant::
 
     import mitsuba as mi, gonio.mitsuba
     mi.set_variant("llvm_ad_rgb")
@@ -43,6 +43,17 @@ Properties of ``{"type": "gonio_envmap", ...}`` (an environment light, like Mits
 * ``lookup`` (string, default ``"nearest"``): the radiance, the pixel holding the direction or
   ``"bilinear"`` between pixel centres (the interpolant the density follows);
 * ``mis_compensation`` (bool, default false): sample the weight minus its mean (for MIS only).
+
+Properties of ``{"type": "gonio_brdf", ...}`` (a measured material; docs/MITSUBA.md):
+
+* ``filename`` (string): a MERL ``.binary``, UTIA ``.bin`` or gonio BRDF JSON table (by content);
+* ``scale`` (float, default 1): multiplies f_r;
+* ``merl_theta``, ``merl_phi`` (integers, default 46, 90): a MERL file's resampling grid;
+* ``theta_o``, ``phi_o``, ``force_resample``: the slices' outgoing grid, as ``Brdf.sampler``;
+* ``sampling`` (``"hds"`` default, or ``"cosine"``): the exact blended slice map, or a cosine lobe.
+
+The table's frame is the shading frame (z the normal, x ``si.sh_frame.s``); its incident direction
+is ``si.wi``; ``eval`` is f_r·cos θ_o; one-sided (front side only), glossy reflection.
 
 Sampling: directions by gonio's Havran–Dmitriev–Seidel map (the file's diagram, the image's
 weight) with the exact pdf, run in Dr.Jit operations over the map's float32 tables
