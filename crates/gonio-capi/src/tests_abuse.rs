@@ -188,3 +188,63 @@ fn zero_density_inverse_is_refused_by_every_invertible_method() {
         unsafe { gonio_sampler_free(s) };
     }
 }
+
+/// Issue 40's reproducers through the C ABI: huge BRDF values refused by name, a diagram whose
+/// power overflows refused by name, `/dev/zero` refused as not a regular file, a PFM whose header
+/// ends in "\r\n" refused or read right (never one byte off).
+#[test]
+fn issue_40_reproducers() {
+    // Item 1: a BRDF JSON table of 1.7e308 everywhere.
+    let values = vec!["1.7e308"; 3 * 3 * 3 * 4].join(", ");
+    let js = format!(
+        "{{\"format\": \"gonio-brdf\", \"version\": 1, \"symmetry\": \"isotropic\", \"channels\": 3, \
+         \"theta_i_deg\": [0, 45, 90], \"phi_i_deg\": [0], \"theta_o_deg\": [0, 45, 90], \
+         \"phi_o_deg\": [0, 90, 180, 270], \"values\": [{values}]}}"
+    );
+    let mut b = null_mut();
+    let name = CString::new("huge.json").unwrap();
+    let st =
+        unsafe { gonio_brdf_read_memory(js.as_ptr(), js.len(), name.as_ptr(), null(), &mut b) };
+    assert_ne!(st, GONIO_OK);
+    let e = last_error();
+    assert!(e.contains("huge.json") && e.contains("1.7e308"), "{e}");
+    // Item 1: a diagram whose power overflows f64.
+    let json =
+        "{\"theta_deg\": [0, 90, 180], \"phi_deg\": [0], \"values\": [[1e308, 1e308, 1e308]]}";
+    let mut d = null_mut();
+    let st = unsafe {
+        gonio_diagram_read_memory(json.as_ptr(), json.len(), GONIO_FORMAT_JSON, null(), &mut d)
+    };
+    assert_eq!(st, GONIO_OK, "{}", last_error());
+    let mut s = null_mut();
+    let st = unsafe { gonio_sampler_build(d, GONIO_METHOD_HDS, GONIO_DOMAIN_AUTO, &mut s) };
+    assert_eq!(st, GONIO_ERR_BUILD);
+    let e = last_error();
+    assert!(e.contains("1e308") && e.contains("overflow"), "{e}");
+    unsafe { gonio_diagram_free(d) };
+    // Item 2: not a regular file.
+    let mut m = null_mut();
+    let path = CString::new("/dev/zero").unwrap();
+    let st = unsafe { gonio_envmap_read_path(path.as_ptr(), &mut m) };
+    assert_eq!(st, GONIO_ERR_IO);
+    assert!(last_error().contains("regular"), "{}", last_error());
+    // Item 5: a PFM header ending in "\r\n".
+    let mut pfm = b"PF\n2 2\n-1.0\r\n".to_vec();
+    for _ in 0..12 {
+        pfm.extend_from_slice(&0.7f32.to_le_bytes());
+    }
+    let name = CString::new("crlf.pfm").unwrap();
+    let st = unsafe { gonio_envmap_read_memory(pfm.as_ptr(), pfm.len(), name.as_ptr(), &mut m) };
+    if st == GONIO_OK {
+        let mut dir = [0.0f64; 3];
+        let (mut pdf, mut rgb) = (0.0, [0.0f32; 3]);
+        let st = unsafe {
+            gonio_envmap_sample(m, 0.3, 0.6, dir.as_mut_ptr(), &mut pdf, rgb.as_mut_ptr())
+        };
+        assert_eq!(st, GONIO_OK);
+        assert!(rgb.iter().all(|c| (c - 0.7).abs() < 1e-6), "{rgb:?}");
+        unsafe { gonio_envmap_free(m) };
+    } else {
+        assert!(last_error().contains("crlf.pfm"), "{}", last_error());
+    }
+}
