@@ -169,6 +169,9 @@ def test_memory_exhaustion_is_memory_error_not_an_abort():
             "strided invert": lambda: s.invert(np.broadcast_to([0.0, 0.0, 1.0], (10**9, 3))),
             "sequence 2**27": lambda: gonio.sequence(2**27),
             "diagram values": lambda: gonio.Diagram([0, 90], [0], np.broadcast_to(1.0, (10**9, 2))),
+            # Issue 40, item 3: 10^8 faces of 3 vertices (the library's allocations are fallible).
+            "texture_uv faces": lambda: gonio.texture_uv(
+                [[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0]], np.broadcast_to([0, 3, 2], (10**8, 3))),
         }
         for name, f in cases.items():
             try:
@@ -180,7 +183,7 @@ def test_memory_exhaustion_is_memory_error_not_an_abort():
     )
     lines = out.split("\n")
     for name in ["broadcast points", "float32 directions", "strided invert", "sequence 2**27",
-                 "diagram values"]:
+                 "diagram values", "texture_uv faces"]:
         assert f"{name} MemoryError" in lines, out
 
 

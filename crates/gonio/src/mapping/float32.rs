@@ -249,6 +249,31 @@ impl Tables<f32> {
 
     /// The float32 tables of `core` (see the module documentation), or why there are none.
     pub(super) fn of(core: &HdsCore) -> Result<Self, Float32MapError> {
+        let to_f32 = |s: &[f64]| s.iter().map(|&x| x as f32).collect::<Vec<f32>>();
+        let small = Self::small_of(core)?;
+        let r = core.view().radial;
+        let d32 = to_f32(r.d);
+        let u32_ = to_f32(r.u);
+        Ok(Self::finish(small, d32, u32_))
+    }
+
+    /// [`Tables::of`] of a core given away: each M × N f64 table is dropped as soon as its f32
+    /// twin is made, so that the conversion holds one f64 M × N table less at its peak (issue
+    /// 40: the float32 environment map's peak memory). The same tables bit for bit.
+    pub(super) fn of_owned(mut core: HdsCore) -> Result<Self, Float32MapError> {
+        let small = Self::small_of(&core)?;
+        let (d, u) = core.take_d_u();
+        drop(core);
+        let d32: Vec<f32> = d.iter().map(|&x| x as f32).collect();
+        drop(d);
+        let u32_: Vec<f32> = u.iter().map(|&x| x as f32).collect();
+        drop(u);
+        Ok(Self::finish(small, d32, u32_))
+    }
+
+    /// The tables but the M × N ones (`d`, `u`) and those made from `u` (`total`,
+    /// `radial_guide`), which [`Tables::finish`] adds.
+    fn small_of(core: &HdsCore) -> Result<Self, Float32MapError> {
         Self::check_size(core)?;
         let v = core.view();
         let (a, r) = (v.angular, v.radial);
@@ -270,13 +295,10 @@ impl Tables<f32> {
             .collect();
         // M_D.
         let x = round(r.x);
-        // The M × N tables (one value a pixel of an environment map) go to f32 directly: a
-        // rounded f64 copy of them beside the f64 map cost 19 bytes a pixel at the peak of
-        // `into_float32` (issue 40). Every value is an f32 value, so this is the same conversion.
-        let to_f32 = |s: &[f64]| s.iter().map(|&x| x as f32).collect::<Vec<f32>>();
-        let d32 = to_f32(r.d);
-        let u32_ = to_f32(r.u);
-        let total = (0..m).map(|i| f64::from(u32_[i * n + n - 1])).collect();
+        // The M × N tables (one value a pixel of an environment map) go to f32 directly, in
+        // `of` and `of_owned`: a rounded f64 copy of them beside the f64 map cost 19 bytes a
+        // pixel at the peak of `into_float32` (issue 40). Every value is an f32 value, so this is
+        // the same conversion.
         let radius_len = r.radius_guide.len();
         let radius_scale = r32(radius_len as f64 / x[n - 1]);
         let radius_guide = (0..radius_len)
@@ -292,7 +314,6 @@ impl Tables<f32> {
                 }
             })
             .collect();
-        let radial_guide = super::radial::radial_guides(&u32_, n, r.radial_k);
         let edge = r32(x[n - 1] * <f32 as Precision>::EDGE);
         let t = Tables {
             m,
@@ -308,19 +329,26 @@ impl Tables<f32> {
             x,
             d: Vec::new(),
             u: Vec::new(),
-            total,
+            total: Vec::new(),
             radius_guide,
             radius_scale,
             inv_dx,
-            radial_guide,
+            radial_guide: Vec::new(),
             radial_k: r.radial_k,
             edge,
         };
         // Every entry is an f32 value already: the conversion is exact.
-        let mut t = t.map(|x| x as f32);
-        t.d = d32;
-        t.u = u32_;
-        Ok(t)
+        Ok(t.map(|x| x as f32))
+    }
+
+    /// `small` with the M × N tables and those made from `u`.
+    fn finish(mut small: Self, d32: Vec<f32>, u32_: Vec<f32>) -> Self {
+        let (m, n) = (small.m, small.n);
+        small.total = (0..m).map(|i| u32_[i * n + n - 1]).collect();
+        small.radial_guide = super::radial::radial_guides(&u32_, n, small.radial_k);
+        small.d = d32;
+        small.u = u32_;
+        small
     }
 }
 
@@ -696,10 +724,19 @@ impl SphereMap {
     pub(crate) fn into_float32_map(self) -> Result<Float32Map, Float32MapError> {
         let inv_2t = self.inv_2t() as f32;
         // `c` is dropped at the end of each closure, right after its conversion.
-        let of = |c: Option<HdsCore>| c.map(|c| Tables::of(&c)).transpose();
+        let of = |c: Option<HdsCore>| c.map(Tables::of_owned).transpose();
+        // The f64 radial guides go first (the float32 tables get their own from the f32 masses):
+        // the core converted second does not hold them while the first is converted.
+        let guides_dropped = |mut c: HdsCore| {
+            c.drop_radial_guide();
+            c
+        };
         let layout = match self.into_cores() {
-            super::sphere::CoresOwned::Lambert(c) => Layout::Lambert(Tables::of(&c)?),
+            super::sphere::CoresOwned::Lambert(c) => {
+                Layout::Lambert(Tables::of_owned(guides_dropped(c))?)
+            }
             super::sphere::CoresOwned::Split { upper, lower, rule } => {
+                let (upper, lower) = (upper.map(guides_dropped), lower.map(guides_dropped));
                 let upper = of(upper)?;
                 let lower = of(lower)?;
                 Layout::Split {

@@ -73,6 +73,18 @@ impl KeptDiagram {
 }
 
 impl HdsCore {
+    /// The radial tables' nodal densities and cumulative masses, taken out (see
+    /// [`Radial::take_d_u`]): the core is consumed by the caller's conversion.
+    pub(super) fn take_d_u(&mut self) -> (Vec<f64>, Vec<f64>) {
+        self.radial.take_d_u()
+    }
+
+    /// Drops the radial guide tables of a core about to be converted to float32 (which makes its
+    /// own): see [`Radial::drop_radial_guide`].
+    pub(super) fn drop_radial_guide(&mut self) {
+        self.radial.drop_radial_guide()
+    }
+
     /// Whether the explicit kernels can index this map's tables (indices below 2³¹; every map
     /// that fits in memory today, checked anyway).
     #[cfg(target_arch = "x86_64")]

@@ -264,6 +264,21 @@ pub(crate) struct RadialView<'a, T = f64> {
 }
 
 impl Radial {
+    /// Gives away the nodal densities and the cumulative masses (M × N each), leaving them empty:
+    /// for a conversion that drops each f64 table as soon as its f32 twin is made
+    /// (`Tables::of_owned`); the tables are unusable afterwards.
+    pub(super) fn take_d_u(&mut self) -> (Vec<f64>, Vec<f64>) {
+        (std::mem::take(&mut self.d), std::mem::take(&mut self.u))
+    }
+
+    /// Drops the radial guide tables (a float32 conversion makes its own from the f32 masses);
+    /// the tables are unusable afterwards.
+    pub(super) fn drop_radial_guide(&mut self) {
+        self.radial_guide = Vec::new();
+    }
+}
+
+impl Radial {
     /// The read-only view of the tables ([`RadialView`]).
     #[inline]
     pub(crate) fn view(&self) -> RadialView<'_> {
