@@ -152,9 +152,8 @@ fn interruptible<T: Send>(
             }
             if let (None, Some(p)) = (&signal, progress.filter(|p| p.active())) {
                 let now = state.lock().ok().and_then(|s| s.clone());
-                if now.is_some() && now != last {
-                    let (item, fraction) = now.clone().expect("checked");
-                    if let Err(e) = p.report(&item, fraction) {
+                if let Some((item, fraction)) = now.as_ref().filter(|_| now != last) {
+                    if let Err(e) = p.report(item, *fraction) {
                         stop.store(true, Ordering::Relaxed);
                         signal = Some(e);
                     }

@@ -37,11 +37,11 @@ import pytest
 
 import gonio
 from conftest import SUMMARY
+from test_drjit_emitters import mi, mi_llvm  # noqa: F401 (the variant fixtures; they register gonio.mitsuba)
 
 ROOT = Path(__file__).resolve().parents[3]
 ENVMAPS = Path(os.environ.get("GONIO_ENVMAPS") or ROOT.parent / "shared" / "data" / "envmaps")
 SHARED = sorted(ENVMAPS.glob("*.hdr")) if ENVMAPS.is_dir() else []
-VARIANTS = ["scalar_rgb", "llvm_ad_rgb"]
 N = {"scalar_rgb": 256, "llvm_ad_rgb": 20000}
 
 # Bounds of the port against the library's f64 sampler (measured maxima, both variants, this
@@ -113,31 +113,6 @@ def tables(tmp_path_factory):
         "ggx-aniso-utia": gonio.analytic_brdf(d / "ggx_aniso.bin", "ggx", format="utia", alpha_x=0.4, alpha_y=0.2,
                                               f0=SPECULAR),
     }
-
-
-def _mitsuba(variant):
-    try:
-        import mitsuba as mi
-    except Exception as e:
-        pytest.skip(f"SKIPPED: Mitsuba 3 is not installed ({e}); pip install mitsuba")
-    try:
-        mi.set_variant(variant)
-    except Exception as e:
-        pytest.skip(f"SKIPPED: Mitsuba's {variant} variant cannot start (libLLVM? DRJIT_LIBLLVM_PATH): {e}")
-    import gonio.mitsuba as gm
-
-    gm.register()
-    return mi
-
-
-@pytest.fixture(params=VARIANTS)
-def mi(request):
-    return _mitsuba(request.param)
-
-
-@pytest.fixture
-def mi_llvm():
-    return _mitsuba("llvm_ad_rgb")
 
 
 def _vec(mi, a):

@@ -188,23 +188,7 @@ class Tables:
     module documentation for the methods."""
 
     def __init__(self, data, mi=None, ieee=None):
-        import drjit as dr
-
-        if mi is None:
-            import mitsuba as mi
-        if mi.variant() is None:
-            raise RuntimeError("gonio.drjit.Tables: set a Mitsuba variant first (mi.set_variant)")
-        self.dr, self.mi = dr, mi
-        self.variant = mi.variant()
-        self.ieee = IEEE if ieee is None else bool(ieee)
-        self.scalar = not dr.is_array_v(mi.Float)
-        if self.scalar:
-            # Mitsuba's scalar Float is a Python float (double): the port runs on width-1 arrays of
-            # Dr.Jit's scalar backend instead, so that it computes in float32 there too.
-            S = dr.scalar
-            self.F, self.I, self.U = S.ArrayXf, S.ArrayXi, S.ArrayXu
-        else:
-            self.F, self.I, self.U = mi.Float, mi.Int32, mi.UInt32
+        self._bind(mi, ieee)
         b = parse(data)
         self.layout, self.frame, self.target_kind = b["layout"], b["frame"], b["target"]
         self.lookup = "bilinear" if b["lookup"] == 1 else "nearest"
@@ -280,6 +264,27 @@ class Tables:
                            for r in (0, self.height - 1)]
 
     # -- arrays and gathers ---------------------------------------------------------------------
+
+    def _bind(self, mi, ieee):
+        """The current Mitsuba variant's modules and array types (mi: the module, or None to
+        import it)."""
+        import drjit as dr
+
+        if mi is None:
+            import mitsuba as mi
+        if mi.variant() is None:
+            raise RuntimeError(f"gonio.drjit.{type(self).__name__}: set a Mitsuba variant first (mi.set_variant)")
+        self.dr, self.mi = dr, mi
+        self.variant = mi.variant()
+        self.ieee = IEEE if ieee is None else bool(ieee)
+        self.scalar = not dr.is_array_v(mi.Float)
+        if self.scalar:
+            # Mitsuba's scalar Float is a Python float (double): the port runs on width-1 arrays of
+            # Dr.Jit's scalar backend instead, so that it computes in float32 there too.
+            S = dr.scalar
+            self.F, self.I, self.U = S.ArrayXf, S.ArrayXi, S.ArrayXu
+        else:
+            self.F, self.I, self.U = mi.Float, mi.Int32, mi.UInt32
 
     def _array(self, a, unsigned):
         return self.U(np.ascontiguousarray(a, dtype=np.uint32)) if unsigned else \
@@ -914,21 +919,7 @@ class BrdfTables(Tables):
     """
 
     def __init__(self, data, mi=None, ieee=None):
-        import drjit as dr
-
-        if mi is None:
-            import mitsuba as mi
-        if mi.variant() is None:
-            raise RuntimeError("gonio.drjit.BrdfTables: set a Mitsuba variant first (mi.set_variant)")
-        self.dr, self.mi = dr, mi
-        self.variant = mi.variant()
-        self.ieee = IEEE if ieee is None else bool(ieee)
-        self.scalar = not dr.is_array_v(mi.Float)
-        if self.scalar:
-            S = dr.scalar
-            self.F, self.I, self.U = S.ArrayXf, S.ArrayXi, S.ArrayXu
-        else:
-            self.F, self.I, self.U = mi.Float, mi.Int32, mi.UInt32
+        self._bind(mi, ieee)
         f = parse_family(data)
         self.m, self.n, self.S = f["m"], f["n"], f["S"]
         self.A, self.B = f["A"], f["B"]

@@ -98,6 +98,11 @@ pub(super) struct Tables<T> {
     pub(super) edge: T,
 }
 
+/// An M × N table in f32 (its values are f32 values already: the conversion is exact).
+fn to_f32(s: &[f64]) -> Vec<f32> {
+    s.iter().map(|&x| x as f32).collect()
+}
+
 /// `x` rounded to the nearest f32, kept in f64.
 #[inline]
 fn r32(x: f64) -> f64 {
@@ -249,7 +254,6 @@ impl Tables<f32> {
 
     /// The float32 tables of `core` (see the module documentation), or why there are none.
     pub(super) fn of(core: &HdsCore) -> Result<Self, Float32MapError> {
-        let to_f32 = |s: &[f64]| s.iter().map(|&x| x as f32).collect::<Vec<f32>>();
         let small = Self::small_of(core)?;
         let r = core.view().radial;
         let d32 = to_f32(r.d);
@@ -264,9 +268,9 @@ impl Tables<f32> {
         let small = Self::small_of(&core)?;
         let (d, u) = core.take_d_u();
         drop(core);
-        let d32: Vec<f32> = d.iter().map(|&x| x as f32).collect();
+        let d32 = to_f32(&d);
         drop(d);
-        let u32_: Vec<f32> = u.iter().map(|&x| x as f32).collect();
+        let u32_ = to_f32(&u);
         drop(u);
         Ok(Self::finish(small, d32, u32_))
     }

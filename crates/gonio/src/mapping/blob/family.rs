@@ -76,7 +76,7 @@ pub struct FamilyTables {
     pub values: Vec<f64>,
 }
 
-/// Per-map counts of the stacked tables (M, N, K, G, G_r), and whether table k is per slice.
+/// Whether map table k (of [`MAP_TABLES`]) has one part per slice (else the slices share it).
 fn stacked(k: usize) -> bool {
     !SHARED.contains(&k)
 }
