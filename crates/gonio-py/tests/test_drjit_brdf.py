@@ -240,9 +240,13 @@ CHI2 = [("lambert", 37.0, 0.0), ("ggx", 0.0, 0.0), ("ggx", 37.0, 20.0), ("ggx", 
 @pytest.mark.parametrize("name,theta_i,phi_i", CHI2)
 def test_mitsuba_chi2_bsdf_adapter_accepts_gonio_brdf(mi_llvm, tables, name, theta_i, phi_i):
     mi = mi_llvm
+    import drjit as dr
     from mitsuba import chi2
 
     from test_mitsuba_chi2 import run_harness
+
+    # The plugin runs inside Mitsuba's symbolic calls and loops (the defaults, left on).
+    assert dr.flag(dr.JitFlag.SymbolicCalls) and dr.flag(dr.JitFlag.SymbolicLoops)
 
     wi = _dir(theta_i, phi_i)
     sample_func, pdf_func = chi2.BSDFAdapter("gonio_brdf", {"type": "gonio_brdf", "filename": str(tables[name])},
@@ -323,6 +327,9 @@ def test_the_plugin_agrees_with_the_library(mi_llvm, tables, name):
     sample(), eval() and pdf() against BrdfSampler.sample (direction, pdf, weight f·cos/pdf) and
     Brdf.eval, for incident directions between slices, the square's points Halton-distributed."""
     mi = mi_llvm
+    import drjit as dr
+
+    assert dr.flag(dr.JitFlag.SymbolicCalls) and dr.flag(dr.JitFlag.SymbolicLoops)
     brdf = gonio.read_brdf(tables[name])
     s = brdf.sampler("hds")
     bsdf = mi.load_dict({"type": "gonio_brdf", "filename": str(tables[name])})
