@@ -1,7 +1,7 @@
 //! Batches: every `*_batch*` function, array-of-structs and structure-of-arrays, f64 and f32.
 //!
 //! Every batch goes through the sampler's structure-of-arrays calls
-//! ([`Sampler::sample_batch_soa`], [`Sampler::pdf_batch_soa`], [`Sampler::invert_batch_soa`] and
+//! ([`Batches::sample_batch_soa`], [`Batches::pdf_batch_soa`], [`Batches::invert_batch_soa`] and
 //! their `_f32` twins; the HDS maps' vector kernels) on [`CHUNK`] elements at a time: the chunk's
 //! inputs are read (and checked, directions normalised) into columns on the stack, the trait call
 //! fills result columns on the stack, and these are written to the caller's arrays. A
@@ -14,7 +14,7 @@
 
 use super::*;
 use gonio::batch::CHUNK;
-use gonio::{InvertError, Sampler};
+use gonio::{Batches, InvertError, Sampler};
 
 // ---------------------------------------------------------------------------------------------
 // Batches.
@@ -23,12 +23,12 @@ use gonio::{InvertError, Sampler};
 /// sampler trait.
 trait Real: Copy + Default {
     fn to_f64(self) -> f64;
-    /// [`Sampler::sample_batch_soa`] or its `_f32` twin.
+    /// [`Batches::sample_batch_soa`] or its `_f32` twin.
     fn sample(s: &dyn Sampler, u: &[Self], v: &[Self], dir: [&mut [Self]; 3], pdf: &mut [Self]);
-    /// [`Sampler::pdf_batch_soa`] or its `_f32` twin at unit f64 directions (at most [`CHUNK`]),
+    /// [`Batches::pdf_batch_soa`] or its `_f32` twin at unit f64 directions (at most [`CHUNK`]),
     /// rounded to f32 first for the twin.
     fn pdf(s: &dyn Sampler, dir: [&[f64]; 3], pdf: &mut [Self]);
-    /// [`Sampler::invert_batch_soa`] or its `_f32` twin, as [`Real::pdf`].
+    /// [`Batches::invert_batch_soa`] or its `_f32` twin, as [`Real::pdf`].
     fn invert(s: &dyn Sampler, dir: [&[f64]; 3], uv: [&mut [Self]; 2]);
     /// The target density at unit f64 directions, rounded to `Self` (no sampler has a batch path
     /// for it).

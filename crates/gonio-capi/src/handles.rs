@@ -4,7 +4,7 @@
 use gonio::input::file::{check_size, read_file_with_meta, read_limit, set_read_limit, FileKind};
 use gonio::input::{InputKind, LoadError};
 use gonio::photometry::{DirTiltResolver, NoTiltFiles, Photometry};
-use gonio::{Diagram, Sampler};
+use gonio::Diagram;
 use std::cell::RefCell;
 use std::ffi::{c_char, CStr, CString};
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -131,7 +131,7 @@ pub struct GonioDiagram {
 /// [`gonio_sampler_free`]. Immutable: may be shared between threads and used from all of them at
 /// once (every function taking `const GonioSampler *` is thread-safe).
 pub struct GonioSampler {
-    pub(crate) inner: Box<dyn Sampler>,
+    pub(crate) inner: gonio::Built<'static>,
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -2,6 +2,7 @@
 //! against single points, and sharing a sampler between threads.
 
 use super::*;
+use gonio::Batches;
 use gonio::Diagram;
 use std::ffi::CStr;
 use std::ptr::{null, null_mut};
@@ -452,8 +453,8 @@ fn one_sampler_serves_many_threads() {
 }
 
 /// A handle around a sampler built in Rust (the test needs the trait call on the same object).
-fn handle(s: Box<dyn gonio::Sampler>) -> *mut GonioSampler {
-    Box::into_raw(Box::new(GonioSampler { inner: s }))
+fn handle(s: impl Into<gonio::Built<'static>>) -> *mut GonioSampler {
+    Box::into_raw(Box::new(GonioSampler { inner: s.into() }))
 }
 
 fn bits<T: Copy + Into<f64>>(v: &[T]) -> Vec<u64> {

@@ -11,12 +11,14 @@
 
 use anyhow::{Context, Result};
 use gonio::baselines::Rejection;
+use gonio::batch::Soa;
 use gonio::clock::{process_cpu_ns, thread_cpu_ns};
 use gonio::mapping::batch::{invert_soa_par, pdf_soa_par, sample_soa_par, SoaSampler};
 use gonio::mapping::simd::{Backend, BatchFloat};
 use gonio::mapping::Float32Map;
 use gonio::sampler::sample_batch_par;
 use gonio::sequence::Halton;
+use gonio::{Batches, Built};
 use gonio::{Diagram, Domain, HemisphereMap, Method, Point2, Sample, Sampler, SphereMap, Vec3};
 use serde::Serialize;
 use std::fmt;
@@ -209,10 +211,10 @@ pub fn run_bench(
         let t0 = Instant::now();
         // Rejection is built as its own type (the sampler `Method::build` gives for it, seed 0),
         // for its acceptance rate, which only it has.
-        let built: Result<(Box<dyn Sampler>, Option<f64>), _> = match method {
+        let built: Result<(Built, Option<f64>), _> = match method {
             Method::Rejection => Rejection::new(diagram, domain).map(|r| {
                 let rate = r.acceptance_rate();
-                (Box::new(r) as Box<dyn Sampler>, Some(rate))
+                (Built::Other(Box::new(r)), Some(rate))
             }),
             _ => method.build(diagram, domain).map(|s| (s, None)),
         };
@@ -346,17 +348,28 @@ fn float32_times(map: &Float32Map, u: &[f32], v: &[f32], dirs: &[Vec<f32>]) -> [
             unreachable!("four columns")
         };
         best_wall(n, || {
-            map.sample_soa_par(black_box(u), v, [&mut *x, &mut *y, &mut *z], &mut *p);
+            map.batch_par(Soa::Sample {
+                u: black_box(u),
+                v,
+                dir: [&mut *x, &mut *y, &mut *z],
+                pdf: &mut *p,
+            });
         })
     };
     let d = dirs;
     let mut pdf = vec![0f32; n];
     let pdf_ns = best_wall(n, || {
-        map.pdf_soa_par([black_box(&d[0]), &d[1], &d[2]], &mut pdf)
+        map.batch_par(Soa::Pdf {
+            dir: [black_box(&d[0]), &d[1], &d[2]],
+            pdf: &mut pdf,
+        })
     });
     let (mut wu, mut wv) = (vec![0f32; n], vec![0f32; n]);
     let inverse = best_wall(n, || {
-        map.invert_soa_par([black_box(&d[0]), &d[1], &d[2]], [&mut wu, &mut wv])
+        map.batch_par(Soa::Invert {
+            dir: [black_box(&d[0]), &d[1], &d[2]],
+            uv: [&mut wu, &mut wv],
+        })
     });
     [forward, pdf_ns, inverse]
 }

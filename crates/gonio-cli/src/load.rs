@@ -7,7 +7,7 @@
 
 use crate::input::{read_regular, tame, FileKind, TiltFiles};
 use anyhow::Context;
-use gonio::{BuildOptions, Diagram, Domain, Method, Sampler};
+use gonio::{BuildOptions, Built, Diagram, Domain, Method};
 use std::fmt;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -420,8 +420,8 @@ pub fn tolerance() -> Option<f64> {
 /// The sampler of `method` for `loaded`, built by the library's factory ([`Method::build_with`])
 /// on the domain [`domain`] chooses, with the global `--tolerance` (which only the HDS map reads;
 /// a warning goes to stderr when refinement did not reach it). Every zone the sampler completed
-/// with zero light ([`Sampler::completions`]) is a warning on stderr too.
-pub fn build_sampler(method: Method, loaded: &Loaded) -> anyhow::Result<Box<dyn Sampler + '_>> {
+/// with zero light ([`gonio::MapRef::completions`]) is a warning on stderr too.
+pub fn build_sampler(method: Method, loaded: &Loaded) -> anyhow::Result<Built<'_>> {
     let (sampler, _) = build_sampler_timed(method, loaded)?;
     for c in sampler.completions() {
         eprintln!("gonio: warning: {}: {c}", loaded.name);
@@ -434,7 +434,7 @@ pub fn build_sampler(method: Method, loaded: &Loaded) -> anyhow::Result<Box<dyn 
 pub fn build_sampler_timed(
     method: Method,
     loaded: &Loaded,
-) -> anyhow::Result<(Box<dyn Sampler + '_>, Duration)> {
+) -> anyhow::Result<(Built<'_>, Duration)> {
     let start = Instant::now();
     let options = BuildOptions::default().tolerance(tolerance());
     // An environment map's HDS map is the one its environment map built (the split sphere map
@@ -443,7 +443,7 @@ pub fn build_sampler_timed(
     if let (Method::Hds, Some(env), None, Domain::Sphere) =
         (method, &loaded.envmap, options.tolerance, domain(loaded))
     {
-        return Ok((Box::new(env.map()), loaded.envmap_build));
+        return Ok((env.map().into(), loaded.envmap_build));
     }
     let sampler = method
         .build_with(&loaded.diagram, domain(loaded), &options)

@@ -1,5 +1,6 @@
 //! The `gonio` binary, run end to end: every command with good and bad input.
 
+use gonio::Batches;
 use gonio::{Diagram, HemisphereMap, Sampler};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};

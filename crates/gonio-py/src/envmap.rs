@@ -7,6 +7,7 @@ use gonio::batch::PAR_CHUNK;
 use gonio::envmap::{EnvOptions, EnvironmentMap, Float32EnvironmentMap, Lookup, Weight};
 use gonio::image::Image;
 use gonio::sampler::normalize;
+use gonio::Batches;
 use gonio::Sampler;
 use pyo3::prelude::*;
 use rayon::prelude::*;
@@ -253,16 +254,18 @@ impl PyEnvMap {
             return Err(InputError::new_err("resolution: must be at least 1"));
         }
         let env = self.f64_map("EnvMap.sampler")?;
-        let built: Result<(Box<dyn Sampler>, &'static str), String> =
+        let other = |s: Box<dyn Sampler>| gonio::Built::Other(s);
+        let built: Result<(gonio::Built<'static>, &'static str), String> =
             detached(py, "EnvMap.sampler", || match kind {
-                "hds" => Ok((Box::new(env.clone()) as Box<dyn Sampler>, "hds")),
+                // The environment map's own sphere map (its sampler is that map).
+                "hds" => Ok((env.map().clone().into(), "hds")),
                 "latlong" => env
                     .latlong_peer()
-                    .map(|s| (Box::new(s) as Box<dyn Sampler>, "latlong"))
+                    .map(|s| (other(Box::new(s)), "latlong"))
                     .map_err(|e| e.to_string()),
                 "pbrt-v4" => env
                     .pbrt_v4_peer(resolution)
-                    .map(|s| (Box::new(s) as Box<dyn Sampler>, "pbrt-v4"))
+                    .map(|s| (other(Box::new(s)), "pbrt-v4"))
                     .map_err(|e| e.to_string()),
                 other => Err(format!(
                     "kind: {other:?} is not \"hds\", \"latlong\" or \"pbrt-v4\""

@@ -7,6 +7,7 @@ use crate::{detached, BuildError, InputError};
 use gonio::batch::{CHUNK, PAR_CHUNK};
 use gonio::mapping::blob::{self, Frame, Precision, Target};
 use gonio::sampler::normalize;
+use gonio::Batches;
 use gonio::Method;
 use gonio::{InvertError, Sampler};
 use numpy::{Element, PyArray1, PyArray2};
@@ -29,7 +30,7 @@ use rayon::prelude::*;
 /// row, so results do not depend on the number of threads.
 #[pyclass(name = "Sampler", module = "gonio", frozen)]
 pub(crate) struct PySampler {
-    sampler: Box<dyn Sampler>,
+    sampler: gonio::Built<'static>,
     /// The method's name (`Method::as_str`, or an environment map's sampler kind).
     method: &'static str,
     ratio_bound: Option<(f64, f64)>,
@@ -42,7 +43,7 @@ pub(crate) struct PySampler {
 
 /// A built sampler, its guaranteed ratio bound (if the method claims one) and the power its
 /// target normalises (diagram units × sr).
-pub(crate) type Built = (Box<dyn Sampler>, Option<(f64, f64)>, f64);
+pub(crate) type Built = (gonio::Built<'static>, Option<(f64, f64)>, f64);
 
 /// Builds the sampler of `method` for `diagram` on `domain` through the library's factory
 /// [`Method::build_with`], with its guaranteed ratio bound and target power.
@@ -107,7 +108,7 @@ impl PySampler {
 
     /// A sampler built elsewhere (an environment map's own map or one of its peers), named
     /// `method`.
-    pub(crate) fn from_sampler(sampler: Box<dyn Sampler>, method: &'static str) -> Self {
+    pub(crate) fn from_sampler(sampler: gonio::Built<'static>, method: &'static str) -> Self {
         let (ratio_bound, target_power) = (sampler.ratio_bound(), sampler.target_power());
         PySampler {
             sampler,
@@ -120,7 +121,7 @@ impl PySampler {
     }
 
     pub(crate) fn inner(&self) -> &dyn Sampler {
-        self.sampler.as_ref()
+        &*self.sampler
     }
 
     pub(crate) fn ratio_bound_value(&self) -> Option<(f64, f64)> {
@@ -229,7 +230,7 @@ impl PySampler {
             _ => None,
         };
         let precision = t.precision;
-        let mut s = PySampler::from_sampler(Box::new(t), "hds");
+        let mut s = PySampler::from_sampler(gonio::Built::Other(Box::new(t)), "hds");
         s.target = target;
         s.blob = Some((data.to_vec(), precision));
         Ok(s)
@@ -449,11 +450,11 @@ pub(crate) trait Float:
 {
     /// `x` rounded to this type.
     fn from_f64(x: f64) -> Self;
-    /// [`Sampler::sample_batch_soa`] or its `_f32` twin.
+    /// [`Batches::sample_batch_soa`] or its `_f32` twin.
     fn sample(s: &dyn Sampler, u: &[Self], v: &[Self], dir: [&mut [Self]; 3], pdf: &mut [Self]);
-    /// [`Sampler::pdf_batch_soa`] or its `_f32` twin.
+    /// [`Batches::pdf_batch_soa`] or its `_f32` twin.
     fn pdf(s: &dyn Sampler, dir: [&[Self]; 3], pdf: &mut [Self]);
-    /// [`Sampler::invert_batch_soa`] or its `_f32` twin.
+    /// [`Batches::invert_batch_soa`] or its `_f32` twin.
     fn invert(s: &dyn Sampler, dir: [&[Self]; 3], uv: [&mut [Self]; 2]);
 }
 
@@ -704,8 +705,8 @@ mod tests {
             Method::Bilinear.build(&lum, Domain::Sphere).unwrap(),
             Method::Hds.build(&hemi, Domain::Hemisphere).unwrap(),
         ] {
-            check::<f64>(s.as_ref());
-            check::<f32>(s.as_ref());
+            check::<f64>(&*s);
+            check::<f32>(&*s);
         }
     }
 }

@@ -13,6 +13,7 @@ use gonio::mapping::simd::Backend;
 use gonio::sampler::sample_batch_par;
 use gonio::sequence::Halton;
 use gonio::synthetic::{random_hemisphere, Family};
+use gonio::Batches;
 use gonio::{Diagram, Domain, HemisphereMap, Method, Point2, Sample, Sampler, Vec3};
 use std::time::Duration;
 
@@ -20,7 +21,10 @@ const BATCH: usize = 4096;
 const GRIDS: [(usize, usize); 3] = [(19, 36), (181, 361), (1024, 1024)];
 
 fn build(method: Method, d: &Diagram) -> Option<Box<dyn Sampler>> {
-    method.build(d, Domain::Hemisphere).ok()
+    method
+        .build(d, Domain::Hemisphere)
+        .ok()
+        .map(gonio::Built::into_boxed)
 }
 
 fn points(n: usize) -> Vec<Point2> {

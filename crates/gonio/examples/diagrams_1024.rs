@@ -15,6 +15,7 @@ mod common;
 use common::{diagram_set, loglog_svg, median, Series, Table, SET_N};
 use gonio::sequence::Halton;
 use gonio::synthetic::Family;
+use gonio::Batches;
 use gonio::{HemisphereMap, Sample, Sampler};
 use rayon::prelude::*;
 

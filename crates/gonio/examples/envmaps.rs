@@ -18,6 +18,7 @@ use gonio::envmap::{luminance, EnvironmentMap, Lookup};
 use gonio::image::Image;
 use gonio::sampler::normalize;
 use gonio::sequence::{Random, Sobol};
+use gonio::Batches;
 use gonio::{Point2, Sampler, Vec3};
 use std::f64::consts::PI;
 use std::time::Instant;

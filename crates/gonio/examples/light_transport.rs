@@ -260,7 +260,7 @@ fn study(name: &str, title: &str, d: &Diagram, log2_max: u32) {
     Halton::with_skip(1).fill(0, &mut halton);
     let mut iid = vec![[0.0; 2]; n];
     Random::new(42).fill(0, &mut iid);
-    let samplers: Vec<(Method, Box<dyn Sampler>)> = Method::ALL
+    let samplers: Vec<(Method, gonio::Built)> = Method::ALL
         .iter()
         .filter_map(|&m| {
             let s = m.build(d, Domain::Sphere).ok();

@@ -22,6 +22,7 @@ use common::{diagram_set, median, ns_per_item, Table};
 use gonio::photometry::{read, DirTiltResolver, FileFormat};
 use gonio::sampler::spherical;
 use gonio::sequence::{Halton, Random};
+use gonio::Batches;
 use gonio::{Diagram, HemisphereMap, Point2, Sample, Sampler, SphereMap, Vec3};
 use rayon::prelude::*;
 use std::time::Instant;

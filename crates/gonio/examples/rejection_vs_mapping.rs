@@ -14,6 +14,7 @@ use gonio::baselines::Rejection;
 use gonio::photometry::{read, DirTiltResolver, FileFormat};
 use gonio::sequence::Halton;
 use gonio::synthetic::Family;
+use gonio::Batches;
 use gonio::{Diagram, Domain, HemisphereMap, Sample, Sampler, SphereMap};
 use std::hint::black_box;
 

@@ -24,6 +24,7 @@ use gonio::mapping::batch::SoaSampler;
 use gonio::mapping::simd::Backend;
 use gonio::sequence::Halton;
 use gonio::synthetic::{random_hemisphere, Family};
+use gonio::Batches;
 use gonio::{HemisphereMap, Sampler};
 use std::hint::black_box;
 

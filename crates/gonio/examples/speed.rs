@@ -9,6 +9,7 @@ mod common;
 use common::{machine, ns_per_item, Table};
 use gonio::sequence::Halton;
 use gonio::synthetic::{random_hemisphere, Family};
+use gonio::Batches;
 use gonio::{Domain, Method, Sample, Sampler, Vec3};
 use std::hint::black_box;
 use std::time::Instant;
@@ -17,6 +18,7 @@ fn build(method: Method, d: &gonio::Diagram) -> Box<dyn Sampler> {
     method
         .build(d, Domain::Hemisphere)
         .unwrap_or_else(|e| panic!("{method}: {e}"))
+        .into_boxed()
 }
 
 fn main() {

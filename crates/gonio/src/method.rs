@@ -3,8 +3,9 @@
 //! methods take, and [`BuildError`] says why a sampler could not be built.
 //!
 //! Every consumer (the CLI, the benchmarks, the examples, the bindings) builds its samplers here and
-//! then works with `&dyn Sampler` only; what only some methods have is reached through the trait's
-//! defaulted methods ([`Sampler::ratio_bound`], [`Sampler::stages`], [`Sampler::target_power`]).
+//! then works with `&dyn Sampler` (a [`Built`] dereferences to one); what only the HDS map has
+//! (ratio bound, refinement, completions, stages) is reached through [`Built::hds_map`], typed,
+//! without a downcast.
 //!
 //! ```
 //! use gonio::{BuildOptions, Diagram, Domain, Method, Sampler};
@@ -26,8 +27,9 @@
 use crate::baselines::{Bilinear, PiecewiseConstant, Rejection, Uniform, DEFAULT_RESOLUTION};
 use crate::diagram::Diagram;
 pub use crate::error::BuildError;
-use crate::mapping::{HemisphereMap, SphereLayout, SphereMap};
+use crate::mapping::{HemisphereMap, MapRef, SphereLayout, SphereMap};
 use crate::sampler::{Domain, Sampler};
+use std::borrow::Cow;
 use std::f64::consts::FRAC_PI_2;
 use std::fmt;
 use std::str::FromStr;
@@ -73,7 +75,7 @@ impl Method {
     ///
     /// # Errors
     /// As [`Method::build_with`].
-    pub fn build(self, diagram: &Diagram, domain: Domain) -> Result<Box<dyn Sampler>, BuildError> {
+    pub fn build(self, diagram: &Diagram, domain: Domain) -> Result<Built<'static>, BuildError> {
         self.build_with(diagram, domain, &BuildOptions::default())
     }
 
@@ -95,7 +97,7 @@ impl Method {
         diagram: &Diagram,
         domain: Domain,
         options: &BuildOptions,
-    ) -> Result<Box<dyn Sampler>, BuildError> {
+    ) -> Result<Built<'static>, BuildError> {
         if let Some(t) = options.tolerance {
             if !crate::mapping::refine::valid_tolerance(t) {
                 return Err(BuildError::Tolerance { tolerance: t });
@@ -113,31 +115,153 @@ impl Method {
         if !(integral.is_finite() && integral > 0.0) {
             return Err(BuildError::no_power(integral, diagram.max_value()));
         }
+        let other = |s: Box<dyn Sampler>| Built::Other(s);
         Ok(match self {
             Method::Hds => match (domain, options.tolerance) {
-                (Domain::Hemisphere, None) => Box::new(HemisphereMap::new(diagram)?),
-                (Domain::Hemisphere, Some(t)) => {
-                    Box::new(HemisphereMap::with_tolerance(diagram, t)?)
-                }
+                (Domain::Hemisphere, None) => HemisphereMap::new(diagram)?.into(),
+                (Domain::Hemisphere, Some(t)) => HemisphereMap::with_tolerance(diagram, t)?.into(),
                 (Domain::Sphere, None) => {
-                    Box::new(SphereMap::with_layout(diagram, options.sphere_layout)?)
+                    SphereMap::with_layout(diagram, options.sphere_layout)?.into()
                 }
-                (Domain::Sphere, Some(t)) => Box::new(SphereMap::with_refinement(
+                (Domain::Sphere, Some(t)) => SphereMap::with_refinement(
                     diagram,
                     options.sphere_layout,
                     t,
                     &crate::mapping::RefineLimits::default(),
-                )?),
+                )?
+                .into(),
             },
-            Method::PiecewiseConstant => Box::new(PiecewiseConstant::with_resolution(
+            Method::PiecewiseConstant => other(Box::new(PiecewiseConstant::with_resolution(
                 diagram,
                 domain,
                 options.resolution,
-            )?),
-            Method::Bilinear => Box::new(Bilinear::new(diagram, domain)?),
-            Method::Rejection => Box::new(Rejection::with_seed(diagram, domain, options.seed)?),
-            Method::Uniform => Box::new(Uniform::new(diagram, domain)?),
+            )?)),
+            Method::Bilinear => other(Box::new(Bilinear::new(diagram, domain)?)),
+            Method::Rejection => other(Box::new(Rejection::with_seed(
+                diagram,
+                domain,
+                options.seed,
+            )?)),
+            Method::Uniform => other(Box::new(Uniform::new(diagram, domain)?)),
         })
+    }
+}
+
+/// A built sampler: the HDS maps by their type (owned, or borrowed from what holds them, such as
+/// an environment map), every other method behind the contract. It dereferences to
+/// `dyn Sampler`, so it goes wherever a sampler does; [`Built::hds_map`] reaches what only the
+/// HDS map has, typed, with no downcast.
+// The maps are held inline (a Built is made once per sampler and moved rarely): a box per map
+// would cost every sample call an indirection for nothing.
+#[allow(clippy::large_enum_variant)]
+#[derive(Debug)]
+pub enum Built<'a> {
+    /// The HDS map of the upper hemisphere.
+    Hemisphere(Cow<'a, HemisphereMap>),
+    /// The HDS map of the whole sphere.
+    Sphere(Cow<'a, SphereMap>),
+    /// Any other sampler.
+    Other(Box<dyn Sampler + 'a>),
+}
+
+impl fmt::Debug for dyn Sampler + '_ {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "Sampler({})", self.name())
+    }
+}
+
+impl<'a> Built<'a> {
+    /// The HDS map, for what only it has ([`MapRef::ratio_bound`], [`MapRef::refinement`],
+    /// [`MapRef::completions`], [`MapRef::stages`], and the map itself); `None` for every other
+    /// method.
+    pub fn hds_map(&self) -> Option<MapRef<'_>> {
+        match self {
+            Built::Hemisphere(m) => Some(MapRef::Hemisphere(m)),
+            Built::Sphere(m) => Some(MapRef::Sphere(m)),
+            Built::Other(_) => None,
+        }
+    }
+
+    /// The HDS map's guaranteed range of `pdf / target_pdf` ([`MapRef::ratio_bound`]); `None`
+    /// for methods that promise no bound.
+    pub fn ratio_bound(&self) -> Option<(f64, f64)> {
+        self.hds_map().map(MapRef::ratio_bound)
+    }
+
+    /// What refinement to a tolerance asked, reached and cost ([`MapRef::refinement`]); `None`
+    /// for a map built without one and for every other method.
+    pub fn refinement(&self) -> Option<&crate::mapping::Refinement> {
+        self.hds_map().and_then(MapRef::refinement)
+    }
+
+    /// The zones the HDS map completed with zero light ([`MapRef::completions`]); empty for
+    /// every other method.
+    pub fn completions(&self) -> &[crate::mapping::Completion] {
+        self.hds_map().map_or(&[], MapRef::completions)
+    }
+
+    /// The intermediate points of the HDS map's forward map at `u` ([`MapRef::stages`]); `None`
+    /// for every other method.
+    pub fn stages(&self, u: crate::Point2) -> Option<crate::mapping::Stages> {
+        self.hds_map().map(|m| m.stages(u))
+    }
+
+    /// The sampler as a boxed trait object (for a consumer that stores `Box<dyn Sampler>`).
+    pub fn into_boxed(self) -> Box<dyn Sampler + 'a> {
+        match self {
+            Built::Hemisphere(Cow::Owned(m)) => Box::new(m),
+            Built::Hemisphere(Cow::Borrowed(m)) => Box::new(m),
+            Built::Sphere(Cow::Owned(m)) => Box::new(m),
+            Built::Sphere(Cow::Borrowed(m)) => Box::new(m),
+            Built::Other(s) => s,
+        }
+    }
+}
+
+impl<'a> std::ops::Deref for Built<'a> {
+    type Target = dyn Sampler + 'a;
+    fn deref(&self) -> &Self::Target {
+        match self {
+            Built::Hemisphere(m) => &**m,
+            Built::Sphere(m) => &**m,
+            Built::Other(s) => &**s,
+        }
+    }
+}
+
+impl<'a> AsRef<dyn Sampler + 'a> for Built<'a> {
+    fn as_ref(&self) -> &(dyn Sampler + 'a) {
+        &**self
+    }
+}
+
+impl From<HemisphereMap> for Built<'_> {
+    fn from(m: HemisphereMap) -> Self {
+        Built::Hemisphere(Cow::Owned(m))
+    }
+}
+
+impl From<SphereMap> for Built<'_> {
+    fn from(m: SphereMap) -> Self {
+        Built::Sphere(Cow::Owned(m))
+    }
+}
+
+impl<'a> From<&'a SphereMap> for Built<'a> {
+    fn from(m: &'a SphereMap) -> Self {
+        Built::Sphere(Cow::Borrowed(m))
+    }
+}
+
+impl<'a> From<&'a HemisphereMap> for Built<'a> {
+    fn from(m: &'a HemisphereMap) -> Self {
+        Built::Hemisphere(Cow::Borrowed(m))
+    }
+}
+
+impl<'a> From<Box<dyn Sampler + 'a>> for Built<'a> {
+    fn from(s: Box<dyn Sampler + 'a>) -> Self {
+        Built::Other(s)
     }
 }
 
@@ -187,7 +311,7 @@ pub struct BuildOptions {
     /// guaranteed bound of pdf / target lies within [1 − tol, 1 + tol] wherever the target is
     /// positive. Must lie in (0, 1) when given (the one rule,
     /// [`crate::mapping::refine::valid_tolerance`]). Whether it was reached, the bound reached and the
-    /// cost: [`Sampler::refinement`] (a growth limit can stop it early; the map is still exact).
+    /// cost: [`MapRef::refinement`] (a growth limit can stop it early; the map is still exact).
     /// Default `None`: the paper's map on the diagram's own grid.
     pub tolerance: Option<f64>,
     /// Pixels per side of the [`PiecewiseConstant`] image, 1..=[`MAX_RESOLUTION`](crate::baselines::MAX_RESOLUTION). Default

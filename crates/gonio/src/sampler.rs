@@ -5,8 +5,8 @@
 //! Directions are unit vectors `[x, y, z]` in the sampler's frame; densities are **per steradian**
 //! with respect to solid angle; points of the unit square are `[u, v]` with 0 ≤ u, v ≤ 1.
 
-use crate::batch::{check_len, CHUNK, PAR_CHUNK};
-use rayon::prelude::*;
+use crate::batch::{par, CHUNK};
+pub use crate::batch::{Batch, Soa};
 
 /// A unit direction `[x, y, z]`.
 pub type Vec3 = [f64; 3];
@@ -85,27 +85,6 @@ pub enum InvertError {
     ZeroDensity,
 }
 
-/// A borrowed HDS map, as [`Sampler::hds_map`] returns it: what only the map has is reached
-/// through its variant, with no downcast.
-///
-/// ```
-/// use gonio::{Diagram, Domain, MapRef, Method};
-/// let d = Diagram::from_degrees(&[0.0, 90.0, 180.0], &[0.0], &[vec![1.0, 0.5, 2.0]]).unwrap();
-/// let s = Method::Hds.build(&d, Domain::Sphere).unwrap();
-/// match s.hds_map() {
-///     Some(MapRef::Sphere(m)) => assert!(m.lower_probability().unwrap() > 0.5),
-///     _ => unreachable!("the HDS method on the sphere is a sphere map"),
-/// }
-/// assert!(Method::Uniform.build(&d, Domain::Sphere).unwrap().hds_map().is_none());
-/// ```
-#[derive(Debug, Clone, Copy)]
-pub enum MapRef<'a> {
-    /// The map of the upper hemisphere.
-    Hemisphere(&'a crate::HemisphereMap),
-    /// The map of the whole sphere (either layout).
-    Sphere(&'a crate::SphereMap),
-}
-
 /// A map from the unit square to directions with its exact density and (where it exists) its inverse.
 ///
 /// Contract, for every implementation:
@@ -114,6 +93,13 @@ pub enum MapRef<'a> {
 /// * `pdf(d)` is the density of `sample` per steradian, 0 outside the domain and where the target is 0;
 /// * `invert(sample(u)) == u` wherever the pdf is positive (away from measure-zero seams that the
 ///   implementation documents).
+///
+/// The trait is narrow on purpose: the seven methods a sampler must have, the power of its
+/// target, and one batch entry ([`Sampler::batch`]) that a sampler with vector kernels
+/// overrides. Every other batch form (arrays of structures, split outputs, float32, parallel) is
+/// an adapter over that entry ([`Batches`], [`sample_batch_par`]); what only the HDS map has
+/// (ratio bound, refinement, completions, stages) is a method of the map
+/// ([`crate::mapping::MapRef`], reached through [`crate::method::Built::hds_map`]).
 pub trait Sampler: Send + Sync {
     /// Short name of the method, as the CLI's `--method` spells it.
     fn name(&self) -> &'static str;
@@ -143,310 +129,20 @@ pub trait Sampler: Send + Sync {
         f64::NAN
     }
 
-    /// A guaranteed range (min, max) of `pdf / target_pdf` over every direction where the target
-    /// is positive, computed at build time, for methods that have one (the HDS map); `None` (the
-    /// default) where the method promises no bound.
-    fn ratio_bound(&self) -> Option<(f64, f64)> {
-        None
-    }
-
-    /// What refinement to a tolerance asked, reached and cost, for a map built with one
-    /// ([`crate::mapping::Refinement`]); `None` (the default) otherwise.
-    fn refinement(&self) -> Option<&crate::mapping::Refinement> {
-        None
-    }
-
-    /// The zones without data that the sampler completed with zero light (the HDS maps, issue 9),
-    /// each a warning for the user; empty (the default) for samplers that complete nothing.
-    fn completions(&self) -> &[crate::mapping::Completion] {
-        &[]
-    }
-
-    /// The intermediate points of the forward map at `u` (for the warp plot and tests), for
-    /// methods built from stages (the HDS map); `None` (the default) otherwise.
-    fn stages(&self, u: Point2) -> Option<crate::mapping::Stages> {
-        let _ = u;
-        None
-    }
-
-    /// The HDS map behind the sampler, for what only the map has (e.g.
-    /// [`crate::SphereMap::lower_probability`] or the completed grid for `gonio info`, the stages
-    /// of both layouts for the warp plot). `None` (the default) for every other method; the
-    /// library's [`crate::HemisphereMap`] and [`crate::SphereMap`] return themselves. This is the
-    /// one typed accessor to concrete maps: no consumer downcasts.
-    fn hds_map(&self) -> Option<MapRef<'_>> {
-        None
-    }
-
-    /// Samples every point of `u` into the same position of `out`; allocates nothing.
+    /// Runs one structure-of-arrays batch call ([`Batch`]): the one batch entry of the contract,
+    /// through which every batch form of [`Batches`] and every parallel batch goes. Allocates
+    /// nothing.
+    ///
+    /// The default ([`scalar_batch`]) calls [`Sampler::sample`], [`Sampler::pdf`] and
+    /// [`Sampler::invert`] point by point (so batches equal the scalar calls bit for bit), and
+    /// evaluates a float32 call in f64 ([`CHUNK`] points at a time on the stack, through this
+    /// method's f64 form) rounding each result once. The HDS maps override it with their vector
+    /// kernels and their float32 map.
     ///
     /// # Panics
-    /// If the two slices differ in length (a programming error, not an input error).
-    fn sample_batch(&self, u: &[Point2], out: &mut [Sample]) {
-        assert_eq!(u.len(), out.len(), "sample_batch: slices differ in length");
-        for (o, &p) in out.iter_mut().zip(u) {
-            *o = self.sample(p);
-        }
-    }
-
-    /// [`Sampler::sample_batch`] with the directions and the densities in separate slices (the
-    /// layout of the Python package's and the C API's outputs): sample k goes to `dirs[k]` and
-    /// `pdf[k]`, the same values as `sample_batch`. Allocates nothing. The default goes through
-    /// `sample_batch` [`CHUNK`] points at a time; the HDS maps write their SIMD batch path's results
-    /// directly.
-    ///
-    /// # Panics
-    /// If the slices differ in length.
-    fn sample_batch_split(&self, u: &[Point2], dirs: &mut [Vec3], pdf: &mut [f64]) {
-        assert!(
-            u.len() == dirs.len() && u.len() == pdf.len(),
-            "sample_batch_split: slices differ in length"
-        );
-        let mut buf = [Sample::default(); CHUNK];
-        for ((u, d), p) in u
-            .chunks(CHUNK)
-            .zip(dirs.chunks_mut(CHUNK))
-            .zip(pdf.chunks_mut(CHUNK))
-        {
-            let b = &mut buf[..u.len()];
-            self.sample_batch(u, b);
-            for ((d, p), b) in d.iter_mut().zip(p.iter_mut()).zip(b.iter()) {
-                *d = b.direction;
-                *p = b.pdf;
-            }
-        }
-    }
-
-    /// [`Sampler::pdf`] of every direction of `dirs` into the same position of `out`; allocates
-    /// nothing. The HDS maps override it with their SIMD batch path ([`crate::mapping::batch`]).
-    ///
-    /// # Panics
-    /// If the two slices differ in length.
-    fn pdf_batch(&self, dirs: &[Vec3], out: &mut [f64]) {
-        assert_eq!(dirs.len(), out.len(), "pdf_batch: slices differ in length");
-        for (o, &d) in out.iter_mut().zip(dirs) {
-            *o = self.pdf(d);
-        }
-    }
-
-    /// [`Sampler::invert`] of every direction of `dirs` into the same position of `out`;
-    /// allocates nothing. The HDS maps override it with their SIMD batch path.
-    ///
-    /// # Panics
-    /// If the two slices differ in length.
-    fn invert_batch(&self, dirs: &[Vec3], out: &mut [Result<Point2, InvertError>]) {
-        assert_eq!(
-            dirs.len(),
-            out.len(),
-            "invert_batch: slices differ in length"
-        );
-        for (o, &d) in out.iter_mut().zip(dirs) {
-            *o = self.invert(d);
-        }
-    }
-
-    // Structure-of-arrays batches: the calls the C ABI and the Python package make. Every
-    // default below runs the methods above on at most [`CHUNK`] points at a time in buffers on
-    // the stack; the HDS maps override all six with their vector kernels
-    // ([`crate::mapping::batch::SoaSampler`]), with no transposes.
-
-    /// Maps the points `(u[k], v[k])` of the unit square to directions
-    /// `(dir[0][k], dir[1][k], dir[2][k])` and their densities `pdf[k]` (per steradian): the
-    /// values of [`Sampler::sample_batch`]. Allocates nothing.
-    ///
-    /// The default transposes [`CHUNK`] points at a time through stack buffers into
-    /// `sample_batch` (so it equals the scalar [`Sampler::sample`] bit for bit unless
-    /// `sample_batch` is overridden). The HDS maps run their vector kernels on the slices
-    /// directly ([`crate::mapping::batch::SoaSampler::sample_soa`], bit for bit).
-    ///
-    /// # Panics
-    /// If the slices differ in length (a programming error, not an input error).
-    fn sample_batch_soa(&self, u: &[f64], v: &[f64], dir: [&mut [f64]; 3], pdf: &mut [f64]) {
-        let [x, y, z] = dir;
-        let n = u.len();
-        check_len(
-            "sample_batch_soa",
-            n,
-            &[v.len(), x.len(), y.len(), z.len(), pdf.len()],
-        );
-        let mut pts = [[0.0f64; 2]; CHUNK];
-        let mut out = [Sample::default(); CHUNK];
-        for start in (0..n).step_by(CHUNK) {
-            let m = CHUNK.min(n - start);
-            for (k, p) in pts[..m].iter_mut().enumerate() {
-                *p = [u[start + k], v[start + k]];
-            }
-            self.sample_batch(&pts[..m], &mut out[..m]);
-            for (k, o) in out[..m].iter().enumerate() {
-                let i = start + k;
-                [x[i], y[i], z[i]] = o.direction;
-                pdf[i] = o.pdf;
-            }
-        }
-    }
-
-    /// The density (per steradian) of [`Sampler::sample`] at each unit direction
-    /// `(dir[0][k], dir[1][k], dir[2][k])` into `pdf[k]`: the values of [`Sampler::pdf_batch`].
-    /// Allocates nothing. The default transposes [`CHUNK`] directions at a time into `pdf_batch`;
-    /// the HDS maps call [`crate::mapping::batch::SoaSampler::pdf_soa`] (bit for bit).
-    ///
-    /// # Panics
-    /// If the slices differ in length.
-    fn pdf_batch_soa(&self, dir: [&[f64]; 3], pdf: &mut [f64]) {
-        let n = pdf.len();
-        check_len(
-            "pdf_batch_soa",
-            n,
-            &[dir[0].len(), dir[1].len(), dir[2].len()],
-        );
-        let mut d = [[0.0f64; 3]; CHUNK];
-        for start in (0..n).step_by(CHUNK) {
-            let m = CHUNK.min(n - start);
-            for (k, d) in d[..m].iter_mut().enumerate() {
-                let i = start + k;
-                *d = [dir[0][i], dir[1][i], dir[2][i]];
-            }
-            self.pdf_batch(&d[..m], &mut pdf[start..start + m]);
-        }
-    }
-
-    /// The point `(uv[0][k], uv[1][k])` of the unit square that [`Sampler::sample`] maps to each
-    /// unit direction `(dir[0][k], dir[1][k], dir[2][k])`: the values of
-    /// [`Sampler::invert_batch`], with NaN in both coordinates where it gives an error (outside
-    /// the domain, density 0, or no inverse at all). Allocates nothing.
-    ///
-    /// The default transposes [`CHUNK`] directions at a time into `invert_batch`; the HDS maps
-    /// call [`crate::mapping::batch::SoaSampler::invert_soa`] and write NaN where
-    /// [`crate::mapping::batch::SoaSampler::pdf_soa`] is 0 (the rule of every sampler: no
-    /// preimage where the density is 0).
-    ///
-    /// # Panics
-    /// If the slices differ in length.
-    fn invert_batch_soa(&self, dir: [&[f64]; 3], uv: [&mut [f64]; 2]) {
-        let [u, v] = uv;
-        let n = u.len();
-        check_len(
-            "invert_batch_soa",
-            n,
-            &[v.len(), dir[0].len(), dir[1].len(), dir[2].len()],
-        );
-        let mut d = [[0.0f64; 3]; CHUNK];
-        let mut res = [Ok([0.0f64; 2]); CHUNK];
-        for start in (0..n).step_by(CHUNK) {
-            let m = CHUNK.min(n - start);
-            for (k, d) in d[..m].iter_mut().enumerate() {
-                let i = start + k;
-                *d = [dir[0][i], dir[1][i], dir[2][i]];
-            }
-            self.invert_batch(&d[..m], &mut res[..m]);
-            for (k, r) in res[..m].iter().enumerate() {
-                let p = r.unwrap_or([f64::NAN; 2]);
-                u[start + k] = p[0];
-                v[start + k] = p[1];
-            }
-        }
-    }
-
-    /// [`Sampler::sample_batch_soa`] in float32: the sampler's float32 map where it has one,
-    /// else the f64 map rounded once.
-    ///
-    /// The default widens [`CHUNK`] points at a time to f64, runs the f64 map and rounds every
-    /// result once to f32. The HDS maps override it with their float32 map
-    /// ([`crate::mapping::Float32Map`]: f32 tables and arithmetic, its own exact density; built
-    /// on the first call, [`crate::HemisphereMap::float32`]).
-    ///
-    /// # Panics
-    /// If the slices differ in length.
-    fn sample_batch_soa_f32(&self, u: &[f32], v: &[f32], dir: [&mut [f32]; 3], pdf: &mut [f32]) {
-        let [x, y, z] = dir;
-        let n = u.len();
-        check_len(
-            "sample_batch_soa_f32",
-            n,
-            &[v.len(), x.len(), y.len(), z.len(), pdf.len()],
-        );
-        let (mut bu, mut bv) = ([0.0f64; CHUNK], [0.0f64; CHUNK]);
-        let mut bo = [[0.0f64; CHUNK]; 4];
-        for start in (0..n).step_by(CHUNK) {
-            let m = CHUNK.min(n - start);
-            let r = start..start + m;
-            widen(&u[r.clone()], &mut bu);
-            widen(&v[r.clone()], &mut bv);
-            let [bx, by, bz, bp] = &mut bo;
-            self.sample_batch_soa(
-                &bu[..m],
-                &bv[..m],
-                [&mut bx[..m], &mut by[..m], &mut bz[..m]],
-                &mut bp[..m],
-            );
-            narrow(&bx[..m], &mut x[r.clone()]);
-            narrow(&by[..m], &mut y[r.clone()]);
-            narrow(&bz[..m], &mut z[r.clone()]);
-            narrow(&bp[..m], &mut pdf[r]);
-        }
-    }
-
-    /// [`Sampler::pdf_batch_soa`] in float32 at f32 unit directions (unit to within f32
-    /// rounding): the sampler's float32 map where it has one, else the f64 map rounded once.
-    ///
-    /// The default widens [`CHUNK`] directions at a time to f64, scales each to unit length in
-    /// f64 (an f32 unit vector is unit only to ~1e-7, which at the rim of a map would read as
-    /// beyond it), runs the f64 call and rounds each density once. The HDS maps run their
-    /// float32 map (which takes f32 directions as they are; its edge test has f32-sized slack).
-    ///
-    /// # Panics
-    /// If the slices differ in length.
-    fn pdf_batch_soa_f32(&self, dir: [&[f32]; 3], pdf: &mut [f32]) {
-        let n = pdf.len();
-        check_len(
-            "pdf_batch_soa_f32",
-            n,
-            &[dir[0].len(), dir[1].len(), dir[2].len()],
-        );
-        let mut bd = [[0.0f64; CHUNK]; 3];
-        let mut bp = [0.0f64; CHUNK];
-        for start in (0..n).step_by(CHUNK) {
-            let m = CHUNK.min(n - start);
-            let r = start..start + m;
-            for (b, d) in bd.iter_mut().zip(dir) {
-                widen(&d[r.clone()], b);
-            }
-            let [bx, by, bz] = &mut bd;
-            crate::batch::renormalise([&mut bx[..], &mut by[..], &mut bz[..]], m);
-            self.pdf_batch_soa([&bx[..m], &by[..m], &bz[..m]], &mut bp[..m]);
-            narrow(&bp[..m], &mut pdf[r]);
-        }
-    }
-
-    /// [`Sampler::invert_batch_soa`] in float32 (NaN where `invert` fails): the sampler's float32
-    /// map where it has one, else the f64 map rounded once. The default widens and renormalises
-    /// the directions as [`Sampler::pdf_batch_soa_f32`] does and rounds each coordinate once; the
-    /// HDS maps run their float32 map (NaN where its density is 0).
-    ///
-    /// # Panics
-    /// If the slices differ in length.
-    fn invert_batch_soa_f32(&self, dir: [&[f32]; 3], uv: [&mut [f32]; 2]) {
-        let [u, v] = uv;
-        let n = u.len();
-        check_len(
-            "invert_batch_soa_f32",
-            n,
-            &[v.len(), dir[0].len(), dir[1].len(), dir[2].len()],
-        );
-        let mut bd = [[0.0f64; CHUNK]; 3];
-        let (mut bu, mut bv) = ([0.0f64; CHUNK], [0.0f64; CHUNK]);
-        for start in (0..n).step_by(CHUNK) {
-            let m = CHUNK.min(n - start);
-            let r = start..start + m;
-            for (b, d) in bd.iter_mut().zip(dir) {
-                widen(&d[r.clone()], b);
-            }
-            let [bx, by, bz] = &mut bd;
-            crate::batch::renormalise([&mut bx[..], &mut by[..], &mut bz[..]], m);
-            self.invert_batch_soa([&bx[..m], &by[..m], &bz[..m]], [&mut bu[..m], &mut bv[..m]]);
-            narrow(&bu[..m], &mut u[r.clone()]);
-            narrow(&bv[..m], &mut v[r]);
-        }
+    /// If the call's slices differ in length (a programming error, not an input error).
+    fn batch(&self, job: Batch<'_>) {
+        scalar_batch(self, job)
     }
 }
 
@@ -477,51 +173,130 @@ impl<T: Sampler + ?Sized> Sampler for &T {
     fn target_power(&self) -> f64 {
         (**self).target_power()
     }
-    fn ratio_bound(&self) -> Option<(f64, f64)> {
-        (**self).ratio_bound()
+    fn batch(&self, job: Batch<'_>) {
+        (**self).batch(job)
     }
-    fn refinement(&self) -> Option<&crate::mapping::Refinement> {
-        (**self).refinement()
+}
+
+/// The default [`Sampler::batch`]: the scalar calls point by point in f64; a float32 call widened
+/// [`CHUNK`] points at a time into stack buffers, run through `s.batch` in f64 (so a sampler that
+/// overrides only the f64 calls gets its float32 calls from them), each result rounded once.
+/// Float32 directions are scaled to unit length in f64 first (an f32 unit vector is unit only to
+/// ~1e-7, which at the rim of a map would read as beyond it).
+///
+/// # Panics
+/// If the call's slices differ in length.
+pub fn scalar_batch<S: Sampler + ?Sized>(s: &S, job: Batch<'_>) {
+    match job {
+        Batch::F64(job) => scalar_f64(s, job),
+        Batch::F32(job) => widened(s, job),
     }
-    fn completions(&self) -> &[crate::mapping::Completion] {
-        (**self).completions()
+}
+
+/// The f64 calls of [`scalar_batch`].
+fn scalar_f64<S: Sampler + ?Sized>(s: &S, job: Soa<'_, f64>) {
+    let n = job.len();
+    match job {
+        Soa::Sample { u, v, dir, pdf } => {
+            let [x, y, z] = dir;
+            for k in 0..n {
+                let o = s.sample([u[k], v[k]]);
+                [x[k], y[k], z[k]] = o.direction;
+                pdf[k] = o.pdf;
+            }
+        }
+        Soa::Pdf { dir, pdf } => {
+            for (k, p) in pdf.iter_mut().enumerate() {
+                *p = s.pdf([dir[0][k], dir[1][k], dir[2][k]]);
+            }
+        }
+        Soa::Invert { dir, uv } => {
+            let [u, v] = uv;
+            for k in 0..n {
+                let p = s
+                    .invert([dir[0][k], dir[1][k], dir[2][k]])
+                    .unwrap_or([f64::NAN; 2]);
+                (u[k], v[k]) = (p[0], p[1]);
+            }
+        }
     }
-    fn stages(&self, u: Point2) -> Option<crate::mapping::Stages> {
-        (**self).stages(u)
+}
+
+/// The f32 calls of [`scalar_batch`]: widened, run through the sampler's f64 batch, rounded.
+fn widened<S: Sampler + ?Sized>(s: &S, job: Soa<'_, f32>) {
+    let n = job.len();
+    let mut bi = [[0.0f64; CHUNK]; 3];
+    let mut bo = [[0.0f64; CHUNK]; 4];
+    let [o0, o1, o2, o3] = &mut bo;
+    match job {
+        Soa::Sample {
+            u,
+            v,
+            dir: [x, y, z],
+            pdf,
+        } => {
+            for r in chunks(n) {
+                let m = r.len();
+                let [bu, bv, _] = &mut bi;
+                widen(&u[r.clone()], bu);
+                widen(&v[r.clone()], bv);
+                s.batch(Batch::F64(Soa::Sample {
+                    u: &bu[..m],
+                    v: &bv[..m],
+                    dir: [&mut o0[..m], &mut o1[..m], &mut o2[..m]],
+                    pdf: &mut o3[..m],
+                }));
+                narrow(&o0[..m], &mut x[r.clone()]);
+                narrow(&o1[..m], &mut y[r.clone()]);
+                narrow(&o2[..m], &mut z[r.clone()]);
+                narrow(&o3[..m], &mut pdf[r]);
+            }
+        }
+        Soa::Pdf { dir, pdf } => {
+            for r in chunks(n) {
+                let m = r.len();
+                let dir = widen_unit(dir, r.clone(), &mut bi);
+                s.batch(Batch::F64(Soa::Pdf {
+                    dir,
+                    pdf: &mut o0[..m],
+                }));
+                narrow(&o0[..m], &mut pdf[r]);
+            }
+        }
+        Soa::Invert { dir, uv: [u, v] } => {
+            for r in chunks(n) {
+                let m = r.len();
+                let dir = widen_unit(dir, r.clone(), &mut bi);
+                s.batch(Batch::F64(Soa::Invert {
+                    dir,
+                    uv: [&mut o0[..m], &mut o1[..m]],
+                }));
+                narrow(&o0[..m], &mut u[r.clone()]);
+                narrow(&o1[..m], &mut v[r]);
+            }
+        }
     }
-    fn hds_map(&self) -> Option<MapRef<'_>> {
-        (**self).hds_map()
+}
+
+/// The ranges of at most [`CHUNK`] points that cover `0..n`.
+fn chunks(n: usize) -> impl Iterator<Item = std::ops::Range<usize>> {
+    (0..n).step_by(CHUNK).map(move |s| s..(s + CHUNK).min(n))
+}
+
+/// The f32 directions `dir[·][r]` widened into `buf` and scaled to unit length in f64
+/// ([`crate::batch::renormalise`]).
+fn widen_unit<'b>(
+    dir: [&[f32]; 3],
+    r: std::ops::Range<usize>,
+    buf: &'b mut [[f64; CHUNK]; 3],
+) -> [&'b [f64]; 3] {
+    let m = r.len();
+    for (b, d) in buf.iter_mut().zip(dir) {
+        widen(&d[r.clone()], b);
     }
-    fn sample_batch(&self, u: &[Point2], out: &mut [Sample]) {
-        (**self).sample_batch(u, out)
-    }
-    fn sample_batch_split(&self, u: &[Point2], dirs: &mut [Vec3], pdf: &mut [f64]) {
-        (**self).sample_batch_split(u, dirs, pdf)
-    }
-    fn pdf_batch(&self, dirs: &[Vec3], out: &mut [f64]) {
-        (**self).pdf_batch(dirs, out)
-    }
-    fn invert_batch(&self, dirs: &[Vec3], out: &mut [Result<Point2, InvertError>]) {
-        (**self).invert_batch(dirs, out)
-    }
-    fn sample_batch_soa(&self, u: &[f64], v: &[f64], dir: [&mut [f64]; 3], pdf: &mut [f64]) {
-        (**self).sample_batch_soa(u, v, dir, pdf)
-    }
-    fn pdf_batch_soa(&self, dir: [&[f64]; 3], pdf: &mut [f64]) {
-        (**self).pdf_batch_soa(dir, pdf)
-    }
-    fn invert_batch_soa(&self, dir: [&[f64]; 3], uv: [&mut [f64]; 2]) {
-        (**self).invert_batch_soa(dir, uv)
-    }
-    fn sample_batch_soa_f32(&self, u: &[f32], v: &[f32], dir: [&mut [f32]; 3], pdf: &mut [f32]) {
-        (**self).sample_batch_soa_f32(u, v, dir, pdf)
-    }
-    fn pdf_batch_soa_f32(&self, dir: [&[f32]; 3], pdf: &mut [f32]) {
-        (**self).pdf_batch_soa_f32(dir, pdf)
-    }
-    fn invert_batch_soa_f32(&self, dir: [&[f32]; 3], uv: [&mut [f32]; 2]) {
-        (**self).invert_batch_soa_f32(dir, uv)
-    }
+    let [x, y, z] = buf;
+    crate::batch::renormalise([&mut x[..], &mut y[..], &mut z[..]], m);
+    [&x[..m], &y[..m], &z[..m]]
 }
 
 /// f32 values widened into the first entries of an f64 buffer.
@@ -538,38 +313,206 @@ fn narrow(src: &[f64], dst: &mut [f32]) {
     }
 }
 
-/// [`Sampler::sample_batch`] on all rayon threads. Each output depends only on its own input point,
-/// so the result is identical for any number of threads.
+/// The batch forms of every sampler, adapters over its one entry [`Sampler::batch`]: arrays of
+/// structures, split outputs, structure-of-arrays slices in f64 and f32. Implemented for every
+/// [`Sampler`] (and `dyn Sampler`); nothing to implement. None allocates: the arrays of
+/// structures are transposed [`CHUNK`] points at a time through stack buffers.
+///
+/// # Panics
+/// Every method panics if its slices differ in length (a programming error, not an input error).
+pub trait Batches: Sampler {
+    /// Samples every point of `u` into the same position of `out`.
+    fn sample_batch(&self, u: &[Point2], out: &mut [Sample]) {
+        assert_eq!(u.len(), out.len(), "sample_batch: slices differ in length");
+        for (u, out) in u.chunks(CHUNK).zip(out.chunks_mut(CHUNK)) {
+            let n = u.len();
+            let [bu, bv] = split_points(u);
+            let mut o = [[0.0f64; CHUNK]; 4];
+            let [ox, oy, oz, op] = &mut o;
+            self.batch(Batch::F64(Soa::Sample {
+                u: &bu[..n],
+                v: &bv[..n],
+                dir: [&mut ox[..n], &mut oy[..n], &mut oz[..n]],
+                pdf: &mut op[..n],
+            }));
+            for (k, o) in out.iter_mut().enumerate() {
+                *o = Sample {
+                    direction: [ox[k], oy[k], oz[k]],
+                    pdf: op[k],
+                };
+            }
+        }
+    }
+
+    /// [`Batches::sample_batch`] with the directions and the densities in separate slices (the
+    /// layout of the Python package's and the C API's outputs): sample k goes to `dirs[k]` and
+    /// `pdf[k]`, the same values.
+    fn sample_batch_split(&self, u: &[Point2], dirs: &mut [Vec3], pdf: &mut [f64]) {
+        assert!(
+            u.len() == dirs.len() && u.len() == pdf.len(),
+            "sample_batch_split: slices differ in length"
+        );
+        for ((u, dirs), pdf) in u
+            .chunks(CHUNK)
+            .zip(dirs.chunks_mut(CHUNK))
+            .zip(pdf.chunks_mut(CHUNK))
+        {
+            let n = u.len();
+            let [bu, bv] = split_points(u);
+            let mut o = [[0.0f64; CHUNK]; 3];
+            let [ox, oy, oz] = &mut o;
+            self.batch(Batch::F64(Soa::Sample {
+                u: &bu[..n],
+                v: &bv[..n],
+                dir: [&mut ox[..n], &mut oy[..n], &mut oz[..n]],
+                pdf,
+            }));
+            for (k, d) in dirs.iter_mut().enumerate() {
+                *d = [ox[k], oy[k], oz[k]];
+            }
+        }
+    }
+
+    /// [`Sampler::pdf`] of every direction of `dirs` into the same position of `out`.
+    fn pdf_batch(&self, dirs: &[Vec3], out: &mut [f64]) {
+        assert_eq!(dirs.len(), out.len(), "pdf_batch: slices differ in length");
+        for (d, out) in dirs.chunks(CHUNK).zip(out.chunks_mut(CHUNK)) {
+            let n = d.len();
+            let b = split_dirs(d);
+            self.batch(Batch::F64(Soa::Pdf {
+                dir: [&b[0][..n], &b[1][..n], &b[2][..n]],
+                pdf: out,
+            }));
+        }
+    }
+
+    /// [`Sampler::invert`] of every direction of `dirs` into the same position of `out`: the
+    /// batch inverse, and where it has no point, the scalar `invert`'s reason
+    /// ([`InvertError::ZeroDensity`] where the batch's density is 0 and the scalar call maps).
+    fn invert_batch(&self, dirs: &[Vec3], out: &mut [Result<Point2, InvertError>]) {
+        assert_eq!(
+            dirs.len(),
+            out.len(),
+            "invert_batch: slices differ in length"
+        );
+        for (d, out) in dirs.chunks(CHUNK).zip(out.chunks_mut(CHUNK)) {
+            let n = d.len();
+            let b = split_dirs(d);
+            let (mut u, mut v) = ([0.0f64; CHUNK], [0.0f64; CHUNK]);
+            self.batch(Batch::F64(Soa::Invert {
+                dir: [&b[0][..n], &b[1][..n], &b[2][..n]],
+                uv: [&mut u[..n], &mut v[..n]],
+            }));
+            for (k, o) in out.iter_mut().enumerate() {
+                // One store per branch: a `Result` built first and then copied was stored with
+                // unaligned moves that stalled on store forwarding (30 % of the inverse's time).
+                if u[k].is_nan() || v[k].is_nan() {
+                    *o = Err(no_preimage(self, d[k]));
+                } else {
+                    *o = Ok([u[k], v[k]]);
+                }
+            }
+        }
+    }
+
+    /// Maps the points `(u[k], v[k])` of the unit square to directions
+    /// `(dir[0][k], dir[1][k], dir[2][k])` and their densities `pdf[k]` (per steradian).
+    fn sample_batch_soa(&self, u: &[f64], v: &[f64], dir: [&mut [f64]; 3], pdf: &mut [f64]) {
+        self.batch(Batch::F64(Soa::Sample { u, v, dir, pdf }))
+    }
+
+    /// The density (per steradian) at each unit direction `(dir[0][k], dir[1][k], dir[2][k])`
+    /// into `pdf[k]`.
+    fn pdf_batch_soa(&self, dir: [&[f64]; 3], pdf: &mut [f64]) {
+        self.batch(Batch::F64(Soa::Pdf { dir, pdf }))
+    }
+
+    /// The point `(uv[0][k], uv[1][k])` of the unit square of each unit direction, NaN in both
+    /// coordinates where [`Sampler::invert`] gives an error.
+    fn invert_batch_soa(&self, dir: [&[f64]; 3], uv: [&mut [f64]; 2]) {
+        self.batch(Batch::F64(Soa::Invert { dir, uv }))
+    }
+
+    /// [`Batches::sample_batch_soa`] in float32: the sampler's float32 map where it has one (the
+    /// HDS maps' [`crate::mapping::Float32Map`]: f32 tables and arithmetic, its own exact
+    /// density), else the f64 map rounded once ([`scalar_batch`]).
+    fn sample_batch_soa_f32(&self, u: &[f32], v: &[f32], dir: [&mut [f32]; 3], pdf: &mut [f32]) {
+        self.batch(Batch::F32(Soa::Sample { u, v, dir, pdf }))
+    }
+
+    /// [`Batches::pdf_batch_soa`] in float32 at f32 unit directions (unit to within f32
+    /// rounding).
+    fn pdf_batch_soa_f32(&self, dir: [&[f32]; 3], pdf: &mut [f32]) {
+        self.batch(Batch::F32(Soa::Pdf { dir, pdf }))
+    }
+
+    /// [`Batches::invert_batch_soa`] in float32 (NaN where there is no preimage).
+    fn invert_batch_soa_f32(&self, dir: [&[f32]; 3], uv: [&mut [f32]; 2]) {
+        self.batch(Batch::F32(Soa::Invert { dir, uv }))
+    }
+}
+
+impl<S: Sampler + ?Sized> Batches for S {}
+
+/// Why a direction has no preimage (the batch gave NaN): the scalar call's reason, or
+/// [`InvertError::ZeroDensity`] where the scalar call maps but the batch's density is 0.
+#[cold]
+#[inline(never)]
+fn no_preimage<S: Sampler + ?Sized>(s: &S, d: Vec3) -> InvertError {
+    match s.invert(d) {
+        Err(e) => e,
+        Ok(_) => InvertError::ZeroDensity,
+    }
+}
+
+/// Transposes points into two stack arrays.
+fn split_points(u: &[Point2]) -> [[f64; CHUNK]; 2] {
+    let mut b = [[0.0f64; CHUNK]; 2];
+    for (k, p) in u.iter().enumerate() {
+        b[0][k] = p[0];
+        b[1][k] = p[1];
+    }
+    b
+}
+
+/// Transposes directions into three stack arrays.
+fn split_dirs(d: &[Vec3]) -> [[f64; CHUNK]; 3] {
+    let mut b = [[0.0f64; CHUNK]; 3];
+    for (k, d) in d.iter().enumerate() {
+        b[0][k] = d[0];
+        b[1][k] = d[1];
+        b[2][k] = d[2];
+    }
+    b
+}
+
+/// [`Sampler::batch`] on all rayon threads, [`crate::batch::PAR_CHUNK`] points a task
+/// ([`crate::batch::par`]). Each output depends only on its own input point, so the result is
+/// identical for any number of threads.
+///
+/// # Panics
+/// If the call's slices differ in length.
+pub fn batch_par<S: Sampler + ?Sized>(sampler: &S, job: Batch<'_>) {
+    par(job, &|j| sampler.batch(j))
+}
+
+/// [`Batches::sample_batch`] on all rayon threads (see [`batch_par`]).
 ///
 /// # Panics
 /// If the two slices differ in length.
 pub fn sample_batch_par<S: Sampler + ?Sized>(sampler: &S, u: &[Point2], out: &mut [Sample]) {
-    assert_eq!(
-        u.len(),
-        out.len(),
-        "sample_batch_par: slices differ in length"
-    );
-    out.par_chunks_mut(PAR_CHUNK)
-        .zip(u.par_chunks(PAR_CHUNK))
-        .for_each(|(o, p)| sampler.sample_batch(p, o));
+    par((u, out), &|(u, o)| sampler.sample_batch(u, o))
 }
 
-/// [`Sampler::pdf_batch`] for every direction, on all rayon threads.
+/// [`Batches::pdf_batch`] for every direction, on all rayon threads (see [`batch_par`]).
 ///
 /// # Panics
 /// If the two slices differ in length.
 pub fn pdf_batch_par<S: Sampler + ?Sized>(sampler: &S, dirs: &[Vec3], out: &mut [f64]) {
-    assert_eq!(
-        dirs.len(),
-        out.len(),
-        "pdf_batch_par: slices differ in length"
-    );
-    out.par_chunks_mut(PAR_CHUNK)
-        .zip(dirs.par_chunks(PAR_CHUNK))
-        .for_each(|(o, d)| sampler.pdf_batch(d, o));
+    par((dirs, out), &|(d, o)| sampler.pdf_batch(d, o))
 }
 
-/// [`Sampler::invert_batch`] on all rayon threads (the result does not depend on their number).
+/// [`Batches::invert_batch`] on all rayon threads (see [`batch_par`]).
 ///
 /// # Panics
 /// If the two slices differ in length.
@@ -578,86 +521,7 @@ pub fn invert_batch_par<S: Sampler + ?Sized>(
     dirs: &[Vec3],
     out: &mut [Result<Point2, InvertError>],
 ) {
-    assert_eq!(
-        dirs.len(),
-        out.len(),
-        "invert_batch_par: slices differ in length"
-    );
-    out.par_chunks_mut(PAR_CHUNK)
-        .zip(dirs.par_chunks(PAR_CHUNK))
-        .for_each(|(o, d)| sampler.invert_batch(d, o));
-}
-
-/// [`Sampler::sample_batch_soa`] on all rayon threads, [`PAR_CHUNK`] points a task. Each output
-/// depends only on its own input point, so the result is identical for any number of threads.
-///
-/// # Panics
-/// If the slices differ in length.
-pub fn sample_batch_soa_par<S: Sampler + ?Sized>(
-    sampler: &S,
-    u: &[f64],
-    v: &[f64],
-    dir: [&mut [f64]; 3],
-    pdf: &mut [f64],
-) {
-    let [x, y, z] = dir;
-    check_len(
-        "sample_batch_soa_par",
-        u.len(),
-        &[v.len(), x.len(), y.len(), z.len(), pdf.len()],
-    );
-    x.par_chunks_mut(PAR_CHUNK)
-        .zip(y.par_chunks_mut(PAR_CHUNK))
-        .zip(z.par_chunks_mut(PAR_CHUNK))
-        .zip(pdf.par_chunks_mut(PAR_CHUNK))
-        .zip(u.par_chunks(PAR_CHUNK).zip(v.par_chunks(PAR_CHUNK)))
-        .for_each(|((((x, y), z), p), (u, v))| sampler.sample_batch_soa(u, v, [x, y, z], p));
-}
-
-/// [`Sampler::pdf_batch_soa`] on all rayon threads (see [`sample_batch_soa_par`]).
-///
-/// # Panics
-/// If the slices differ in length.
-pub fn pdf_batch_soa_par<S: Sampler + ?Sized>(sampler: &S, dir: [&[f64]; 3], pdf: &mut [f64]) {
-    check_len(
-        "pdf_batch_soa_par",
-        pdf.len(),
-        &[dir[0].len(), dir[1].len(), dir[2].len()],
-    );
-    pdf.par_chunks_mut(PAR_CHUNK)
-        .zip(dir[0].par_chunks(PAR_CHUNK))
-        .zip(
-            dir[1]
-                .par_chunks(PAR_CHUNK)
-                .zip(dir[2].par_chunks(PAR_CHUNK)),
-        )
-        .for_each(|((p, x), (y, z))| sampler.pdf_batch_soa([x, y, z], p));
-}
-
-/// [`Sampler::invert_batch_soa`] on all rayon threads (see [`sample_batch_soa_par`]).
-///
-/// # Panics
-/// If the slices differ in length.
-pub fn invert_batch_soa_par<S: Sampler + ?Sized>(
-    sampler: &S,
-    dir: [&[f64]; 3],
-    uv: [&mut [f64]; 2],
-) {
-    let [u, v] = uv;
-    check_len(
-        "invert_batch_soa_par",
-        u.len(),
-        &[v.len(), dir[0].len(), dir[1].len(), dir[2].len()],
-    );
-    u.par_chunks_mut(PAR_CHUNK)
-        .zip(v.par_chunks_mut(PAR_CHUNK))
-        .zip(dir[0].par_chunks(PAR_CHUNK))
-        .zip(
-            dir[1]
-                .par_chunks(PAR_CHUNK)
-                .zip(dir[2].par_chunks(PAR_CHUNK)),
-        )
-        .for_each(|(((u, v), x), (y, z))| sampler.invert_batch_soa([x, y, z], [u, v]));
+    par((dirs, out), &|(d, o)| sampler.invert_batch(d, o))
 }
 
 /// Polar angle θ (radians from +z) and azimuth φ in [0, 2π) (radians from +x toward +y) of a unit

@@ -8,6 +8,7 @@
 use gonio::mapping::batch::{invert_soa_par, pdf_soa_par, sample_soa_par, SoaSampler};
 use gonio::mapping::simd::{Backend, BatchFloat};
 use gonio::synthetic::{example_luminaire, random_hemisphere, Family};
+use gonio::Batches;
 use gonio::{HemisphereMap, Sampler, SphereLayout, SphereMap};
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
@@ -563,7 +564,8 @@ fn sample_batch_split_equals_sample_batch() {
                 gonio::Domain::Sphere,
                 &Default::default(),
             )
-            .unwrap(),
+            .unwrap()
+            .into_boxed(),
     ));
     for (name, s) in &samplers {
         for n in [0, 1, 255, 256, 257, 1000] {

@@ -17,6 +17,7 @@
 
 mod common;
 
+use gonio::batch::Soa;
 use gonio::mapping::simd::Backend;
 use gonio::mapping::{Float32Exact, Float32Map};
 use gonio::synthetic::{example_luminaire, random_hemisphere, Family};
@@ -355,14 +356,25 @@ fn bits_do_not_depend_on_backend_length_or_threads() {
                 let mut p = vec![0f32; n];
                 {
                     let [x, y, z] = &mut d;
-                    c.f32map.sample_soa_par(&big.0, &big.1, [x, y, z], &mut p);
+                    c.f32map.batch_par(Soa::Sample {
+                        u: &big.0,
+                        v: &big.1,
+                        dir: [x, y, z],
+                        pdf: &mut p,
+                    });
                 }
                 let mut q = vec![0f32; n];
-                c.f32map.pdf_soa_par([&d[0], &d[1], &d[2]], &mut q);
+                c.f32map.batch_par(Soa::Pdf {
+                    dir: [&d[0], &d[1], &d[2]],
+                    pdf: &mut q,
+                });
                 let mut w = [vec![0f32; n], vec![0f32; n]];
                 {
                     let [a, b] = &mut w;
-                    c.f32map.invert_soa_par([&d[0], &d[1], &d[2]], [a, b]);
+                    c.f32map.batch_par(Soa::Invert {
+                        dir: [&d[0], &d[1], &d[2]],
+                        uv: [a, b],
+                    });
                 }
                 d.iter()
                     .chain([&p, &q])

@@ -2,6 +2,7 @@
 //! docs/DERIVATION.md §12.2.
 
 use gonio::synthetic::{random_hemisphere, Family};
+use gonio::Batches;
 use gonio::{Diagram, HemisphereMap, Sampler, SphereMap};
 use proptest::prelude::*;
 use rand::{Rng, SeedableRng};

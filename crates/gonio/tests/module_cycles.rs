@@ -256,3 +256,58 @@ fn paths_are_read_as_rust_resolves_them() {
     ];
     assert_eq!(got, want);
 }
+
+/// Issue 36: the sampler contract (`sampler.rs`) is the bottom of the library's layers: it names
+/// nothing of the HDS mapping (no `crate::mapping` path, none of the map's types through the
+/// crate root), and the `Sampler` trait has at most ten methods.
+#[test]
+fn the_sampler_contract_names_nothing_of_the_mapping_and_stays_narrow() {
+    let all = edges();
+    let g = &all["gonio"];
+    let sampler = vec!["sampler".to_string()];
+    let into_mapping: Vec<String> = g[&sampler]
+        .iter()
+        .filter(|t| t.first().is_some_and(|s| s == "mapping"))
+        .map(show)
+        .collect();
+    assert!(into_mapping.is_empty(), "sampler imports {into_mapping:?}");
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src/sampler.rs");
+    let text = std::fs::read_to_string(src).expect("sampler.rs is readable");
+    let code: Vec<&str> = text
+        .lines()
+        .filter(|l| !l.trim_start().starts_with("//"))
+        .collect();
+    for name in [
+        "HemisphereMap",
+        "SphereMap",
+        "MapRef",
+        "Refinement",
+        "Completion",
+        "Stages",
+    ] {
+        assert!(
+            !code.iter().any(|l| l.contains(name)),
+            "sampler.rs names {name}"
+        );
+    }
+    // The trait's methods: the `fn` lines between `pub trait Sampler` and its closing brace.
+    let start = code
+        .iter()
+        .position(|l| l.starts_with("pub trait Sampler"))
+        .expect("the Sampler trait");
+    let end = start
+        + code[start..]
+            .iter()
+            .position(|l| *l == "}")
+            .expect("the trait's end");
+    let methods: Vec<&str> = code[start..end]
+        .iter()
+        .filter(|l| l.trim_start().starts_with("fn "))
+        .copied()
+        .collect();
+    assert!(
+        (7..=10).contains(&methods.len()),
+        "{} methods: {methods:#?}",
+        methods.len()
+    );
+}

@@ -21,7 +21,7 @@
 use gonio::baselines::{Bilinear, PiecewiseConstant, Rejection, MIN_ACCEPTANCE};
 use gonio::check::{run_battery, BatteryOptions, Status};
 use gonio::sampler::{direction, Domain, InvertError, Sampler};
-use gonio::{BuildError, BuildOptions, Diagram, Method};
+use gonio::{BuildError, BuildOptions, Built, Diagram, Method};
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use std::f64::consts::{FRAC_PI_2, PI};
@@ -179,7 +179,8 @@ struct Expect {
 }
 
 /// Every check of the contract for one sampler on one case.
-fn check_contract(s: &dyn Sampler, case: &Case, expect: Expect, seed: u64) {
+fn check_contract(built: &Built, case: &Case, expect: Expect, seed: u64) {
+    let s: &dyn Sampler = &**built;
     let Expect {
         invertible,
         pdf_is_target,
@@ -261,7 +262,7 @@ fn check_contract(s: &dyn Sampler, case: &Case, expect: Expect, seed: u64) {
     // The whole battery, as `gonio check --quick` runs it: the sampler claims its own bound and the
     // flux check integrates the power of its own target.
     let mut opts = BatteryOptions::quick().with_seed(seed);
-    opts.ratio.claimed_bound = s.ratio_bound();
+    opts.ratio.claimed_bound = built.ratio_bound();
     opts.flux_total = s.target_power();
     let report = run_battery(s, &opts);
     if support_is_target {
@@ -340,7 +341,7 @@ fn every_method_on_every_case() {
             assert_eq!(s.name(), method.as_str());
             let (invertible, pdf_is_target, support_is_target) = expectations(method, case);
             check_contract(
-                s.as_ref(),
+                &s,
                 case,
                 Expect {
                     invertible,

@@ -8,9 +8,11 @@
 // Columns of the structure-of-arrays outputs are indexed by component on purpose.
 #![allow(clippy::needless_range_loop)]
 
+use gonio::batch::Soa as Job;
 use gonio::mapping::batch::SoaSampler;
 use gonio::mapping::Float32Map;
 use gonio::synthetic::{example_luminaire, random_hemisphere, Family};
+use gonio::Batches;
 use gonio::{Diagram, Domain, HemisphereMap, Method, Sampler, SphereLayout, SphereMap};
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
@@ -125,7 +127,7 @@ fn widen_unit(d: [f32; 3]) -> [f64; 3] {
     w.map(|c| c * s)
 }
 
-fn baselines() -> Vec<(String, Box<dyn Sampler>)> {
+fn baselines() -> Vec<(String, gonio::Built<'static>)> {
     let hemi = random_hemisphere(Family::ZeroHeavy, 9, 12, true, 4);
     let lum = example_luminaire();
     let mut v = Vec::new();
@@ -329,7 +331,16 @@ fn parallel_helpers_equal_the_serial_calls() {
             let mut o: [Vec<f64>; 4] = std::array::from_fn(|_| vec![0.0; n]);
             let [x, y, z, p] = &mut o;
             if par {
-                gonio::sampler::sample_batch_soa_par(s, &u, &v, [x, y, z], p);
+                gonio::sampler::batch_par(
+                    s,
+                    Job::Sample {
+                        u: &u,
+                        v: &v,
+                        dir: [x, y, z],
+                        pdf: p,
+                    }
+                    .into(),
+                );
             } else {
                 s.sample_batch_soa(&u, &v, [x, y, z], p);
             }
@@ -337,8 +348,22 @@ fn parallel_helpers_equal_the_serial_calls() {
             let mut inv: [Vec<f64>; 2] = std::array::from_fn(|_| vec![0.0; N]);
             let [iu, iv] = &mut inv;
             if par {
-                gonio::sampler::pdf_batch_soa_par(s, dr, &mut pdf);
-                gonio::sampler::invert_batch_soa_par(s, dr, [iu, iv]);
+                gonio::sampler::batch_par(
+                    s,
+                    Job::Pdf {
+                        dir: dr,
+                        pdf: &mut pdf,
+                    }
+                    .into(),
+                );
+                gonio::sampler::batch_par(
+                    s,
+                    Job::Invert {
+                        dir: dr,
+                        uv: [iu, iv],
+                    }
+                    .into(),
+                );
             } else {
                 s.pdf_batch_soa(dr, &mut pdf);
                 s.invert_batch_soa(dr, [iu, iv]);
@@ -394,8 +419,6 @@ fn the_environment_map_forwards_to_its_sphere_map() {
         .map(|i| 0.1 + ((i * 37) % 11) as f32)
         .collect();
     let env = EnvironmentMap::new(Image::new(w, h, rgb).unwrap()).unwrap();
-    let Some(gonio::MapRef::Sphere(map)) = env.hds_map() else {
-        panic!("an environment map is a sphere map");
-    };
+    let map = env.map();
     check_hds("environment map", map, map.float32().unwrap(), &env);
 }

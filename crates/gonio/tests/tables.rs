@@ -12,6 +12,7 @@ use gonio::envmap::EnvironmentMap;
 use gonio::image::Image;
 use gonio::mapping::blob::{self, Frame, MapTables, Precision, ReadMap, TablesError, Target};
 use gonio::synthetic::{random_hemisphere, Family};
+use gonio::Batches;
 use gonio::{Diagram, HemisphereMap, MapRef, Sampler, SphereLayout, SphereMap};
 
 /// Radical inverse in `base`.
@@ -71,15 +72,16 @@ fn bits64(a: &[f64]) -> Vec<u64> {
 /// (the sampler's `*_batch_soa` for f64, `*_batch_soa_f32` for f32) bit for bit on `n` points,
 /// their directions and the extra directions; the f32 blob written again from the map read back
 /// is the same bytes. Returns the blob.
-fn round_trip(
+fn round_trip<'m>(
     what: &str,
-    sampler: &dyn Sampler,
+    map: impl Into<MapRef<'m>>,
     precision: Precision,
     frame: Frame,
     target: &Target<'_>,
     n: usize,
 ) -> Vec<u8> {
-    let map = sampler.hds_map().expect("an HDS map");
+    let map = map.into();
+    let sampler = map.sampler();
     let bytes = blob::write(map, precision, frame, target).unwrap();
     assert_eq!(bytes.len() % 64, 0);
     let back: MapTables = blob::read(&bytes).unwrap_or_else(|e| panic!("{what}: {e}"));
@@ -219,10 +221,11 @@ fn round_trip(
     bytes
 }
 
-fn both(what: &str, sampler: &dyn Sampler, frame: Frame, target: &Target<'_>, n: usize) {
+fn both<'m>(what: &str, map: impl Into<MapRef<'m>>, frame: Frame, target: &Target<'_>, n: usize) {
+    let map = map.into();
     round_trip(
         &format!("{what} f32"),
-        sampler,
+        map,
         Precision::F32,
         frame,
         target,
@@ -230,7 +233,7 @@ fn both(what: &str, sampler: &dyn Sampler, frame: Frame, target: &Target<'_>, n:
     );
     round_trip(
         &format!("{what} f64"),
-        sampler,
+        map,
         Precision::F64,
         frame,
         target,
@@ -351,7 +354,7 @@ fn environment_maps_round_trip_with_their_image() {
         for p in [Precision::F32, Precision::F64] {
             let bytes = round_trip(
                 &format!("sky {lookup:?}"),
-                &env,
+                env.map(),
                 p,
                 Frame::EnvironmentMap,
                 &t,
@@ -410,7 +413,7 @@ fn the_shared_environment_maps_round_trip() {
         };
         both(
             &f.display().to_string(),
-            &env,
+            env.map(),
             Frame::EnvironmentMap,
             &t,
             20_000,

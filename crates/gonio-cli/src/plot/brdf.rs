@@ -115,6 +115,7 @@ where
         title: String::new(),
         diagram: plot.diagram,
         sampler: plot.sampler,
+        map: None,
         samples: 0,
         seed: 0,
         photometric: false,

@@ -128,10 +128,12 @@ pub struct PlotInput<'a> {
     pub title: String,
     /// The (expanded) diagram in the gonio frame: θ from +z, φ from +x; values e.g. in candela.
     pub diagram: &'a gonio::Diagram,
-    /// The sampler whose pdf, samples and target are drawn. `warp` draws the intermediate stages
-    /// of samplers that have them ([`gonio::Sampler::stages`]); `ratio` marks the guaranteed range
-    /// of pdf / target of samplers that have one ([`gonio::Sampler::ratio_bound`]).
+    /// The sampler whose pdf, samples and target are drawn.
     pub sampler: &'a dyn gonio::Sampler,
+    /// The HDS map behind the sampler, if it is one: `warp` draws the intermediate stages of its
+    /// map ([`gonio::MapRef::stages`]); `ratio` marks its guaranteed range of pdf / target
+    /// ([`gonio::MapRef::ratio_bound`]).
+    pub map: Option<gonio::MapRef<'a>>,
     /// Number of points: Halton points for `warp`, iid samples for `density` (0: the kind's default).
     pub samples: usize,
     /// Seed of the iid samples of `density`.
@@ -289,6 +291,7 @@ pub fn run(args: &PlotArgs) -> Result<()> {
         title,
         diagram: &loaded.diagram,
         sampler: sampler.as_ref(),
+        map: sampler.hds_map(),
         samples: args.samples.unwrap_or(0),
         seed: args.seed,
         photometric: loaded.kind.is_photometric(),

@@ -71,7 +71,7 @@ where
         }
     }
     // Include the guaranteed bound when it lies not far beyond what the grid shows.
-    if let Some((a, b)) = input.sampler.ratio_bound() {
+    if let Some((a, b)) = input.map.map(gonio::MapRef::ratio_bound) {
         for r in [a, b] {
             if r > 0.0 && r.is_finite() && r.ln().abs() <= 2.0 * extent {
                 extent = extent.max(r.ln().abs());
@@ -80,7 +80,7 @@ where
     }
     let extent = extent.min(100f64.ln()) * 1.05;
 
-    let bound = match input.sampler.ratio_bound() {
+    let bound = match input.map.map(gonio::MapRef::ratio_bound) {
         Some((a, b)) => format!("guaranteed [{a:.4}, {b:.4}]"),
         None => "no guaranteed bound".to_string(),
     };
@@ -134,7 +134,7 @@ where
         .collect();
     let ticks = thin_ticks(&ticks, 0.18 * extent);
     let mut marks = Vec::new();
-    if let Some((a, b)) = input.sampler.ratio_bound() {
+    if let Some((a, b)) = input.map.map(gonio::MapRef::ratio_bound) {
         if a > 0.0 {
             let y = a.ln();
             let text = if y < -extent { "min ↓" } else { "min" };

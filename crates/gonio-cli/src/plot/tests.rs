@@ -1,6 +1,6 @@
 use super::*;
 use gonio::synthetic::{example_luminaire, random_hemisphere, Family};
-use gonio::{Diagram, HemisphereMap, Method, Sampler, SphereMap};
+use gonio::{Diagram, HemisphereMap, MapRef, Method, Sampler, SphereMap};
 use std::path::PathBuf;
 
 /// A fresh directory under the system temp dir for one test.
@@ -17,11 +17,18 @@ fn hemisphere() -> (Diagram, HemisphereMap) {
     (d, m)
 }
 
-fn input<'a>(title: &str, d: &'a Diagram, s: &'a dyn Sampler, photometric: bool) -> PlotInput<'a> {
+fn input<'a>(
+    title: &str,
+    d: &'a Diagram,
+    s: &'a dyn Sampler,
+    map: Option<MapRef<'a>>,
+    photometric: bool,
+) -> PlotInput<'a> {
     PlotInput {
         title: title.to_string(),
         diagram: d,
         sampler: s,
+        map,
         samples: 3000,
         seed: 1,
         photometric,
@@ -61,7 +68,7 @@ fn check_all_kinds(dir: &Path, tag: &str, input: &PlotInput) {
 fn every_kind_renders_a_hemisphere_map() {
     let dir = temp_dir("hemi");
     let (d, m) = hemisphere();
-    let inp = input("tiny-hemi", &d, &m, false);
+    let inp = input("tiny-hemi", &d, &m, Some(MapRef::Hemisphere(&m)), false);
     check_all_kinds(&dir, "hemi", &inp);
     std::fs::remove_dir_all(&dir).unwrap();
 }
@@ -71,7 +78,7 @@ fn every_kind_renders_a_sphere_map_photometric() {
     let dir = temp_dir("sphere");
     let d = example_luminaire();
     let m = SphereMap::new(&d).unwrap();
-    let inp = input("tiny-sphere", &d, &m, true);
+    let inp = input("tiny-sphere", &d, &m, Some(MapRef::Sphere(&m)), true);
     check_all_kinds(&dir, "sphere", &inp);
     std::fs::remove_dir_all(&dir).unwrap();
 }
@@ -83,7 +90,7 @@ fn every_kind_renders_a_baseline() {
     let b = gonio::Method::Bilinear
         .build(&d, gonio::Domain::Hemisphere)
         .unwrap();
-    let inp = input("tiny-bilinear", &d, b.as_ref(), false);
+    let inp = input("tiny-bilinear", &d, b.as_ref(), None, false);
     check_all_kinds(&dir, "baseline", &inp);
     std::fs::remove_dir_all(&dir).unwrap();
 }
@@ -92,7 +99,7 @@ fn every_kind_renders_a_baseline() {
 fn unsupported_extension_is_an_error() {
     let dir = temp_dir("ext");
     let (d, m) = hemisphere();
-    let inp = input("x", &d, &m, false);
+    let inp = input("x", &d, &m, Some(MapRef::Hemisphere(&m)), false);
     for name in ["out.jpg", "out", "out.pdf"] {
         let err = render(PlotKind::Polar, &inp, &dir.join(name), 400, 300).unwrap_err();
         assert!(err.to_string().contains(".png or .svg"), "{err}");
@@ -107,7 +114,7 @@ fn unsupported_extension_is_an_error() {
 fn bad_size_and_zero_samples_are_errors() {
     let dir = temp_dir("size");
     let (d, m) = hemisphere();
-    let inp = input("x", &d, &m, false);
+    let inp = input("x", &d, &m, Some(MapRef::Hemisphere(&m)), false);
     assert!(render(PlotKind::Polar, &inp, &dir.join("a.png"), 10, 10).is_err());
     std::fs::remove_dir_all(&dir).unwrap();
 }
@@ -126,7 +133,7 @@ fn kinds_parse_and_print() {
 #[test]
 fn histogram_of_the_hds_map_matches_its_pdf() {
     let (d, m) = hemisphere();
-    let inp = input("x", &d, &m, false);
+    let inp = input("x", &d, &m, Some(MapRef::Hemisphere(&m)), false);
     let n = 200_000;
     let h = density::histogram(&inp, n, 24, 8);
     assert_eq!(h.outside, 0);
@@ -149,7 +156,7 @@ fn histogram_of_the_hds_map_matches_its_pdf() {
 #[test]
 fn ratio_of_the_hds_map_lies_within_its_bound() {
     let (d, m) = hemisphere();
-    let inp = input("x", &d, &m, false);
+    let inp = input("x", &d, &m, Some(MapRef::Hemisphere(&m)), false);
     let grid = grid::Grid::new(gonio::Domain::Hemisphere, 60, 20);
     let (lo, hi) = m.ratio_bound();
     for r in ratio::ratio_grid(&inp, &grid) {
@@ -306,7 +313,7 @@ fn polar_draws_type_b_in_its_h_and_v_planes() {
     assert_eq!(p.photometric_type, PhotometricType::B);
     let d = p.to_diagram().unwrap();
     let map = SphereMap::new(&d).unwrap();
-    let mut inp = input("type B", &d, &map, true);
+    let mut inp = input("type B", &d, &map, Some(MapRef::Sphere(&map)), true);
     inp.hv_photometry = Some(&p);
     let thetas: Vec<f64> = (90..=180)
         .step_by(5)

@@ -61,33 +61,32 @@ fn rect_point(d: Vec3) -> (f64, f64) {
 fn panels(input: &PlotInput, u: &[Point2]) -> Vec<Panel> {
     let square = Panel::Square(u.iter().map(|p| (p[0], p[1])).collect());
     let photometric = input.photometric;
-    let staged: Option<(Vec<Option<gonio::mapping::Stages>>, String, f64)> =
-        match input.sampler.hds_map() {
-            Some(MapRef::Hemisphere(map)) => Some((
+    let staged: Option<(Vec<Option<gonio::mapping::Stages>>, String, f64)> = match input.map {
+        Some(MapRef::Hemisphere(map)) => Some((
+            u.iter().map(|&p| Some(map.stages(p))).collect(),
+            String::new(),
+            1.0,
+        )),
+        Some(MapRef::Sphere(map)) => match map.lower_probability() {
+            Some(p_lower) => {
+                let lower = p_lower >= 0.5;
+                let side = if lower { "lower" } else { "upper" };
+                Some((
+                    u.iter()
+                        .map(|&p| Some(map.stages(p)).filter(|s| s.lower == lower))
+                        .collect(),
+                    format!(" ({side}-hemisphere map)"),
+                    1.0,
+                ))
+            }
+            None => Some((
                 u.iter().map(|&p| Some(map.stages(p))).collect(),
-                String::new(),
-                1.0,
+                " (Lambert sphere)".into(),
+                std::f64::consts::SQRT_2,
             )),
-            Some(MapRef::Sphere(map)) => match map.lower_probability() {
-                Some(p_lower) => {
-                    let lower = p_lower >= 0.5;
-                    let side = if lower { "lower" } else { "upper" };
-                    Some((
-                        u.iter()
-                            .map(|&p| Some(map.stages(p)).filter(|s| s.lower == lower))
-                            .collect(),
-                        format!(" ({side}-hemisphere map)"),
-                        1.0,
-                    ))
-                }
-                None => Some((
-                    u.iter().map(|&p| Some(map.stages(p))).collect(),
-                    " (Lambert sphere)".into(),
-                    std::f64::consts::SQRT_2,
-                )),
-            },
-            None => None,
-        };
+        },
+        None => None,
+    };
     match staged {
         Some((st, which, d_extent)) => {
             let nan = (f64::NAN, f64::NAN);
@@ -241,7 +240,7 @@ where
         })
         .collect();
     let radius = if n <= 4000 { 2 } else { 1 };
-    let stages = if input.sampler.stages([0.5, 0.5]).is_some() {
+    let stages = if input.map.is_some() {
         "through the stages of the HDS map"
     } else {
         "mapped to directions"

@@ -249,7 +249,7 @@ pub struct ChiSquareReport {
 /// The chi-square test on `opts.samples` iid points of a [`Random`] stream seeded with
 /// `opts.seed`: expected counts are `samples · ∫_bin pdf dω` (Gauss–Legendre per bin, no
 /// renormalisation, so a pdf that does not integrate to 1 fails), observed counts come from
-/// [`Sampler::sample_batch`] in parallel chunks.
+/// [`crate::Batches::sample_batch`] in parallel chunks.
 pub fn chi_square_test(sampler: &dyn Sampler, opts: &ChiSquareOptions) -> ChiSquareReport {
     chi_square_test_with_progress(sampler, opts, None, &|_| {})
 }

@@ -61,7 +61,7 @@ pub use peers::LatLongPiecewiseConstant;
 use crate::diagram::{Diagram, DiagramError};
 use crate::image::Image;
 use crate::mapping::SphereMap;
-use crate::sampler::{normalize, InvertError, Point2, Sampler, Vec3};
+use crate::sampler::{normalize, Batches, InvertError, Point2, Sampler, Vec3};
 use std::f64::consts::{PI, TAU};
 
 /// What the sampling density is proportional to, per pixel.
@@ -307,7 +307,7 @@ impl EnvironmentMap {
     }
 
     /// [`EnvironmentMap::sample`] of every point of `u` through the sphere map's SIMD batch path
-    /// ([`Sampler::sample_batch_split`]) and the batch radiance lookup
+    /// ([`Batches::sample_batch_split`]) and the batch radiance lookup
     /// ([`EnvironmentMap::eval_batch`]): sample k's direction goes to `dirs[k]`, its density to
     /// `pdf[k]` and the radiance in that direction to `rgb[k]`. Allocates nothing.
     ///
@@ -690,44 +690,8 @@ impl Sampler for EnvironmentMap {
     fn target_power(&self) -> f64 {
         self.map.target_power()
     }
-    fn ratio_bound(&self) -> Option<(f64, f64)> {
-        Some(self.map.ratio_bound())
-    }
-    fn hds_map(&self) -> Option<crate::sampler::MapRef<'_>> {
-        Some(crate::sampler::MapRef::Sphere(&self.map))
-    }
-    fn stages(&self, u: Point2) -> Option<crate::mapping::Stages> {
-        Some(self.map.stages(u))
-    }
-    fn sample_batch(&self, u: &[Point2], out: &mut [crate::Sample]) {
-        self.map.sample_batch(u, out)
-    }
-    fn sample_batch_split(&self, u: &[Point2], dirs: &mut [Vec3], pdf: &mut [f64]) {
-        self.map.sample_batch_split(u, dirs, pdf)
-    }
-    fn pdf_batch(&self, dirs: &[Vec3], out: &mut [f64]) {
-        self.map.pdf_batch(dirs, out)
-    }
-    fn invert_batch(&self, dirs: &[Vec3], out: &mut [Result<Point2, InvertError>]) {
-        self.map.invert_batch(dirs, out)
-    }
-    fn sample_batch_soa(&self, u: &[f64], v: &[f64], dir: [&mut [f64]; 3], pdf: &mut [f64]) {
-        self.map.sample_batch_soa(u, v, dir, pdf)
-    }
-    fn pdf_batch_soa(&self, dir: [&[f64]; 3], pdf: &mut [f64]) {
-        self.map.pdf_batch_soa(dir, pdf)
-    }
-    fn invert_batch_soa(&self, dir: [&[f64]; 3], uv: [&mut [f64]; 2]) {
-        self.map.invert_batch_soa(dir, uv)
-    }
-    fn sample_batch_soa_f32(&self, u: &[f32], v: &[f32], dir: [&mut [f32]; 3], pdf: &mut [f32]) {
-        self.map.sample_batch_soa_f32(u, v, dir, pdf)
-    }
-    fn pdf_batch_soa_f32(&self, dir: [&[f32]; 3], pdf: &mut [f32]) {
-        self.map.pdf_batch_soa_f32(dir, pdf)
-    }
-    fn invert_batch_soa_f32(&self, dir: [&[f32]; 3], uv: [&mut [f32]; 2]) {
-        self.map.invert_batch_soa_f32(dir, uv)
+    fn batch(&self, job: crate::batch::Batch<'_>) {
+        self.map.batch(job)
     }
 }
 

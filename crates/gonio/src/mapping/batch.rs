@@ -34,10 +34,10 @@
 //! ```
 
 use super::simd::{Backend, BatchFloat};
-use crate::sampler::{InvertError, Point2, Sample, Sampler, Vec3};
-use rayon::prelude::*;
+use crate::batch::Soa;
+use crate::sampler::Sampler;
 
-pub(super) use crate::batch::{check_len, CHUNK, PAR_CHUNK};
+pub(super) use crate::batch::{check_len, CHUNK};
 
 pub(super) use super::simd::dispatch::{core_density, core_invert, core_sample};
 
@@ -77,8 +77,31 @@ pub trait SoaSampler: Sampler {
     }
 }
 
-/// [`SoaSampler::sample_soa`] on all rayon threads, in chunks of [`PAR_CHUNK`] points. Each output depends
-/// only on its own input, so the result is the same for any number of threads.
+/// One structure-of-arrays call on `backend` through the map's kernels ([`SoaSampler`]'s `_with`
+/// methods; the inverse as the kernels give it, NaN only where the scalar `invert` fails).
+///
+/// # Panics
+/// If the call's slices differ in length.
+pub fn run_with<S: SoaSampler, T: BatchFloat>(s: &S, backend: Backend, job: Soa<'_, T>) {
+    match job {
+        Soa::Sample { u, v, dir, pdf } => s.sample_soa_with(backend, u, v, dir, pdf),
+        Soa::Pdf { dir, pdf } => s.pdf_soa_with(backend, dir, pdf),
+        Soa::Invert { dir, uv } => s.invert_soa_with(backend, dir, uv),
+    }
+}
+
+/// [`run_with`] on the detected backend on all rayon threads, through the project's one parallel
+/// driver ([`crate::batch::par`], [`crate::batch::PAR_CHUNK`] points a task). Each output depends only on its own
+/// input, so the result is the same for any number of threads.
+///
+/// # Panics
+/// If the call's slices differ in length.
+pub fn run_par<S: SoaSampler, T: BatchFloat>(s: &S, job: Soa<'_, T>) {
+    let b = Backend::detect();
+    crate::batch::par(job, &|j| run_with(s, b, j))
+}
+
+/// [`SoaSampler::sample_soa`] on all rayon threads ([`run_par`]).
 ///
 /// # Panics
 /// If the slices differ in length.
@@ -89,201 +112,26 @@ pub fn sample_soa_par<S: SoaSampler, T: BatchFloat>(
     dir: [&mut [T]; 3],
     pdf: &mut [T],
 ) {
-    let [x, y, z] = dir;
-    check_len(
-        "sample_soa_par",
-        u.len(),
-        &[v.len(), x.len(), y.len(), z.len(), pdf.len()],
-    );
-    let b = Backend::detect();
-    x.par_chunks_mut(PAR_CHUNK)
-        .zip(y.par_chunks_mut(PAR_CHUNK))
-        .zip(z.par_chunks_mut(PAR_CHUNK))
-        .zip(pdf.par_chunks_mut(PAR_CHUNK))
-        .zip(u.par_chunks(PAR_CHUNK).zip(v.par_chunks(PAR_CHUNK)))
-        .for_each(|((((x, y), z), p), (u, v))| s.sample_soa_with(b, u, v, [x, y, z], p));
+    run_par(s, Soa::Sample { u, v, dir, pdf })
 }
 
-/// [`SoaSampler::pdf_soa`] on all rayon threads (see [`sample_soa_par`]).
+/// [`SoaSampler::pdf_soa`] on all rayon threads ([`run_par`]).
 ///
 /// # Panics
 /// If the slices differ in length.
 pub fn pdf_soa_par<S: SoaSampler, T: BatchFloat>(s: &S, dir: [&[T]; 3], pdf: &mut [T]) {
-    check_len(
-        "pdf_soa_par",
-        pdf.len(),
-        &[dir[0].len(), dir[1].len(), dir[2].len()],
-    );
-    let b = Backend::detect();
-    pdf.par_chunks_mut(PAR_CHUNK)
-        .zip(dir[0].par_chunks(PAR_CHUNK))
-        .zip(
-            dir[1]
-                .par_chunks(PAR_CHUNK)
-                .zip(dir[2].par_chunks(PAR_CHUNK)),
-        )
-        .for_each(|((p, x), (y, z))| s.pdf_soa_with(b, [x, y, z], p));
+    run_par(s, Soa::Pdf { dir, pdf })
 }
 
-/// [`SoaSampler::invert_soa`] on all rayon threads (see [`sample_soa_par`]).
+/// [`SoaSampler::invert_soa`] on all rayon threads ([`run_par`]).
 ///
 /// # Panics
 /// If the slices differ in length.
 pub fn invert_soa_par<S: SoaSampler, T: BatchFloat>(s: &S, dir: [&[T]; 3], uv: [&mut [T]; 2]) {
-    let [u, v] = uv;
-    check_len(
-        "invert_soa_par",
-        u.len(),
-        &[v.len(), dir[0].len(), dir[1].len(), dir[2].len()],
-    );
-    let b = Backend::detect();
-    u.par_chunks_mut(PAR_CHUNK)
-        .zip(v.par_chunks_mut(PAR_CHUNK))
-        .zip(dir[0].par_chunks(PAR_CHUNK))
-        .zip(
-            dir[1]
-                .par_chunks(PAR_CHUNK)
-                .zip(dir[2].par_chunks(PAR_CHUNK)),
-        )
-        .for_each(|(((u, v), x), (y, z))| s.invert_soa_with(b, [x, y, z], [u, v]));
+    run_par(s, Soa::Invert { dir, uv })
 }
 
-/// The AoS `Sampler::sample_batch` of the HDS maps through the SoA path, [`CHUNK`] points at a
-/// time on the stack.
-pub(crate) fn sample_batch_aos<S: SoaSampler>(s: &S, u: &[Point2], out: &mut [Sample]) {
-    assert_eq!(u.len(), out.len(), "sample_batch: slices differ in length");
-    for (u, out) in u.chunks(CHUNK).zip(out.chunks_mut(CHUNK)) {
-        let n = u.len();
-        let [bu, bv] = split_points(u);
-        let mut o = [[0.0f64; CHUNK]; 4];
-        let [ox, oy, oz, op] = &mut o;
-        s.sample_soa(
-            &bu[..n],
-            &bv[..n],
-            [&mut ox[..n], &mut oy[..n], &mut oz[..n]],
-            &mut op[..n],
-        );
-        for (k, o) in out.iter_mut().enumerate() {
-            *o = Sample {
-                direction: [ox[k], oy[k], oz[k]],
-                pdf: op[k],
-            };
-        }
-    }
-}
-
-/// The AoS `Sampler::sample_batch_split` of the HDS maps through the SoA path: the kernels'
-/// columns are written straight into the direction rows and the densities.
-pub(crate) fn sample_batch_split_aos<S: SoaSampler>(
-    s: &S,
-    u: &[Point2],
-    dirs: &mut [Vec3],
-    pdf: &mut [f64],
-) {
-    assert!(
-        u.len() == dirs.len() && u.len() == pdf.len(),
-        "sample_batch_split: slices differ in length"
-    );
-    for ((u, dirs), pdf) in u
-        .chunks(CHUNK)
-        .zip(dirs.chunks_mut(CHUNK))
-        .zip(pdf.chunks_mut(CHUNK))
-    {
-        let n = u.len();
-        let [bu, bv] = split_points(u);
-        let mut o = [[0.0f64; CHUNK]; 3];
-        let [ox, oy, oz] = &mut o;
-        s.sample_soa(
-            &bu[..n],
-            &bv[..n],
-            [&mut ox[..n], &mut oy[..n], &mut oz[..n]],
-            pdf,
-        );
-        for (k, d) in dirs.iter_mut().enumerate() {
-            *d = [ox[k], oy[k], oz[k]];
-        }
-    }
-}
-
-/// Transposes points into two stack arrays.
-fn split_points(u: &[Point2]) -> [[f64; CHUNK]; 2] {
-    let mut b = [[0.0f64; CHUNK]; 2];
-    for (k, p) in u.iter().enumerate() {
-        b[0][k] = p[0];
-        b[1][k] = p[1];
-    }
-    b
-}
-
-/// Transposes directions into three stack arrays.
-fn split_dirs(d: &[Vec3]) -> [[f64; CHUNK]; 3] {
-    let mut b = [[0.0f64; CHUNK]; 3];
-    for (k, d) in d.iter().enumerate() {
-        b[0][k] = d[0];
-        b[1][k] = d[1];
-        b[2][k] = d[2];
-    }
-    b
-}
-
-/// The AoS `Sampler::pdf_batch` of the HDS maps through the SoA path.
-pub(crate) fn pdf_batch_aos<S: SoaSampler>(s: &S, dirs: &[Vec3], out: &mut [f64]) {
-    assert_eq!(dirs.len(), out.len(), "pdf_batch: slices differ in length");
-    for (d, out) in dirs.chunks(CHUNK).zip(out.chunks_mut(CHUNK)) {
-        let n = d.len();
-        let b = split_dirs(d);
-        s.pdf_soa([&b[0][..n], &b[1][..n], &b[2][..n]], out);
-    }
-}
-
-/// The AoS `Sampler::invert_batch` of the HDS maps through the SoA path.
-pub(crate) fn invert_batch_aos<S: SoaSampler>(
-    s: &S,
-    dirs: &[Vec3],
-    out: &mut [Result<Point2, InvertError>],
-) {
-    assert_eq!(
-        dirs.len(),
-        out.len(),
-        "invert_batch: slices differ in length"
-    );
-    for (d, out) in dirs.chunks(CHUNK).zip(out.chunks_mut(CHUNK)) {
-        let n = d.len();
-        let b = split_dirs(d);
-        let (mut u, mut v) = ([0.0f64; CHUNK], [0.0f64; CHUNK]);
-        s.invert_soa(
-            [&b[0][..n], &b[1][..n], &b[2][..n]],
-            [&mut u[..n], &mut v[..n]],
-        );
-        // The rule of every sampler (issue 25): no preimage where the density is 0.
-        let mut p = [0.0f64; CHUNK];
-        pdf_batch_aos(s, d, &mut p[..n]);
-        for (k, o) in out.iter_mut().enumerate() {
-            // One store per branch: a `Result` built first and then copied was stored with
-            // unaligned moves that stalled on store forwarding (30 % of the inverse's time).
-            if u[k].is_nan() || v[k].is_nan() {
-                *o = Err(no_preimage(s, d[k]));
-            } else if p[k] == 0.0 {
-                *o = Err(InvertError::ZeroDensity);
-            } else {
-                *o = Ok([u[k], v[k]]);
-            }
-        }
-    }
-}
-
-/// Why a direction has no preimage (the batch path gave NaN): the scalar path says whether it is
-/// outside the domain or of density 0.
-#[cold]
-#[inline(never)]
-fn no_preimage<S: SoaSampler>(s: &S, d: Vec3) -> InvertError {
-    match s.invert(d) {
-        Err(e) => e,
-        Ok(_) => InvertError::OutsideDomain,
-    }
-}
-
-/// The HDS maps' [`Sampler::invert_batch_soa`] and [`Sampler::invert_batch_soa_f32`]:
+/// The HDS maps' batch inverse ([`Sampler::batch`] with [`Soa::Invert`], both precisions):
 /// [`SoaSampler::invert_soa`], then NaN in both coordinates wherever [`SoaSampler::pdf_soa`] is 0
 /// (the rule of every sampler, issue 25: no preimage where the density is 0; the map's inverse
 /// there is a boundary point that samples another direction). [`CHUNK`] directions at a time.
@@ -320,45 +168,25 @@ pub(crate) fn invert_soa_nonzero<S: SoaSampler, T: BatchFloat>(
     }
 }
 
-/// The six structure-of-arrays methods of [`Sampler`] for a map that implements [`SoaSampler`]
-/// (the HDS maps): each runs the map's vector kernels on the slices directly, with no transposes.
-/// The `_f32` ones are the single override point of the float32 path: they run the map's
-/// [`crate::mapping::Float32Map`].
+/// The one [`Sampler::batch`] of a map that implements [`SoaSampler`] (the HDS maps): f64 calls
+/// run the map's vector kernels on the slices directly, with no transposes; f32 calls are the
+/// single override point of the float32 path: the map's float32 map (`float32()`, built on the
+/// first call), else (a grid beyond its limits) the f64 kernels rounded once.
 macro_rules! soa_sampler_methods {
     () => {
-        fn sample_batch_soa(&self, u: &[f64], v: &[f64], dir: [&mut [f64]; 3], pdf: &mut [f64]) {
-            $crate::mapping::batch::SoaSampler::sample_soa(self, u, v, dir, pdf)
-        }
-        fn pdf_batch_soa(&self, dir: [&[f64]; 3], pdf: &mut [f64]) {
-            $crate::mapping::batch::SoaSampler::pdf_soa(self, dir, pdf)
-        }
-        fn invert_batch_soa(&self, dir: [&[f64]; 3], uv: [&mut [f64]; 2]) {
-            $crate::mapping::batch::invert_soa_nonzero(self, dir, uv)
-        }
-        // The float32 map's override point: the map's float32 map (`float32()`, built on the
-        // first call), else (a grid beyond its limits) the f64 map rounded once.
-        fn sample_batch_soa_f32(
-            &self,
-            u: &[f32],
-            v: &[f32],
-            dir: [&mut [f32]; 3],
-            pdf: &mut [f32],
-        ) {
-            match self.float32() {
-                Some(f) => f.sample_soa(u, v, dir, pdf),
-                None => $crate::mapping::batch::SoaSampler::sample_soa(self, u, v, dir, pdf),
-            }
-        }
-        fn pdf_batch_soa_f32(&self, dir: [&[f32]; 3], pdf: &mut [f32]) {
-            match self.float32() {
-                Some(f) => f.pdf_soa(dir, pdf),
-                None => $crate::mapping::batch::SoaSampler::pdf_soa(self, dir, pdf),
-            }
-        }
-        fn invert_batch_soa_f32(&self, dir: [&[f32]; 3], uv: [&mut [f32]; 2]) {
-            match self.float32() {
-                Some(f) => f.invert_soa_nonzero(dir, uv),
-                None => $crate::mapping::batch::invert_soa_nonzero(self, dir, uv),
+        fn batch(&self, job: $crate::batch::Batch<'_>) {
+            use $crate::batch::{Batch, Soa};
+            use $crate::mapping::batch::{invert_soa_nonzero, SoaSampler};
+            match (job, self.float32()) {
+                (Batch::F64(Soa::Sample { u, v, dir, pdf }), _) => self.sample_soa(u, v, dir, pdf),
+                (Batch::F64(Soa::Pdf { dir, pdf }), _) => self.pdf_soa(dir, pdf),
+                (Batch::F64(Soa::Invert { dir, uv }), _) => invert_soa_nonzero(self, dir, uv),
+                (Batch::F32(job), Some(f)) => f.batch(job),
+                (Batch::F32(Soa::Sample { u, v, dir, pdf }), None) => {
+                    self.sample_soa(u, v, dir, pdf)
+                }
+                (Batch::F32(Soa::Pdf { dir, pdf }), None) => self.pdf_soa(dir, pdf),
+                (Batch::F32(Soa::Invert { dir, uv }), None) => invert_soa_nonzero(self, dir, uv),
             }
         }
     };

@@ -23,9 +23,9 @@
 
 use super::float32::{Layout, Maps, Tables};
 use super::split::SplitRule;
+use super::MapRef;
 use super::{Float32Map, Float32MapError, Float64Map, FLOAT32_MAX_NODES};
 use crate::envmap::Lookup;
-use crate::sampler::MapRef;
 use crate::Diagram;
 
 mod family;
@@ -1592,32 +1592,13 @@ impl crate::Sampler for MapTables {
         };
         map + target + std::mem::size_of::<Self>()
     }
-    fn sample_batch_soa(&self, u: &[f64], v: &[f64], dir: [&mut [f64]; 3], pdf: &mut [f64]) {
-        match &self.map {
-            ReadMap::F64(m) => m.sample_soa(u, v, dir, pdf),
-            ReadMap::F32(_) => {
-                let [x, y, z] = dir;
-                for k in 0..u.len() {
-                    let (d, p) = self.sample_one([u[k], v[k]]);
-                    (x[k], y[k], z[k], pdf[k]) = (d[0], d[1], d[2], p);
-                }
-            }
-        }
-    }
-    fn pdf_batch_soa(&self, dir: [&[f64]; 3], pdf: &mut [f64]) {
-        match &self.map {
-            ReadMap::F64(m) => m.pdf_soa(dir, pdf),
-            ReadMap::F32(_) => {
-                for k in 0..pdf.len() {
-                    pdf[k] = crate::Sampler::pdf(self, [dir[0][k], dir[1][k], dir[2][k]]);
-                }
-            }
-        }
-    }
-    fn invert_batch_soa(&self, dir: [&[f64]; 3], uv: [&mut [f64]; 2]) {
-        let [u, v] = uv;
-        match &self.map {
-            ReadMap::F64(m) => {
+    /// The blob's precision runs its map's kernels (the writer's bits); the other precision is
+    /// evaluated one point at a time through the scalar calls (which themselves run the blob's
+    /// precision), each result rounded once.
+    fn batch(&self, job: crate::batch::Batch<'_>) {
+        use crate::batch::{Batch, Soa};
+        match (job, &self.map) {
+            (Batch::F64(Soa::Invert { dir, uv: [u, v] }), ReadMap::F64(m)) => {
                 m.invert_soa(dir, [&mut *u, &mut *v]);
                 let mut p = vec![0.0; u.len()];
                 m.pdf_soa(dir, &mut p);
@@ -1628,57 +1609,9 @@ impl crate::Sampler for MapTables {
                     }
                 }
             }
-            ReadMap::F32(_) => {
-                for k in 0..u.len() {
-                    let r = crate::Sampler::invert(self, [dir[0][k], dir[1][k], dir[2][k]]);
-                    let p = r.unwrap_or([f64::NAN; 2]);
-                    (u[k], v[k]) = (p[0], p[1]);
-                }
-            }
-        }
-    }
-    fn sample_batch_soa_f32(&self, u: &[f32], v: &[f32], dir: [&mut [f32]; 3], pdf: &mut [f32]) {
-        match &self.map {
-            ReadMap::F32(m) => m.sample_soa(u, v, dir, pdf),
-            ReadMap::F64(m) => {
-                let (uu, vv): (Vec<f64>, Vec<f64>) = (
-                    u.iter().map(|&x| x.into()).collect(),
-                    v.iter().map(|&x| x.into()).collect(),
-                );
-                let n = u.len();
-                let (mut x, mut y, mut z, mut p) =
-                    (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-                m.sample_soa(&uu, &vv, [&mut x, &mut y, &mut z], &mut p);
-                let [dx, dy, dz] = dir;
-                for k in 0..n {
-                    (dx[k], dy[k], dz[k], pdf[k]) =
-                        (x[k] as f32, y[k] as f32, z[k] as f32, p[k] as f32);
-                }
-            }
-        }
-    }
-    fn pdf_batch_soa_f32(&self, dir: [&[f32]; 3], pdf: &mut [f32]) {
-        match &self.map {
-            ReadMap::F32(m) => m.pdf_soa(dir, pdf),
-            ReadMap::F64(_) => {
-                for k in 0..pdf.len() {
-                    let d = [dir[0][k], dir[1][k], dir[2][k]].map(f64::from);
-                    pdf[k] = crate::Sampler::pdf(self, d) as f32;
-                }
-            }
-        }
-    }
-    fn invert_batch_soa_f32(&self, dir: [&[f32]; 3], uv: [&mut [f32]; 2]) {
-        let [u, v] = uv;
-        match &self.map {
-            ReadMap::F32(m) => m.invert_soa_nonzero(dir, [u, v]),
-            ReadMap::F64(_) => {
-                for k in 0..u.len() {
-                    let d = [dir[0][k], dir[1][k], dir[2][k]].map(f64::from);
-                    let p = crate::Sampler::invert(self, d).unwrap_or([f64::NAN; 2]);
-                    (u[k], v[k]) = (p[0] as f32, p[1] as f32);
-                }
-            }
+            (Batch::F64(job), ReadMap::F64(m)) => m.batch(job),
+            (Batch::F32(job), ReadMap::F32(m)) => m.batch(job),
+            (job, _) => crate::sampler::scalar_batch(self, job),
         }
     }
 }

@@ -28,7 +28,7 @@
 //! - *Bits do not depend on the backend*, the block size, the slice length or the number of
 //!   threads: no fused multiply–add, the same operations in the same order on every backend.
 //! - *Close to the f64 map.* The float32 map's pdf over the f64 map's target stays within the
-//!   f64 map's guaranteed [`crate::Sampler::ratio_bound`] widened by a stated f32 margin where
+//!   f64 map's guaranteed [`crate::MapRef::ratio_bound`] widened by a stated f32 margin where
 //!   the target is not steep at the f32 scale (`docs/API.md`).
 //!
 //! Directions are f32 unit vectors as a renderer has them (unit only to f32 round-off): the
@@ -45,12 +45,12 @@ use super::soa_maps::split_by_side;
 use super::sphere::CoresRef;
 use super::split::{Side, SplitRule};
 use super::{HemisphereMap, SphereMap};
+use crate::batch::Soa;
 use crate::diagram::segment;
-use rayon::prelude::*;
 
 // Points per chunk of the split sphere's partition into hemispheres, and per rayon task in the
 // parallel calls: the crate's batch sizes.
-use crate::batch::{CHUNK, PAR_CHUNK};
+use crate::batch::CHUNK;
 /// The most meridians or parallels a float32 map takes: its guide tables (2M, 2N entries) must
 /// index exactly through f32 (below 2²⁴).
 pub const FLOAT32_MAX_NODES: usize = 1 << 22;
@@ -598,8 +598,8 @@ pub struct Float32Exact {
 /// The f64 map's tables alone: what a float64 table blob ([`crate::tables`]) reads back into.
 /// Its batch calls run the same f64 kernels over the same tables as the map that wrote them, so
 /// they give the bits of that map's structure-of-arrays batches
-/// ([`crate::Sampler::sample_batch_soa`], [`crate::Sampler::pdf_batch_soa`],
-/// [`crate::Sampler::invert_batch_soa`]); tested in `tests/tables.rs`. It keeps no diagram and no
+/// ([`crate::Batches::sample_batch_soa`], [`crate::Batches::pdf_batch_soa`],
+/// [`crate::Batches::invert_batch_soa`]); tested in `tests/tables.rs`. It keeps no diagram and no
 /// bound: the target, the ratio bound and the refinement stay with the map that wrote it.
 #[derive(Debug, Clone)]
 pub struct Float64Map {
@@ -629,6 +629,18 @@ impl Float64Map {
     /// If the slices differ in length.
     pub fn invert_soa(&self, dir: [&[f64]; 3], uv: [&mut [f64]; 2]) {
         self.maps.invert(Backend::detect(), dir, uv)
+    }
+    /// One structure-of-arrays call ([`Soa`]) on the detected backend, the inverse as it comes
+    /// from the kernels (NaN only outside the domain).
+    ///
+    /// # Panics
+    /// If the call's slices differ in length.
+    pub fn batch(&self, job: Soa<'_, f64>) {
+        match job {
+            Soa::Sample { u, v, dir, pdf } => self.sample_soa(u, v, dir, pdf),
+            Soa::Pdf { dir, pdf } => self.pdf_soa(dir, pdf),
+            Soa::Invert { dir, uv } => self.invert_soa(dir, uv),
+        }
     }
     /// Bytes of the tables' contents and the map itself.
     pub fn memory_bytes(&self) -> usize {
@@ -801,73 +813,33 @@ impl Float32Map {
         self.invert_soa_with(Backend::detect(), dir, uv)
     }
 
-    /// [`Float32Map::sample_soa`] on all rayon threads, in chunks of 4096 points; the same bits
-    /// for any number of threads.
+    /// One structure-of-arrays call ([`Soa`]) on the detected backend: the float32 path of the
+    /// HDS maps' [`crate::Sampler::batch`]. The inverse writes NaN where there is no preimage
+    /// ([`Float32Map::invert_soa_nonzero`]).
     ///
     /// # Panics
-    /// If the slices differ in length.
-    pub fn sample_soa_par(&self, u: &[f32], v: &[f32], dir: [&mut [f32]; 3], pdf: &mut [f32]) {
-        let [x, y, z] = dir;
-        check_len(
-            "sample_soa_par",
-            u.len(),
-            &[v.len(), x.len(), y.len(), z.len(), pdf.len()],
-        );
-        let b = Backend::detect();
-        x.par_chunks_mut(PAR_CHUNK)
-            .zip(y.par_chunks_mut(PAR_CHUNK))
-            .zip(z.par_chunks_mut(PAR_CHUNK))
-            .zip(pdf.par_chunks_mut(PAR_CHUNK))
-            .zip(u.par_chunks(PAR_CHUNK).zip(v.par_chunks(PAR_CHUNK)))
-            .for_each(|((((x, y), z), p), (u, v))| self.sample_soa_with(b, u, v, [x, y, z], p));
+    /// If the call's slices differ in length.
+    pub fn batch(&self, job: Soa<'_, f32>) {
+        match job {
+            Soa::Sample { u, v, dir, pdf } => self.sample_soa(u, v, dir, pdf),
+            Soa::Pdf { dir, pdf } => self.pdf_soa(dir, pdf),
+            Soa::Invert { dir, uv } => self.invert_soa_nonzero(dir, uv),
+        }
     }
-    /// [`Float32Map::pdf_soa`] on all rayon threads (see [`Float32Map::sample_soa_par`]).
+
+    /// [`Float32Map::batch`] on all rayon threads ([`crate::batch::par`]); the same bits for any
+    /// number of threads.
     ///
     /// # Panics
-    /// If the slices differ in length.
-    pub fn pdf_soa_par(&self, dir: [&[f32]; 3], pdf: &mut [f32]) {
-        check_len(
-            "pdf_soa_par",
-            pdf.len(),
-            &[dir[0].len(), dir[1].len(), dir[2].len()],
-        );
-        let b = Backend::detect();
-        pdf.par_chunks_mut(PAR_CHUNK)
-            .zip(dir[0].par_chunks(PAR_CHUNK))
-            .zip(
-                dir[1]
-                    .par_chunks(PAR_CHUNK)
-                    .zip(dir[2].par_chunks(PAR_CHUNK)),
-            )
-            .for_each(|((p, x), (y, z))| self.pdf_soa_with(b, [x, y, z], p));
-    }
-    /// [`Float32Map::invert_soa`] on all rayon threads (see [`Float32Map::sample_soa_par`]).
-    ///
-    /// # Panics
-    /// If the slices differ in length.
-    pub fn invert_soa_par(&self, dir: [&[f32]; 3], uv: [&mut [f32]; 2]) {
-        let [u, v] = uv;
-        check_len(
-            "invert_soa_par",
-            u.len(),
-            &[v.len(), dir[0].len(), dir[1].len(), dir[2].len()],
-        );
-        let b = Backend::detect();
-        u.par_chunks_mut(PAR_CHUNK)
-            .zip(v.par_chunks_mut(PAR_CHUNK))
-            .zip(dir[0].par_chunks(PAR_CHUNK))
-            .zip(
-                dir[1]
-                    .par_chunks(PAR_CHUNK)
-                    .zip(dir[2].par_chunks(PAR_CHUNK)),
-            )
-            .for_each(|(((u, v), x), (y, z))| self.invert_soa_with(b, [x, y, z], [u, v]));
+    /// If the call's slices differ in length.
+    pub fn batch_par(&self, job: Soa<'_, f32>) {
+        crate::batch::par(job, &|j| self.batch(j))
     }
 
     /// [`Float32Map::invert_soa`], then NaN in both coordinates wherever [`Float32Map::pdf_soa`]
     /// is 0 (the rule of every sampler's `invert_batch_soa`, issue 25: no preimage where the
     /// density is 0), on the detected backend, [`CHUNK`] directions at a time: the HDS maps'
-    /// [`crate::Sampler::invert_batch_soa_f32`].
+    /// [`crate::Batches::invert_batch_soa_f32`].
     ///
     /// # Panics
     /// If the slices differ in length.

@@ -336,35 +336,8 @@ impl Sampler for HemisphereMap {
     fn target_power(&self) -> f64 {
         HemisphereMap::target_power(self)
     }
-    fn ratio_bound(&self) -> Option<(f64, f64)> {
-        Some(HemisphereMap::ratio_bound(self))
-    }
-    fn refinement(&self) -> Option<&Refinement> {
-        HemisphereMap::refinement(self)
-    }
-    fn completions(&self) -> &[super::Completion] {
-        HemisphereMap::completions(self)
-    }
-    fn stages(&self, u: Point2) -> Option<super::Stages> {
-        Some(HemisphereMap::stages(self, u))
-    }
-    fn hds_map(&self) -> Option<crate::sampler::MapRef<'_>> {
-        Some(crate::sampler::MapRef::Hemisphere(self))
-    }
     fn memory_bytes(&self) -> usize {
         self.core.memory_bytes()
-    }
-    fn sample_batch(&self, u: &[Point2], out: &mut [Sample]) {
-        super::batch::sample_batch_aos(self, u, out)
-    }
-    fn sample_batch_split(&self, u: &[Point2], dirs: &mut [Vec3], pdf: &mut [f64]) {
-        super::batch::sample_batch_split_aos(self, u, dirs, pdf)
-    }
-    fn pdf_batch(&self, dirs: &[Vec3], out: &mut [f64]) {
-        super::batch::pdf_batch_aos(self, dirs, out)
-    }
-    fn invert_batch(&self, dirs: &[Vec3], out: &mut [Result<Point2, InvertError>]) {
-        super::batch::invert_batch_aos(self, dirs, out)
     }
     super::batch::soa_sampler_methods!();
 }

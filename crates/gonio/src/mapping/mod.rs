@@ -43,6 +43,87 @@ pub use hemisphere::HemisphereMap;
 pub use refine::{RefineLimits, RefineStop, Refinement};
 pub use sphere::{SphereLayout, SphereMap};
 
+/// A borrowed HDS map, as [`crate::method::Built::hds_map`] returns it: what only the HDS map
+/// has (ratio bound, refinement, completions, stages) is a method here, and the map itself is
+/// reached through its variant, with no downcast.
+///
+/// ```
+/// use gonio::{Diagram, Domain, MapRef, Method};
+/// let d = Diagram::from_degrees(&[0.0, 90.0, 180.0], &[0.0], &[vec![1.0, 0.5, 2.0]]).unwrap();
+/// let s = Method::Hds.build(&d, Domain::Sphere).unwrap();
+/// match s.hds_map() {
+///     Some(MapRef::Sphere(m)) => assert!(m.lower_probability().unwrap() > 0.5),
+///     _ => unreachable!("the HDS method on the sphere is a sphere map"),
+/// }
+/// let (lo, hi) = s.hds_map().unwrap().ratio_bound();
+/// assert!(0.0 < lo && lo <= 1.0 && 1.0 <= hi);
+/// assert!(Method::Uniform.build(&d, Domain::Sphere).unwrap().hds_map().is_none());
+/// ```
+#[derive(Debug, Clone, Copy)]
+pub enum MapRef<'a> {
+    /// The map of the upper hemisphere.
+    Hemisphere(&'a HemisphereMap),
+    /// The map of the whole sphere (either layout).
+    Sphere(&'a SphereMap),
+}
+
+impl<'a> From<&'a HemisphereMap> for MapRef<'a> {
+    fn from(m: &'a HemisphereMap) -> Self {
+        MapRef::Hemisphere(m)
+    }
+}
+
+impl<'a> From<&'a SphereMap> for MapRef<'a> {
+    fn from(m: &'a SphereMap) -> Self {
+        MapRef::Sphere(m)
+    }
+}
+
+impl<'a> MapRef<'a> {
+    /// The map behind the sampler contract.
+    pub fn sampler(self) -> &'a dyn crate::Sampler {
+        match self {
+            MapRef::Hemisphere(m) => m,
+            MapRef::Sphere(m) => m,
+        }
+    }
+
+    /// A guaranteed range (min, max) of `pdf / target_pdf` over every direction where the target
+    /// is positive, computed at build time ([`HemisphereMap::ratio_bound`],
+    /// [`SphereMap::ratio_bound`]).
+    pub fn ratio_bound(self) -> (f64, f64) {
+        match self {
+            MapRef::Hemisphere(m) => m.ratio_bound(),
+            MapRef::Sphere(m) => m.ratio_bound(),
+        }
+    }
+
+    /// What refinement to a tolerance asked, reached and cost, for a map built with one.
+    pub fn refinement(self) -> Option<&'a Refinement> {
+        match self {
+            MapRef::Hemisphere(m) => m.refinement(),
+            MapRef::Sphere(m) => m.refinement(),
+        }
+    }
+
+    /// The zones without data the map completed with zero light (issue 9), each a warning for
+    /// the user.
+    pub fn completions(self) -> &'a [Completion] {
+        match self {
+            MapRef::Hemisphere(m) => m.completions(),
+            MapRef::Sphere(m) => m.completions(),
+        }
+    }
+
+    /// The intermediate points of the forward map at `u` (for the warp plot and tests).
+    pub fn stages(self, u: crate::Point2) -> Stages {
+        match self {
+            MapRef::Hemisphere(m) => m.stages(u),
+            MapRef::Sphere(m) => m.stages(u),
+        }
+    }
+}
+
 /// The intermediate points of one forward evaluation F(u) = M_E(M_D(M_C(M_B(u)))), in polar
 /// coordinates (radius, azimuth in radians) on each disk. For pictures of the stages and for tests.
 #[derive(Debug, Clone, Copy, PartialEq)]

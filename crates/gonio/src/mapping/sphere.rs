@@ -708,35 +708,8 @@ impl Sampler for SphereMap {
     fn target_power(&self) -> f64 {
         SphereMap::target_power(self)
     }
-    fn ratio_bound(&self) -> Option<(f64, f64)> {
-        Some(SphereMap::ratio_bound(self))
-    }
-    fn refinement(&self) -> Option<&Refinement> {
-        SphereMap::refinement(self)
-    }
-    fn completions(&self) -> &[super::Completion] {
-        SphereMap::completions(self)
-    }
-    fn stages(&self, u: Point2) -> Option<super::Stages> {
-        Some(SphereMap::stages(self, u))
-    }
-    fn hds_map(&self) -> Option<crate::sampler::MapRef<'_>> {
-        Some(crate::sampler::MapRef::Sphere(self))
-    }
     fn memory_bytes(&self) -> usize {
         self.map_cores().map(|c| c.memory_bytes()).sum()
-    }
-    fn sample_batch(&self, u: &[Point2], out: &mut [Sample]) {
-        super::batch::sample_batch_aos(self, u, out)
-    }
-    fn sample_batch_split(&self, u: &[Point2], dirs: &mut [Vec3], pdf: &mut [f64]) {
-        super::batch::sample_batch_split_aos(self, u, dirs, pdf)
-    }
-    fn pdf_batch(&self, dirs: &[Vec3], out: &mut [f64]) {
-        super::batch::pdf_batch_aos(self, dirs, out)
-    }
-    fn invert_batch(&self, dirs: &[Vec3], out: &mut [Result<Point2, InvertError>]) {
-        super::batch::invert_batch_aos(self, dirs, out)
     }
     super::batch::soa_sampler_methods!();
 }
