@@ -145,8 +145,8 @@ pub struct SoaBench {
 
 /// `gonio bench FILE [--json]`: loads the input, runs [`run_bench`] and prints the report (an aligned
 /// table, or one pretty-printed JSON object with `--json`).
-pub fn run(args: &crate::args::BenchArgs) -> Result<()> {
-    let loaded = crate::load::load(&args.input)?;
+pub fn run(args: &crate::args::BenchArgs, settings: &crate::settings::Settings) -> Result<()> {
+    let loaded = crate::load::load(&args.input, settings)?;
     let mut report = run_bench(
         &loaded.diagram,
         loaded.domain(),

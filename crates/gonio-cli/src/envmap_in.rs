@@ -46,79 +46,71 @@ pub enum LookupArg {
     Bilinear,
 }
 
-/// The global environment-map options of this run, as given (None: not given).
+/// The environment-map options of this run, as given (None: not given).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-struct EnvCliOptions {
-    weight: Option<WeightArg>,
-    lookup: Option<LookupArg>,
-    mis_compensation: bool,
+pub struct EnvCliOptions {
+    /// `--weight`.
+    pub weight: Option<WeightArg>,
+    /// `--lookup`.
+    pub lookup: Option<LookupArg>,
+    /// `--mis-compensation`.
+    pub mis_compensation: bool,
 }
 
-static OPTIONS: std::sync::OnceLock<EnvCliOptions> = std::sync::OnceLock::new();
-
-/// Sets the global `--weight`, `--lookup` and `--mis-compensation` of this run (once, from
-/// `main`).
-pub fn set_options(weight: Option<WeightArg>, lookup: Option<LookupArg>, mis_compensation: bool) {
-    let _ = OPTIONS.set(EnvCliOptions {
-        weight,
-        lookup,
-        mis_compensation,
-    });
-}
-
-fn cli_options() -> EnvCliOptions {
-    OPTIONS.get().copied().unwrap_or_default()
-}
-
-/// The environment-map options given on the command line, by name, when the input is not an
-/// environment map (they would be ignored: `load` refuses them).
-pub fn options_given() -> Option<&'static str> {
-    let o = cli_options();
-    if o.weight.is_some() {
-        Some("--weight")
-    } else if o.lookup.is_some() {
-        Some("--lookup")
-    } else if o.mis_compensation {
-        Some("--mis-compensation")
-    } else {
-        None
+impl EnvCliOptions {
+    /// The first option given, by name (for refusing them where the input is not an environment
+    /// map: they would be ignored).
+    pub fn given(&self) -> Option<&'static str> {
+        let o = self;
+        if o.weight.is_some() {
+            Some("--weight")
+        } else if o.lookup.is_some() {
+            Some("--lookup")
+        } else if o.mis_compensation {
+            Some("--mis-compensation")
+        } else {
+            None
+        }
     }
-}
 
-/// The library's options of this run's `--weight`, `--lookup` and `--mis-compensation`.
-pub fn env_options() -> EnvOptions {
-    let o = cli_options();
-    EnvOptions {
-        weight: match o.weight {
-            None | Some(WeightArg::Luminance) => Weight::Luminance,
-            Some(WeightArg::Red) => Weight::Channel(0),
-            Some(WeightArg::Green) => Weight::Channel(1),
-            Some(WeightArg::Blue) => Weight::Channel(2),
-        },
-        lookup: match o.lookup {
-            None | Some(LookupArg::Nearest) => Lookup::Nearest,
-            Some(LookupArg::Bilinear) => Lookup::Bilinear,
-        },
-        mis_compensation: o.mis_compensation,
+    /// The library's options of these `--weight`, `--lookup` and `--mis-compensation`.
+    pub fn library(&self) -> EnvOptions {
+        let o = self;
+        EnvOptions {
+            weight: match o.weight {
+                None | Some(WeightArg::Luminance) => Weight::Luminance,
+                Some(WeightArg::Red) => Weight::Channel(0),
+                Some(WeightArg::Green) => Weight::Channel(1),
+                Some(WeightArg::Blue) => Weight::Channel(2),
+            },
+            lookup: match o.lookup {
+                None | Some(LookupArg::Nearest) => Lookup::Nearest,
+                Some(LookupArg::Bilinear) => Lookup::Bilinear,
+            },
+            mis_compensation: o.mis_compensation,
+        }
     }
 }
 
 /// Reads an image file and builds its environment map with this run's options
-/// ([`env_options`]); the reader's and the map's warnings go to standard error. (`load::load`
+/// (`options`); the reader's and the map's warnings go to standard error. (`load::load`
 /// wraps it into its `Loaded`.)
-pub fn load_envmap(name: &str) -> anyhow::Result<EnvironmentMap> {
-    load_envmap_timed(name).map(|(env, _)| env)
+pub fn load_envmap(name: &str, options: &EnvCliOptions) -> anyhow::Result<EnvironmentMap> {
+    load_envmap_timed(name, options).map(|(env, _)| env)
 }
 
 /// [`load_envmap`] and the wall-clock time its map took to build (weights and sphere map, the
 /// image already decoded).
-pub fn load_envmap_timed(name: &str) -> anyhow::Result<(EnvironmentMap, std::time::Duration)> {
+pub fn load_envmap_timed(
+    name: &str,
+    options: &EnvCliOptions,
+) -> anyhow::Result<(EnvironmentMap, std::time::Duration)> {
     let bytes = read_regular(Path::new(name), name, FileKind::Image)?;
     let format = ImageFormat::sniff(&bytes).or_else(|| ImageFormat::from_path(Path::new(name)));
     let image = Image::from_bytes(&bytes, format).map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
     drop(bytes);
     let start = std::time::Instant::now();
-    let env = EnvironmentMap::with_options(image, env_options())
+    let env = EnvironmentMap::with_options(image, options.library())
         .map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
     let took = start.elapsed();
     for w in env.warnings() {
@@ -247,9 +239,13 @@ pub fn render_equal_area(env: &EnvironmentMap, n: usize) -> Vec<f32> {
 
 /// `gonio convert IN.hdr OUT.exr|OUT.pfm --to pbrt-v4 [--resolution N]`: the square equal-area
 /// image pbrt-v4's `ImageInfiniteLight` reads, and the scene line that uses it.
-pub fn convert_pbrt(a: &ConvertArgs, ext: Option<&str>) -> anyhow::Result<()> {
+pub fn convert_pbrt(
+    a: &ConvertArgs,
+    ext: Option<&str>,
+    settings: &crate::settings::Settings,
+) -> anyhow::Result<()> {
     let out_name = a.output.display().to_string();
-    let env = &load_envmap(&a.input)?;
+    let env = &load_envmap(&a.input, &settings.env)?;
     let (w, h) = (env.image().width(), env.image().height());
     let n = a
         .resolution

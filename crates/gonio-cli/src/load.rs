@@ -6,11 +6,11 @@
 //!   library's factory, [`Method::build`]), on the domain [`domain`] chooses.
 
 use crate::input::{read_regular, tame, FileKind, TiltFiles};
+use crate::settings::Settings;
 use anyhow::Context;
 use gonio::{BuildOptions, Built, Diagram, Domain, Method};
 use std::fmt;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
 /// The input name that loads [`gonio::synthetic::example_luminaire`] instead of a file.
@@ -61,6 +61,9 @@ pub struct Loaded {
     pub envmap: Option<Box<gonio::envmap::EnvironmentMap>>,
     /// The build time of the environment map's own HDS map (zero for other inputs).
     pub envmap_build: Duration,
+    /// The run's global options it was loaded with (the samplers built for it read
+    /// `--tolerance` here).
+    pub settings: Settings,
 }
 
 impl Loaded {
@@ -101,9 +104,10 @@ pub fn input_kind(name: &str) -> anyhow::Result<InputKind> {
 ///
 /// Syntax errors come back as a [`LocatedError`] (`FILE:LINE:COLUMN: message`); every other error
 /// names the file.
-pub fn load(name: &str) -> anyhow::Result<Loaded> {
+pub fn load(name: &str, settings: &Settings) -> anyhow::Result<Loaded> {
+    let settings = *settings;
     if !crate::envmap_in::is_image_name(name) {
-        if let Some(opt) = crate::envmap_in::options_given() {
+        if let Some(opt) = settings.env.given() {
             anyhow::bail!("{name}: {opt} applies to environment maps (.hdr, .exr, .pfm) only");
         }
     }
@@ -115,10 +119,11 @@ pub fn load(name: &str) -> anyhow::Result<Loaded> {
             photometry: None,
             envmap: None,
             envmap_build: Duration::ZERO,
+            settings,
         });
     }
     if crate::envmap_in::is_image_name(name) {
-        let (env, took) = crate::envmap_in::load_envmap_timed(name)?;
+        let (env, took) = crate::envmap_in::load_envmap_timed(name, &settings.env)?;
         return Ok(Loaded {
             name: name.to_string(),
             kind: InputKind::EnvMap,
@@ -126,6 +131,7 @@ pub fn load(name: &str) -> anyhow::Result<Loaded> {
             photometry: None,
             envmap: Some(Box::new(env)),
             envmap_build: took,
+            settings,
         });
     }
     let bytes = read_file(name)?;
@@ -171,6 +177,7 @@ pub fn load(name: &str) -> anyhow::Result<Loaded> {
         photometry,
         envmap: None,
         envmap_build: Duration::ZERO,
+        settings,
     })
 }
 
@@ -399,26 +406,8 @@ pub fn domain(loaded: &Loaded) -> Domain {
     }
 }
 
-/// The global `--tolerance` (bits of an `f64`; NaN = none): the HDS map is refined to it.
-static TOLERANCE: AtomicU64 = AtomicU64::new(NO_TOLERANCE);
-const NO_TOLERANCE: u64 = 0x7ff8_0000_0000_0000;
-
-/// Sets the tolerance every HDS map of this run is refined to (the global `--tolerance`).
-pub fn set_tolerance(tolerance: Option<f64>) {
-    TOLERANCE.store(
-        tolerance.map_or(NO_TOLERANCE, f64::to_bits),
-        Ordering::Relaxed,
-    );
-}
-
-/// The tolerance set by [`set_tolerance`], if any.
-pub fn tolerance() -> Option<f64> {
-    let t = f64::from_bits(TOLERANCE.load(Ordering::Relaxed));
-    (!t.is_nan()).then_some(t)
-}
-
 /// The sampler of `method` for `loaded`, built by the library's factory ([`Method::build_with`])
-/// on the domain [`domain`] chooses, with the global `--tolerance` (which only the HDS map reads;
+/// on the domain [`domain`] chooses, with the run's `--tolerance` (`loaded.settings`) (which only the HDS map reads;
 /// a warning goes to stderr when refinement did not reach it). Every zone the sampler completed
 /// with zero light ([`gonio::MapRef::completions`]) is a warning on stderr too.
 pub fn build_sampler(method: Method, loaded: &Loaded) -> anyhow::Result<Built<'_>> {
@@ -436,7 +425,7 @@ pub fn build_sampler_timed(
     loaded: &Loaded,
 ) -> anyhow::Result<(Built<'_>, Duration)> {
     let start = Instant::now();
-    let options = BuildOptions::default().tolerance(tolerance());
+    let options = BuildOptions::default().tolerance(loaded.settings.tolerance);
     // An environment map's HDS map is the one its environment map built (the split sphere map
     // of its weight, the same as the factory's): borrowed, not built a second time (issue 40: a
     // second map cost `info` 18 bytes a pixel of a big sky).

@@ -20,6 +20,7 @@ pub mod load;
 pub mod output;
 pub mod plot;
 pub mod progress;
+pub mod settings;
 
 use args::{BenchArgs, CheckArgs, ConvertArgs, DirectionsArgs, InfoArgs, PlotArgs, SampleArgs};
 
@@ -160,16 +161,23 @@ fn main() -> ExitCode {
             return ExitCode::from(EXIT_USAGE);
         }
     };
-    progress::set_quiet(cli.quiet);
-    load::set_tolerance(cli.tolerance);
-    envmap_in::set_options(cli.weight, cli.lookup, cli.mis_compensation);
+    let settings = settings::Settings {
+        quiet: cli.quiet,
+        tolerance: cli.tolerance,
+        env: envmap_in::EnvCliOptions {
+            weight: cli.weight,
+            lookup: cli.lookup,
+            mis_compensation: cli.mis_compensation,
+        },
+    };
+    let s = &settings;
     // Commands that never read an environment map refuse its options rather than ignore them
     // (the others refuse them in `load` for inputs that are not images).
     if matches!(
         cli.command,
         Command::Brdf(_) | Command::Uv(_) | Command::Bake(_)
     ) {
-        if let Some(opt) = envmap_in::options_given() {
+        if let Some(opt) = settings.env.given() {
             eprintln!(
                 "gonio: error: {opt} applies to environment maps (.hdr, .exr, .pfm) only (see `gonio --help`)"
             );
@@ -178,18 +186,18 @@ fn main() -> ExitCode {
     }
 
     let result = match &cli.command {
-        Command::Sample(a) => commands::sample::run(a).map(|()| true),
-        Command::Pdf(a) => commands::directions::run_pdf(a).map(|()| true),
-        Command::Invert(a) => commands::directions::run_invert(a).map(|()| true),
-        Command::Info(a) => commands::info::run(a).map(|()| true),
-        Command::Convert(a) => commands::convert::run(a).map(|()| true),
-        Command::Check(a) => commands::check::run(a),
-        Command::Plot(a) => plot::run(a).map(|()| true),
-        Command::Bench(a) => bench::run(a).map(|()| true),
-        Command::Uv(a) => commands::uv::run_uv(a).map(|()| true),
-        Command::Bake(a) => commands::uv::run_bake(a).map(|()| true),
+        Command::Sample(a) => commands::sample::run(a, s).map(|()| true),
+        Command::Pdf(a) => commands::directions::run_pdf(a, s).map(|()| true),
+        Command::Invert(a) => commands::directions::run_invert(a, s).map(|()| true),
+        Command::Info(a) => commands::info::run(a, s).map(|()| true),
+        Command::Convert(a) => commands::convert::run(a, s).map(|()| true),
+        Command::Check(a) => commands::check::run(a, s),
+        Command::Plot(a) => plot::run(a, s).map(|()| true),
+        Command::Bench(a) => bench::run(a, s).map(|()| true),
+        Command::Uv(a) => commands::uv::run_uv(a, s).map(|()| true),
+        Command::Bake(a) => commands::uv::run_bake(a, s).map(|()| true),
         Command::Brdf(a) => commands::brdf::run(a),
-        Command::Tables(a) => commands::tables::run(a).map(|()| true),
+        Command::Tables(a) => commands::tables::run(a, s).map(|()| true),
     };
     match result {
         Ok(true) => ExitCode::SUCCESS,

@@ -9,13 +9,6 @@ use std::time::{Duration, Instant};
 /// How long work runs before its bar appears.
 pub const DELAY: Duration = Duration::from_secs(1);
 
-static QUIET: AtomicBool = AtomicBool::new(false);
-
-/// Hides every progress bar from now on (the global `--quiet`).
-pub fn set_quiet(quiet: bool) {
-    QUIET.store(quiet, Ordering::Relaxed);
-}
-
 /// A progress bar that stays hidden for its first [`DELAY`], and for good when stderr is not a
 /// terminal or `--quiet` is set.
 pub struct Progress {
@@ -26,9 +19,10 @@ pub struct Progress {
 }
 
 impl Progress {
-    /// A bar over `total` units (e.g. samples), labelled `label`.
-    pub fn new(total: u64, label: &str) -> Self {
-        let enabled = !QUIET.load(Ordering::Relaxed) && std::io::stderr().is_terminal();
+    /// A bar over `total` units (e.g. samples), labelled `label`; never shown when `quiet`
+    /// (`--quiet`).
+    pub fn new(total: u64, label: &str, quiet: bool) -> Self {
+        let enabled = !quiet && std::io::stderr().is_terminal();
         let bar = ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::hidden());
         bar.set_style(
             ProgressStyle::with_template(
@@ -46,8 +40,8 @@ impl Progress {
     }
 
     /// A bar over a fraction in [0, 1] (shown in per mille).
-    pub fn fraction(label: &str) -> Self {
-        let p = Self::new(1000, label);
+    pub fn fraction(label: &str, quiet: bool) -> Self {
+        let p = Self::new(1000, label, quiet);
         p.bar.set_style(
             ProgressStyle::with_template(
                 "{prefix} [{elapsed_precise}] {wide_bar} {percent}% {msg}",

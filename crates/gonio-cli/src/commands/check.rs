@@ -6,8 +6,8 @@ use crate::progress::Progress;
 use gonio::check::{cell_boundary_points, run_battery_with_progress, BatteryOptions};
 
 /// Runs `gonio check`; `Ok(true)` when every item passed.
-pub fn run(a: &CheckArgs) -> anyhow::Result<bool> {
-    let loaded = load(&a.input)?;
+pub fn run(a: &CheckArgs, settings: &crate::settings::Settings) -> anyhow::Result<bool> {
+    let loaded = load(&a.input, settings)?;
     let mut opts = if a.quick {
         BatteryOptions::quick()
     } else {
@@ -32,7 +32,7 @@ pub fn run(a: &CheckArgs) -> anyhow::Result<bool> {
         &loaded.diagram,
         if a.quick { 16 } else { 64 },
     );
-    let progress = Progress::fraction("check");
+    let progress = Progress::fraction("check", settings.quiet);
     let report = run_battery_with_progress(sampler.as_ref(), &opts, &|item, f| {
         progress.set_fraction(f, item)
     });

@@ -8,7 +8,7 @@ use gonio::photometry::{write_ies, write_ldt, WriteMeta};
 use std::io::Write;
 
 /// Runs `gonio convert`.
-pub fn run(a: &ConvertArgs) -> anyhow::Result<()> {
+pub fn run(a: &ConvertArgs, settings: &crate::settings::Settings) -> anyhow::Result<()> {
     let ext = a
         .output
         .extension()
@@ -17,9 +17,9 @@ pub fn run(a: &ConvertArgs) -> anyhow::Result<()> {
     let out_name = a.output.display().to_string();
     if a.to == Some(ConvertTarget::PbrtV4) {
         if crate::envmap_in::is_image_name(&a.input) {
-            return crate::envmap_in::convert_pbrt(a, ext.as_deref());
+            return crate::envmap_in::convert_pbrt(a, ext.as_deref(), settings);
         }
-        return super::pbrt::run(a, ext.as_deref());
+        return super::pbrt::run(a, ext.as_deref(), settings);
     }
     // Check the output format before reading anything.
     match ext.as_deref() {
@@ -34,7 +34,7 @@ pub fn run(a: &ConvertArgs) -> anyhow::Result<()> {
             "{out_name}: the output name has no extension; expected .json, .ies or .ldt"
         ),
     }
-    let loaded = load(&a.input)?;
+    let loaded = load(&a.input, settings)?;
     let d = &loaded.diagram;
     let luminaire = std::path::Path::new(&a.input)
         .file_stem()

@@ -35,8 +35,8 @@ fn read_directions(path: &str) -> anyhow::Result<(Vec<Vec3>, Vec<LineRow>)> {
 }
 
 /// Runs `gonio pdf`: output `x,y,z,pdf` with the normalised direction.
-pub fn run_pdf(a: &DirectionsArgs) -> anyhow::Result<()> {
-    let loaded = load(&a.input)?;
+pub fn run_pdf(a: &DirectionsArgs, settings: &crate::settings::Settings) -> anyhow::Result<()> {
+    let loaded = load(&a.input, settings)?;
     let sampler = build_sampler(a.method, &loaded)?;
     let (dirs, _) = read_directions(&a.directions)?;
     let mut out = Output::create(a.output.as_deref())?;
@@ -58,8 +58,8 @@ pub fn run_pdf(a: &DirectionsArgs) -> anyhow::Result<()> {
 /// A direction with no preimage — density 0 there, or outside a hemisphere sampler's domain —
 /// gets empty `u,v` fields; how many is said on standard error, and the exit status stays 0.
 /// Only a malformed input row (not a number, a zero or non-finite direction) stops the run.
-pub fn run_invert(a: &DirectionsArgs) -> anyhow::Result<()> {
-    let loaded = load(&a.input)?;
+pub fn run_invert(a: &DirectionsArgs, settings: &crate::settings::Settings) -> anyhow::Result<()> {
+    let loaded = load(&a.input, settings)?;
     let sampler = build_sampler(a.method, &loaded)?;
     if sampler.invert([0.0, 0.0, 1.0]) == Err(InvertError::Unsupported) {
         anyhow::bail!(

@@ -324,8 +324,8 @@ pub fn collect(loaded: &Loaded) -> anyhow::Result<Info> {
 }
 
 /// Runs `gonio info`.
-pub fn run(a: &InfoArgs) -> anyhow::Result<()> {
-    let loaded = load(&a.input)?;
+pub fn run(a: &InfoArgs, settings: &crate::settings::Settings) -> anyhow::Result<()> {
+    let loaded = load(&a.input, settings)?;
     let info = collect(&loaded)?;
     let text = if a.json {
         serde_json::to_string_pretty(&info)? + "\n"

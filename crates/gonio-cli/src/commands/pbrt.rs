@@ -185,14 +185,18 @@ fn pbrt_string(name: &str) -> String {
 }
 
 /// Runs `gonio convert IN OUT --to pbrt-v4 [--resolution N]`.
-pub fn run(a: &ConvertArgs, ext: Option<&str>) -> anyhow::Result<()> {
+pub fn run(
+    a: &ConvertArgs,
+    ext: Option<&str>,
+    settings: &crate::settings::Settings,
+) -> anyhow::Result<()> {
     let out_name = a.output.display().to_string();
     let format = image_format(&out_name, ext)?;
     let resolution = a.resolution.unwrap_or(DEFAULT_RESOLUTION);
     if !(1..=MAX_RESOLUTION).contains(&resolution) {
         anyhow::bail!("--resolution {resolution} is outside 1..={MAX_RESOLUTION}");
     }
-    let loaded = load(&a.input)?;
+    let loaded = load(&a.input, settings)?;
     let flux = loaded.diagram.integral();
     if !(flux.is_finite() && flux > 0.0) {
         anyhow::bail!(

@@ -17,8 +17,8 @@ use std::io::Write;
 const BATCH: usize = 1 << 16;
 
 /// Runs `gonio sample`.
-pub fn run(a: &SampleArgs) -> anyhow::Result<()> {
-    let loaded = load(&a.input)?;
+pub fn run(a: &SampleArgs, settings: &crate::settings::Settings) -> anyhow::Result<()> {
+    let loaded = load(&a.input, settings)?;
     let sampler = build_sampler(a.method, &loaded)?;
     // An environment map adds its radiance in each sampled direction (columns r, g, b).
     let env = loaded.envmap.as_deref();
@@ -42,7 +42,7 @@ pub fn run(a: &SampleArgs) -> anyhow::Result<()> {
             drop(rows);
             let mut out = Output::create(a.output.as_deref())?;
             write_header(&mut out, a.format, env)?;
-            let progress = Progress::new(pts.len() as u64, "sample");
+            let progress = Progress::new(pts.len() as u64, "sample", settings.quiet);
             let mut samples = vec![Sample::default(); BATCH.min(pts.len())];
             let mut done = 0u64;
             for chunk in pts.chunks(BATCH) {
@@ -66,7 +66,7 @@ pub fn run(a: &SampleArgs) -> anyhow::Result<()> {
             };
             let mut out = Output::create(a.output.as_deref())?;
             write_header(&mut out, a.format, env)?;
-            let progress = Progress::new(n, "sample");
+            let progress = Progress::new(n, "sample", settings.quiet);
             let cap = (n.min(BATCH as u64)) as usize;
             let mut pts = vec![[0.0; 2]; cap];
             let mut samples = vec![Sample::default(); cap];

@@ -35,7 +35,7 @@ pub struct TablesArgs {
 
 /// Writes the blob of FILE's HDS map (with its diagram, or its environment map's image, as the
 /// target) and prints one line: the layout, grid and size.
-pub fn run(a: &TablesArgs) -> anyhow::Result<()> {
+pub fn run(a: &TablesArgs, settings: &crate::settings::Settings) -> anyhow::Result<()> {
     let precision = match a.precision {
         PrecisionArg::F32 => Precision::F32,
         PrecisionArg::F64 => Precision::F64,
@@ -60,7 +60,7 @@ pub fn run(a: &TablesArgs) -> anyhow::Result<()> {
         );
         return Ok(());
     }
-    let loaded = load(&a.input)?;
+    let loaded = load(&a.input, settings)?;
     let bytes = if let Some(env) = &loaded.envmap {
         let img = env.image();
         let target = Target::Image {

@@ -127,7 +127,7 @@ fn parse_layout(s: &str) -> Result<Layout> {
     })
 }
 
-fn options(a: &MeshArgs, mesh: &Mesh) -> Result<UvOptions> {
+fn options(a: &MeshArgs, mesh: &Mesh, settings: &crate::settings::Settings) -> Result<UvOptions> {
     let density = match a.density.as_str() {
         "surface" => Density::Surface,
         "solid-angle" => Density::SolidAngle,
@@ -145,7 +145,7 @@ fn options(a: &MeshArgs, mesh: &Mesh) -> Result<UvOptions> {
                 ),
             }
         }
-        file => Density::Diagram(crate::load::load(file)?.diagram),
+        file => Density::Diagram(crate::load::load(file, settings)?.diagram),
     };
     let layout = parse_layout(&a.layout)?;
     if layout != Layout::Hds && a.density != "surface" {
@@ -163,14 +163,17 @@ fn options(a: &MeshArgs, mesh: &Mesh) -> Result<UvOptions> {
         center: a.center.as_deref().map(parse_center).transpose()?,
         layout,
         grid,
-        tolerance: crate::load::tolerance().or(Some(0.01)),
+        tolerance: settings.tolerance.or(Some(0.01)),
     })
 }
 
 /// Parameterises and prints the summary on standard error.
-fn run_mesh(a: &MeshArgs) -> Result<(Mesh, UvOptions, UvResult)> {
+fn run_mesh(
+    a: &MeshArgs,
+    settings: &crate::settings::Settings,
+) -> Result<(Mesh, UvOptions, UvResult)> {
     let mesh = read_mesh(&a.mesh)?;
-    let opts = options(a, &mesh)?;
+    let opts = options(a, &mesh, settings)?;
     let t = std::time::Instant::now();
     let r = parameterise(&mesh, &opts).with_context(|| shown(&a.mesh))?;
     let secs = t.elapsed().as_secs_f64();
@@ -240,8 +243,8 @@ fn write_text(path: &Path, text: &[u8]) -> Result<()> {
 }
 
 /// `gonio uv`.
-pub fn run_uv(a: &UvArgs) -> Result<()> {
-    let (_, _, r) = run_mesh(&a.mesh)?;
+pub fn run_uv(a: &UvArgs, settings: &crate::settings::Settings) -> Result<()> {
+    let (_, _, r) = run_mesh(&a.mesh, settings)?;
     write_text(&a.output, obj::write_obj(&r.mesh, None).as_bytes())
 }
 
@@ -333,7 +336,7 @@ fn encode_png(img: &Image) -> Result<Vec<u8>> {
 }
 
 /// `gonio bake`.
-pub fn run_bake(a: &BakeArgs) -> Result<()> {
+pub fn run_bake(a: &BakeArgs, settings: &crate::settings::Settings) -> Result<()> {
     if !(1..=16384).contains(&a.resolution) {
         bail!("--resolution: {} texels; give 1 to 16384", a.resolution);
     }
@@ -359,7 +362,7 @@ pub fn run_bake(a: &BakeArgs) -> Result<()> {
     } else {
         Some(read_png(Path::new(&a.texture))?)
     };
-    let (_, _, r) = run_mesh(&a.mesh)?;
+    let (_, _, r) = run_mesh(&a.mesh, settings)?;
     let tex = r
         .texture
         .as_ref()

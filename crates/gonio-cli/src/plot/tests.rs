@@ -220,7 +220,7 @@ fn write_gallery() {
                 height: Some(height),
             };
             let t = std::time::Instant::now();
-            run(&args).unwrap();
+            run(&args, &Default::default()).unwrap();
             let size = std::fs::metadata(&path).unwrap().len();
             eprintln!(
                 "{} {} bytes in {:.2} s",
@@ -283,7 +283,8 @@ fn run_draws_the_example_and_a_json_hemisphere() {
             width: Some(800),
             height: Some(500),
         };
-        run(&args).unwrap_or_else(|e| panic!("{input} {method} {kind:?}: {e:#}"));
+        run(&args, &Default::default())
+            .unwrap_or_else(|e| panic!("{input} {method} {kind:?}: {e:#}"));
         assert!(std::fs::metadata(dir.join(out)).unwrap().len() > 1000);
     }
     // Nothing but the outputs (and the input) is left behind: no temporary files.
