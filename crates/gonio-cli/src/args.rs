@@ -6,6 +6,116 @@ use clap::{Args, ValueEnum};
 use gonio::Method;
 use std::path::PathBuf;
 
+/// A usage error found after parsing (an option that does not apply to the input): `main` exits
+/// with code 2 for it, as for clap's own.
+#[derive(Debug)]
+pub struct UsageError(pub String);
+
+impl std::fmt::Display for UsageError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for UsageError {}
+
+/// `--method`: the sampling methods of diagrams and those of BRDF files, one list.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum MethodName {
+    /// The HDS map (every input kind).
+    Hds,
+    /// Piecewise-constant (every input kind).
+    PiecewiseConstant,
+    /// Bilinear patches (diagrams).
+    Bilinear,
+    /// Rejection sampling (diagrams).
+    Rejection,
+    /// Uniform directions (diagrams).
+    Uniform,
+    /// Cosine-weighted lobe (BRDF files).
+    Cosine,
+    /// A fitted GGX lobe (BRDF files).
+    GgxFit,
+}
+
+impl MethodName {
+    /// The library's method for a diagram, or a usage error for a BRDF-only method.
+    pub fn diagram(self) -> Result<Method, UsageError> {
+        Ok(match self {
+            MethodName::Hds => Method::Hds,
+            MethodName::PiecewiseConstant => Method::PiecewiseConstant,
+            MethodName::Bilinear => Method::Bilinear,
+            MethodName::Rejection => Method::Rejection,
+            MethodName::Uniform => Method::Uniform,
+            m @ (MethodName::Cosine | MethodName::GgxFit) => {
+                return Err(UsageError(format!(
+                    "--method {}: a method of BRDF files only; diagrams take hds, \
+                     piecewise-constant, bilinear, rejection or uniform",
+                    m.to_possible_value()
+                        .map_or_else(String::new, |v| v.get_name().to_owned())
+                )))
+            }
+        })
+    }
+}
+
+/// The options of a tabulated BRDF input (MERL `.binary`, UTIA `.bin`, gonio BRDF JSON; the
+/// format is recognised from the content). A BRDF file is one more input kind of the commands
+/// `info`, `sample`, `pdf`, `invert`, `check`, `plot` and `bench`; these options apply to it only.
+#[derive(Debug, Clone, Default, Args)]
+pub struct BrdfOptions {
+    /// BRDF files: the incident direction ω_i, polar angle and azimuth in degrees in the local
+    /// shading frame (z the normal, x the tangent), 0 ≤ THETA ≤ 90.
+    #[arg(long, value_name = "THETA,PHI", value_parser = parse_incident)]
+    pub incident: Option<(f64, f64)>,
+    /// BRDF files, MERL: polar nodes of the grid the half-angle table is resampled on (46).
+    #[arg(long, value_name = "N")]
+    pub merl_theta: Option<usize>,
+    /// BRDF files, MERL: azimuth nodes of that grid (90).
+    #[arg(long, value_name = "N")]
+    pub merl_phi: Option<usize>,
+    /// BRDF files: polar nodes of the outgoing grid of the slice maps (46).
+    #[arg(long, value_name = "N")]
+    pub theta_o: Option<usize>,
+    /// BRDF files: azimuth nodes of the outgoing grid of the slice maps (90).
+    #[arg(long, value_name = "N")]
+    pub phi_o: Option<usize>,
+}
+
+impl BrdfOptions {
+    /// The first BRDF option given, by name (refused for other inputs: it would be ignored).
+    pub fn given(&self) -> Option<&'static str> {
+        if self.incident.is_some() {
+            Some("--incident")
+        } else if self.merl_theta.is_some() {
+            Some("--merl-theta")
+        } else if self.merl_phi.is_some() {
+            Some("--merl-phi")
+        } else if self.theta_o.is_some() {
+            Some("--theta-o")
+        } else if self.phi_o.is_some() {
+            Some("--phi-o")
+        } else {
+            None
+        }
+    }
+}
+
+/// `--incident THETA,PHI`: degrees, 0 ≤ THETA ≤ 90, PHI finite.
+pub fn parse_incident(s: &str) -> Result<(f64, f64), String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    let bad = || format!("--incident takes THETA,PHI in degrees (0 ≤ THETA ≤ 90), got `{s}`");
+    if parts.len() != 2 {
+        return Err(bad());
+    }
+    let t: f64 = parts[0].parse().map_err(|_| bad())?;
+    let p: f64 = parts[1].parse().map_err(|_| bad())?;
+    if !(0.0..=90.0).contains(&t) || !p.is_finite() {
+        return Err(bad());
+    }
+    Ok((t, p))
+}
+
 /// What `gonio plot` draws.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum PlotKind {
@@ -39,9 +149,12 @@ pub struct PlotArgs {
     /// Seed of the sample sequence.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
-    /// Sampling method: hds, piecewise-constant, bilinear, rejection, uniform.
-    #[arg(long, default_value = "hds")]
-    pub method: Method,
+    /// Sampling method: hds, piecewise-constant, bilinear, rejection, uniform; for a BRDF file
+    /// hds, cosine, ggx-fit, piecewise-constant.
+    #[arg(long, value_enum, default_value_t = MethodName::Hds)]
+    pub method: MethodName,
+    #[command(flatten)]
+    pub brdf: BrdfOptions,
     /// Image width in pixels (default: per kind, e.g. 1200 for density).
     #[arg(long)]
     pub width: Option<u32>,
@@ -63,7 +176,7 @@ pub struct BenchArgs {
     #[arg(long = "method", value_name = "M")]
     pub methods: Vec<Method>,
     /// Samples per measurement.
-    #[arg(long, default_value_t = 1_000_000)]
+    #[arg(short = 'n', long, default_value_t = 1_000_000)]
     pub samples: usize,
     /// Rayon worker threads (default: all cores).
     #[arg(long)]
@@ -72,6 +185,8 @@ pub struct BenchArgs {
     /// and all threads, best of 5 wall-clock runs).
     #[arg(long)]
     pub soa: bool,
+    #[command(flatten)]
+    pub brdf: BrdfOptions,
 }
 
 impl BenchArgs {
@@ -127,9 +242,12 @@ pub struct SampleArgs {
     /// Output file (`-` or absent: standard output).
     #[arg(short = 'o', long = "output", value_name = "OUT")]
     pub output: Option<PathBuf>,
-    /// Sampling method: hds, piecewise-constant, bilinear, rejection, uniform.
-    #[arg(long, default_value = "hds")]
-    pub method: Method,
+    /// Sampling method: hds, piecewise-constant, bilinear, rejection, uniform; for a BRDF file
+    /// hds, cosine, ggx-fit, piecewise-constant.
+    #[arg(long, value_enum, default_value_t = MethodName::Hds)]
+    pub method: MethodName,
+    #[command(flatten)]
+    pub brdf: BrdfOptions,
 }
 
 /// `gonio pdf|invert FILE --directions DIRS.csv [-o OUT] [--method M]`.
@@ -144,9 +262,12 @@ pub struct DirectionsArgs {
     /// Output file (`-` or absent: standard output).
     #[arg(short = 'o', long = "output", value_name = "OUT")]
     pub output: Option<PathBuf>,
-    /// Sampling method: hds, piecewise-constant, bilinear, rejection, uniform.
-    #[arg(long, default_value = "hds")]
-    pub method: Method,
+    /// Sampling method: hds, piecewise-constant, bilinear, rejection, uniform; for a BRDF file
+    /// hds, cosine, ggx-fit, piecewise-constant.
+    #[arg(long, value_enum, default_value_t = MethodName::Hds)]
+    pub method: MethodName,
+    #[command(flatten)]
+    pub brdf: BrdfOptions,
 }
 
 /// `gonio info FILE [--json]`.
@@ -158,6 +279,8 @@ pub struct InfoArgs {
     /// Print one JSON object (keys documented in docs/CLI.md).
     #[arg(long)]
     pub json: bool,
+    #[command(flatten)]
+    pub brdf: BrdfOptions,
 }
 
 /// `gonio convert IN OUT`.
@@ -205,7 +328,10 @@ pub struct CheckArgs {
     /// Print the report as one JSON object.
     #[arg(long)]
     pub json: bool,
-    /// Sampling method: hds, piecewise-constant, bilinear, rejection, uniform.
-    #[arg(long, default_value = "hds")]
-    pub method: Method,
+    /// Sampling method: hds, piecewise-constant, bilinear, rejection, uniform; for a BRDF file
+    /// hds, cosine, ggx-fit, piecewise-constant.
+    #[arg(long, value_enum, default_value_t = MethodName::Hds)]
+    pub method: MethodName,
+    #[command(flatten)]
+    pub brdf: BrdfOptions,
 }

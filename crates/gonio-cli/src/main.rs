@@ -27,7 +27,8 @@ use args::{BenchArgs, CheckArgs, ConvertArgs, DirectionsArgs, InfoArgs, PlotArgs
 /// Importance sampling of goniometric diagrams (Havran–Dmitriev–Seidel mapping).
 ///
 /// FILE is a native diagram (.json), an IES LM-63 file (.ies), a EULUMDAT file (.ldt), an
-/// environment map (.hdr, .exr, .pfm), or the word `example` for the built-in example luminaire.
+/// environment map (.hdr, .exr, .pfm), a tabulated BRDF (MERL, UTIA, gonio BRDF JSON; with
+/// `--incident THETA,PHI`), or the word `example` for the built-in example luminaire.
 #[derive(Debug, Parser)]
 #[command(name = "gonio", version, propagate_version = true)]
 struct Cli {
@@ -79,9 +80,9 @@ enum Command {
     Uv(commands::uv::UvArgs),
     /// Bake an equirectangular PNG (or a checkerboard) into the map's square texture.
     Bake(commands::uv::BakeArgs),
-    /// Tabulated BRDFs (MERL, UTIA, gonio BRDF JSON): info, sample, pdf, invert, check, plot,
-    /// bench `FILE --incident THETA,PHI`. The same commands at the top level (`gonio sample FILE
-    /// --incident 30,0`) come here when FILE is a BRDF file by its content.
+    /// Tabulated BRDFs (MERL, UTIA, gonio BRDF JSON): the commands info, sample, pdf, invert,
+    /// check, plot, bench with `FILE --incident THETA,PHI`, as at the top level (`gonio sample
+    /// FILE --incident 30,0`), the input required to be a BRDF file.
     Brdf(commands::brdf::BrdfArgs),
     /// Write the HDS map's tables as one blob (docs/TABLES.md) for GPU and Dr.Jit code.
     Tables(commands::tables::TablesArgs),
@@ -123,15 +124,7 @@ fn main() -> ExitCode {
 
     cleanup::install();
 
-    // A BRDF file after a top-level command goes to `gonio brdf …` (recognised by its content).
-    let argv = match commands::brdf::route(std::env::args_os().collect()) {
-        Ok(a) => a,
-        Err(msg) => {
-            eprintln!("gonio: error: {msg}");
-            return ExitCode::from(EXIT_USAGE);
-        }
-    };
-    let cli = match Cli::try_parse_from(argv) {
+    let cli = match Cli::try_parse() {
         Ok(c) => c,
         Err(e) => {
             use clap::error::ErrorKind;
@@ -196,7 +189,7 @@ fn main() -> ExitCode {
         Command::Bench(a) => bench::run(a, s).map(|()| true),
         Command::Uv(a) => commands::uv::run_uv(a, s).map(|()| true),
         Command::Bake(a) => commands::uv::run_bake(a, s).map(|()| true),
-        Command::Brdf(a) => commands::brdf::run(a),
+        Command::Brdf(a) => commands::brdf::run(a, s),
         Command::Tables(a) => commands::tables::run(a, s).map(|()| true),
     };
     match result {
@@ -215,6 +208,10 @@ fn report(e: &anyhow::Error) -> ExitCode {
                 return ExitCode::SUCCESS;
             }
         }
+    }
+    if let Some(usage) = e.downcast_ref::<args::UsageError>() {
+        eprintln!("gonio: error: {usage} (see `gonio --help`)");
+        return ExitCode::from(EXIT_USAGE);
     }
     if let Some(located) = e.downcast_ref::<load::LocatedError>() {
         eprintln!("gonio: error: {}", one_line(&located.to_string()));

@@ -63,10 +63,14 @@ fn brdf_commands_on_every_format() {
         assert!(out.starts_with("u,v,x,y,z,pdf,w_r,w_g,w_b\n"));
         let samples = rows(&out);
         assert_eq!(samples.len(), 20);
-        let dirs: String = samples
-            .iter()
-            .filter(|r| r[5] > 1e-6)
-            .map(|r| format!("{},{},{}\n", r[2], r[3], r[4]))
+        // The same directions file as for every input: a header names the columns.
+        let dirs: String = std::iter::once("x,y,z\n".to_string())
+            .chain(
+                samples
+                    .iter()
+                    .filter(|r| r[5] > 1e-6)
+                    .map(|r| format!("{},{},{}\n", r[2], r[3], r[4])),
+            )
             .collect();
         let csv = dir.join("dirs.csv");
         std::fs::write(&csv, &dirs).unwrap();

@@ -94,9 +94,8 @@ fn top_level_commands_on_every_format() {
             kept.len()
         );
         let csv = dir.join("dirs.csv");
-        let text: String = kept
-            .iter()
-            .map(|r| format!("{},{},{}\n", r[2], r[3], r[4]))
+        let text: String = std::iter::once("x,y,z\n".to_string())
+            .chain(kept.iter().map(|r| format!("{},{},{}\n", r[2], r[3], r[4])))
             .collect();
         std::fs::write(&csv, text).unwrap();
         let (code, out, err) = gonio(&with_small(vec![
@@ -191,8 +190,20 @@ fn usage_errors_and_diagram_json_untouched() {
     // Named like a diagram: the content decides.
     let json = dir.join("diagram.json");
     std::fs::write(&json, write_json(&lambert.table(5, 8).unwrap())).unwrap();
+    // Each command with the arguments it requires of every input (parsed first), then the
+    // input's kind: a BRDF file without --incident is a usage error naming the file's format.
+    let dirs = dir.join("dirs.csv");
+    std::fs::write(&dirs, "x,y,z\n0,0,1\n").unwrap();
+    let png = dir.join("never.png");
     for cmd in ["info", "sample", "pdf", "invert", "check", "plot", "bench"] {
-        let (code, _, err) = gonio(&[cmd, s(&json)]);
+        let mut a = vec![cmd, s(&json)];
+        match cmd {
+            "sample" => a.extend(["-n", "3"]),
+            "pdf" | "invert" => a.extend(["--directions", s(&dirs)]),
+            "plot" => a.extend(["-o", s(&png)]),
+            _ => {}
+        }
+        let (code, _, err) = gonio(&a);
         assert_eq!(code, Some(2), "{cmd}: {err}");
         assert!(
             err.contains("is a BRDF file (gonio BRDF JSON)")

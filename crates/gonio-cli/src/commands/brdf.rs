@@ -1,24 +1,34 @@
-//! `gonio info|sample|pdf|invert|check|plot|bench FILE --incident THETA,PHI` on a BRDF file, and
-//! its alias `gonio brdf info|sample|…`: tabulated BRDFs (MERL `.binary`, UTIA `.bin`, gonio BRDF
-//! JSON; the format is recognised from the content, [`sniff`]). `main` sends a top-level command
-//! whose FILE is a BRDF file here ([`route`]).
+//! A tabulated BRDF file (MERL `.binary`, UTIA `.bin`, gonio BRDF JSON; the format is recognised
+//! from the content, [`sniff`]) is one more input kind of `gonio info|sample|pdf|invert|check|plot|
+//! bench FILE --incident THETA,PHI`: each of those commands asks [`input`] first and comes here for
+//! a BRDF file, with its own parsed arguments (the same options as for a luminaire: `--points`,
+//! `--sequence`, `--seed`, `-o`, `--format`, `--method`, `--json`). `gonio brdf CMD …` is the same
+//! commands with the input required to be a BRDF file ([`run`]). Nothing rewrites argv.
 //!
 //! Directions are in the local shading frame (z the normal, x the tangent), both pointing away
-//! from the surface; `--incident` gives ω_i's polar angle and azimuth in degrees.
+//! from the surface; `--incident` gives ω_i's polar angle and azimuth in degrees. At a fixed ω_i a
+//! BRDF method is a [`Sampler`] of ω_o ([`AtIncident`]), so `pdf`, `invert` and `check` run the
+//! same code as for every other input.
 
+use crate::args::{
+    BenchArgs, BrdfOptions, CheckArgs, DirectionsArgs, InfoArgs, MethodName, PlotArgs, PlotKind,
+    SampleArgs, UsageError,
+};
+use crate::settings::Settings;
 use anyhow::{bail, Context, Result};
-use clap::{Args, Subcommand, ValueEnum};
+use clap::{Args, Subcommand};
 use gonio::brdf::{
-    read_any, BrdfMethod, BrdfSampler, CosineBrdf, GgxFit, IncidentSampler, MerlOptions, MerlRaw,
-    PerSliceConstant, SamplerOptions, TabulatedBrdf,
+    read_any, BrdfMethod, BrdfSampler, CosineBrdf, GgxFit, MerlOptions, MerlRaw, PerSliceConstant,
+    SamplerOptions, TabulatedBrdf,
 };
 use gonio::sampler::direction;
 use gonio::sequence::{Sequence, SequenceKind};
-use gonio::{Sampler, Vec3};
-use std::io::{BufRead, Write};
+use gonio::{Domain, InvertError, Point2, Sample, Sampler, Vec3};
+use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 
-/// `gonio brdf …`.
+/// `gonio brdf CMD FILE --incident THETA,PHI …`: the top-level commands on a BRDF file, by name
+/// (the same arguments; the input must be a BRDF file).
 #[derive(Debug, Args)]
 pub struct BrdfArgs {
     #[command(subcommand)]
@@ -27,153 +37,89 @@ pub struct BrdfArgs {
 
 #[derive(Debug, Subcommand)]
 enum BrdfCommand {
-    /// Format, grids, slices, memory, build time (MERL: the resampling error).
-    Info(Common),
-    /// Sample outgoing directions: CSV `u,v,x,y,z,pdf,w_r,w_g,w_b`.
+    /// Format, grids, slices, memory, albedo at the incident direction.
+    Info(InfoArgs),
+    /// Outgoing directions with their exact pdf and weights f·cos/pdf (`w_r,w_g,w_b`).
     Sample(SampleArgs),
-    /// The pdf of each direction of `--directions` (CSV `x,y,z` per line): `x,y,z,pdf`.
-    Pdf(DirArgs),
-    /// The point of the square of each direction of `--directions`: `x,y,z,u,v`.
-    Invert(DirArgs),
-    /// The check battery at the incident direction; exit 3 if an item fails.
+    /// The pdf of each given outgoing direction.
+    Pdf(DirectionsArgs),
+    /// The point of the square of each given outgoing direction.
+    Invert(DirectionsArgs),
+    /// The test battery at the incident direction.
     Check(CheckArgs),
-    /// Draw the slice f·cos θ_o over the outgoing hemisphere and its samples (PNG or SVG).
+    /// The slice f·cos θ_o at the incident direction with samples over it.
     Plot(PlotArgs),
-    /// Time per sample of every method at the incident direction, against the light map of the
-    /// same slice diagram (`HemisphereMap`), and the sampler's memory.
+    /// Time and weight variance of every method.
     Bench(BenchArgs),
 }
 
-#[derive(Debug, Clone, Copy, ValueEnum)]
-enum MethodArg {
-    Hds,
-    Cosine,
-    GgxFit,
-    PiecewiseConstant,
+/// Runs `gonio brdf CMD …`; `Ok(false)` when `check` found a failure.
+pub fn run(a: &BrdfArgs, s: &Settings) -> Result<bool> {
+    let need = |cmd: &str, file: &str, o: &BrdfOptions| -> Result<Input> {
+        match input(cmd, file, o)? {
+            Some(b) => Ok(b),
+            None => Err(UsageError(format!(
+                "`gonio brdf {cmd}` needs the incident direction --incident THETA,PHI in degrees, \
+                 e.g. --incident 30,0"
+            ))
+            .into()),
+        }
+    };
+    match &a.command {
+        BrdfCommand::Info(x) => info(&need("info", &x.input, &x.brdf)?, x).map(|()| true),
+        BrdfCommand::Sample(x) => sample(&need("sample", &x.input, &x.brdf)?, x, s).map(|()| true),
+        BrdfCommand::Pdf(x) => pdf(&need("pdf", &x.input, &x.brdf)?, x).map(|()| true),
+        BrdfCommand::Invert(x) => invert(&need("invert", &x.input, &x.brdf)?, x).map(|()| true),
+        BrdfCommand::Check(x) => check(&need("check", &x.input, &x.brdf)?, x, s),
+        BrdfCommand::Plot(x) => plot(&need("plot", &x.input, &x.brdf)?, x).map(|()| true),
+        BrdfCommand::Bench(x) => bench(&need("bench", &x.input, &x.brdf)?, x).map(|()| true),
+    }
 }
 
-#[derive(Debug, Args)]
-struct Common {
-    /// The BRDF file.
+/// A BRDF input: the file, the incident direction and the grids.
+#[derive(Debug, Clone)]
+pub struct Input {
     file: PathBuf,
-    /// Incident direction (required): polar angle and azimuth in degrees, e.g. `30,0`.
-    #[arg(long, value_name = "THETA,PHI", value_parser = parse_incident)]
+    /// (θ_i, φ_i) in degrees.
     incident: (f64, f64),
-    /// MERL resampling: polar nodes 0°…90° (incident and outgoing).
-    #[arg(long, default_value_t = 46)]
-    merl_theta: usize,
-    /// MERL resampling: relative azimuth nodes.
-    #[arg(long, default_value_t = 90)]
-    merl_phi: usize,
-    /// Slice grid (when the table's own grid cannot be used): polar nodes 0°…90°.
-    #[arg(long, default_value_t = 46)]
+    merl: MerlOptions,
     theta_o: usize,
-    /// Slice grid: azimuth nodes.
-    #[arg(long, default_value_t = 90)]
     phi_o: usize,
 }
 
-#[derive(Debug, Args)]
-struct SampleArgs {
-    #[command(flatten)]
-    common: Common,
-    /// Number of samples.
-    #[arg(
-        short = 'n',
-        long,
-        visible_alias = "samples",
-        default_value_t = 10,
-        conflicts_with = "points"
-    )]
-    count: usize,
-    /// Point sequence on the unit square (as `gonio sample`: Halton from index 1; the default
-    /// here is iid points of `--seed`).
-    #[arg(long, default_value = "random")]
-    sequence: SequenceKind,
-    /// Seed (the random stream, Sobol' scrambling; Halton ignores it).
-    #[arg(long, default_value_t = 1)]
-    seed: u64,
-    /// Map these points instead of a sequence: a CSV file with columns `u,v` (by header name;
-    /// `-` reads standard input), every point checked before anything is written.
-    #[arg(long, value_name = "UV.csv")]
-    points: Option<String>,
-    /// Output file (`-` or absent: standard output).
-    #[arg(short = 'o', long = "output", value_name = "OUT")]
-    output: Option<PathBuf>,
-    /// Sampling method.
-    #[arg(long, value_enum, default_value = "hds")]
-    method: MethodArg,
-}
-
-#[derive(Debug, Args)]
-struct DirArgs {
-    #[command(flatten)]
-    common: Common,
-    /// CSV file of directions `x,y,z` (`-` for stdin).
-    #[arg(long)]
-    directions: PathBuf,
-    /// Sampling method.
-    #[arg(long, value_enum, default_value = "hds")]
-    method: MethodArg,
-}
-
-#[derive(Debug, Args)]
-struct CheckArgs {
-    #[command(flatten)]
-    common: Common,
-    /// The cheaper battery (about ten times faster, same tolerances).
-    #[arg(long)]
-    quick: bool,
-    /// Seed of every random item.
-    #[arg(long, default_value_t = 0)]
-    seed: u64,
-}
-
-#[derive(Debug, Args)]
-struct PlotArgs {
-    #[command(flatten)]
-    common: Common,
-    /// Output image; the extension (`.png` or `.svg`) picks the format.
-    #[arg(short = 'o', long = "output", value_name = "OUT")]
-    output: PathBuf,
-    /// Number of samples drawn as dots.
-    #[arg(long, default_value_t = 2000)]
-    samples: usize,
-    /// Seed of the iid points of the square.
-    #[arg(long, default_value_t = 1)]
-    seed: u64,
-    /// Sampling method of the dots.
-    #[arg(long, value_enum, default_value = "hds")]
-    method: MethodArg,
-    /// Image width in pixels.
-    #[arg(long, default_value_t = 1200)]
-    width: u32,
-    /// Image height in pixels.
-    #[arg(long, default_value_t = 700)]
-    height: u32,
-}
-
-#[derive(Debug, Args)]
-struct BenchArgs {
-    #[command(flatten)]
-    common: Common,
-    /// Samples per method.
-    #[arg(short = 'n', long, default_value_t = 1_000_000)]
-    count: usize,
-}
-
-fn parse_incident(s: &str) -> Result<(f64, f64), String> {
-    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
-    let bad = || format!("--incident takes THETA,PHI in degrees (0 ≤ THETA ≤ 90), got `{s}`");
-    if parts.len() != 2 {
-        return Err(bad());
+/// The BRDF input of `gonio CMD FILE`: `Some` when `--incident` is given (the BRDF reader then
+/// reports on FILE, whatever it is, so a broken BRDF file gets its reader's message); a usage
+/// error when FILE is a BRDF file by its content and `--incident` is missing, or when a BRDF
+/// option is given for another input (it would be ignored); `None` otherwise.
+pub fn input(cmd: &str, file: &str, o: &BrdfOptions) -> Result<Option<Input>> {
+    if let Some(incident) = o.incident {
+        let merl = MerlOptions::default();
+        let opts = SamplerOptions::default();
+        return Ok(Some(Input {
+            file: PathBuf::from(file),
+            incident,
+            merl: MerlOptions {
+                n_theta: o.merl_theta.unwrap_or(merl.n_theta),
+                n_phi: o.merl_phi.unwrap_or(merl.n_phi),
+            },
+            theta_o: o.theta_o.unwrap_or(opts.theta_o),
+            phi_o: o.phi_o.unwrap_or(opts.phi_o),
+        }));
     }
-    let t: f64 = parts[0].parse().map_err(|_| bad())?;
-    let p: f64 = parts[1].parse().map_err(|_| bad())?;
-    if !(0.0..=90.0).contains(&t) || !p.is_finite() {
-        return Err(bad());
+    if let Some(format) = sniff(Path::new(file)) {
+        return Err(UsageError(format!(
+            "{file} is a BRDF file ({format}): `gonio {cmd}` needs the incident direction \
+             --incident THETA,PHI in degrees, e.g. --incident 30,0"
+        ))
+        .into());
     }
-    Ok((t, p))
+    if let Some(opt) = o.given() {
+        return Err(UsageError(format!(
+            "{opt} applies to BRDF files (MERL, UTIA, gonio BRDF JSON) only"
+        ))
+        .into());
+    }
+    Ok(None)
 }
 
 struct Loaded {
@@ -182,13 +128,9 @@ struct Loaded {
     merl_error: Option<(f64, usize)>,
 }
 
-fn load(c: &Common) -> Result<Loaded> {
-    let bytes = read_bytes(&c.file)?;
-    let merl = MerlOptions {
-        n_theta: c.merl_theta,
-        n_phi: c.merl_phi,
-    };
-    let brdf = read_any(&bytes, &merl).with_context(|| c.file.display().to_string())?;
+fn load(b: &Input) -> Result<Loaded> {
+    let bytes = read_bytes(&b.file)?;
+    let brdf = read_any(&bytes, &b.merl).with_context(|| b.file.display().to_string())?;
     let first = gonio::brdf::strip_json_bom(&bytes)
         .iter()
         .find(|b| !b.is_ascii_whitespace());
@@ -217,9 +159,6 @@ fn read_bytes(path: &Path) -> Result<Vec<u8>> {
         crate::input::FileKind::Brdf,
     )
 }
-
-/// The commands a BRDF file may follow at the top level (`gonio sample FILE --incident …`).
-pub const COMMANDS: [&str; 7] = ["info", "sample", "pdf", "invert", "check", "plot", "bench"];
 
 /// The BRDF format of a file, from its content (not its name): `MERL binary` (a 12-byte header
 /// of three int32 dimensions matching the length, or 90 × 90 × 180), `UTIA raw` (exactly
@@ -284,58 +223,6 @@ pub fn sniff(path: &Path) -> Option<&'static str> {
     None
 }
 
-/// Rewrites `gonio [GLOBAL…] CMD … FILE …` as `gonio [GLOBAL…] brdf CMD … FILE …` when CMD is one
-/// of [`COMMANDS`] and it has `--incident` (an option of BRDF files only: the BRDF reader then
-/// reports on FILE, whatever it is). `Err` holds the usage message when one of its plain arguments
-/// names a BRDF file ([`sniff`]) and `--incident` is missing.
-pub fn route(
-    args: Vec<std::ffi::OsString>,
-) -> std::result::Result<Vec<std::ffi::OsString>, String> {
-    // The subcommand: the first argument that is neither an option nor the value of --tolerance.
-    let mut k = 1;
-    while k < args.len() {
-        let a = args[k].to_string_lossy();
-        if a == "--tolerance" {
-            k += 2;
-        } else if a.starts_with('-') {
-            k += 1;
-        } else {
-            break;
-        }
-    }
-    let Some(cmd) = args.get(k).map(|a| a.to_string_lossy().into_owned()) else {
-        return Ok(args);
-    };
-    if !COMMANDS.contains(&cmd.as_str()) {
-        return Ok(args);
-    }
-    let rest = &args[k + 1..];
-    let has_incident = rest.iter().any(|a| {
-        let a = a.to_string_lossy();
-        a == "--incident" || a.starts_with("--incident=")
-    });
-    // `--incident` exists for BRDF files only: with it the command goes to the BRDF tree whatever
-    // the sniffer says, so that a broken BRDF file gets its reader's message (a missing file, a
-    // FIFO, a MERL header that lies), not "unexpected argument '--incident'".
-    if !has_incident {
-        let found = rest
-            .iter()
-            .filter(|a| !a.to_string_lossy().starts_with('-'))
-            .find_map(|a| sniff(Path::new(a)).map(|f| (a.to_string_lossy().into_owned(), f)));
-        if let Some((file, format)) = found {
-            return Err(format!(
-                "{file} is a BRDF file ({format}): `gonio {cmd}` needs the incident direction \
-                 --incident THETA,PHI in degrees, e.g. --incident 30,0 (see `gonio brdf {cmd} --help`)"
-            ));
-        }
-        return Ok(args);
-    }
-    let mut out = args[..k].to_vec();
-    out.push("brdf".into());
-    out.extend_from_slice(&args[k..]);
-    Ok(out)
-}
-
 /// The family blob (docs/TABLES.md, "Families") of the BRDF file `path` with the default MERL
 /// grid and slice grid: every incident slice, so no incident direction is needed (`gonio tables`).
 pub fn family_tables(path: &Path, precision: gonio::mapping::blob::Precision) -> Result<Vec<u8>> {
@@ -349,315 +236,388 @@ pub fn family_tables(path: &Path, precision: gonio::mapping::blob::Precision) ->
         .with_context(|| path.display().to_string())
 }
 
-fn sampler_of(c: &Common, brdf: TabulatedBrdf) -> Result<BrdfSampler> {
+fn sampler_of(b: &Input, brdf: TabulatedBrdf) -> Result<BrdfSampler> {
     let opts = SamplerOptions {
-        theta_o: c.theta_o,
-        phi_o: c.phi_o,
+        theta_o: b.theta_o,
+        phi_o: b.phi_o,
         force_resample: false,
     };
     Ok(BrdfSampler::new(brdf, &opts)?)
 }
 
-fn incident(c: &Common) -> Vec3 {
-    direction(c.incident.0.to_radians(), c.incident.1.to_radians())
+fn incident(b: &Input) -> Vec3 {
+    direction(b.incident.0.to_radians(), b.incident.1.to_radians())
 }
 
-fn read_directions(path: &Path) -> Result<Vec<Vec3>> {
-    let reader: Box<dyn BufRead> = if path.as_os_str() == "-" {
-        Box::new(std::io::BufReader::new(std::io::stdin()))
-    } else {
-        Box::new(std::io::BufReader::new(
-            std::fs::File::open(path).with_context(|| path.display().to_string())?,
-        ))
-    };
-    let mut out = vec![];
-    for (k, line) in reader.lines().enumerate() {
-        let line = line?;
-        let t = line.trim();
-        if t.is_empty() || t.starts_with('#') || t.starts_with('x') {
-            continue;
-        }
-        let v: Vec<f64> = t
-            .split(',')
-            .map(|f| f.trim().parse::<f64>())
-            .collect::<Result<_, _>>()
-            .map_err(|e| anyhow::anyhow!("{}:{}: {e}: `{t}`", path.display(), k + 1))?;
-        if v.len() != 3 {
-            bail!(
-                "{}:{}: expected x,y,z, got {} fields",
-                path.display(),
-                k + 1,
-                v.len()
-            );
-        }
-        let d = gonio::sampler::normalize([v[0], v[1], v[2]])
-            .ok_or_else(|| anyhow::anyhow!("{}:{}: not a direction", path.display(), k + 1))?;
-        out.push(d);
-    }
-    Ok(out)
-}
-
-fn with_method<T>(m: MethodArg, s: &BrdfSampler, f: impl FnOnce(&dyn BrdfMethod) -> T) -> T {
+/// The BRDF method of `--method`, or a usage error for a method of diagrams only.
+fn brdf_method(m: MethodName) -> Result<MethodName> {
     match m {
-        MethodArg::Hds => f(s),
-        MethodArg::Cosine => f(&CosineBrdf::new(s.brdf())),
-        MethodArg::GgxFit => f(&GgxFit::fit(s.brdf())),
-        MethodArg::PiecewiseConstant => f(&PerSliceConstant::new(s, 128)),
+        MethodName::Hds
+        | MethodName::Cosine
+        | MethodName::GgxFit
+        | MethodName::PiecewiseConstant => Ok(m),
+        _ => Err(UsageError(format!(
+            "--method {}: a method of diagrams only; BRDF files take hds, cosine, ggx-fit or \
+             piecewise-constant",
+            clap::ValueEnum::to_possible_value(&m)
+                .map_or_else(String::new, |v| v.get_name().to_owned())
+        ))
+        .into()),
     }
 }
 
-/// Runs `gonio brdf …`; `Ok(false)` when `check` found a failure.
-pub fn run(a: &BrdfArgs) -> Result<bool> {
-    let out = std::io::stdout();
-    let mut w = std::io::BufWriter::new(out.lock());
-    match &a.command {
-        BrdfCommand::Info(c) => {
-            let l = load(c)?;
-            let b = &l.brdf;
-            let t0 = std::time::Instant::now();
-            let s = sampler_of(c, b.clone())?;
-            let build = t0.elapsed().as_secs_f64();
-            let deg = |v: &[f64]| {
-                format!(
-                    "{} nodes {:.4}°…{:.4}°",
-                    v.len(),
-                    v[0].to_degrees(),
-                    v[v.len() - 1].to_degrees()
-                )
-            };
-            writeln!(w, "file: {}", c.file.display())?;
-            writeln!(w, "format: {}", l.format)?;
-            writeln!(
-                w,
-                "symmetry: {:?}, channels: {}",
-                b.symmetry(),
-                b.channels()
-            )?;
-            writeln!(w, "theta_i: {}", deg(b.theta_i()))?;
-            writeln!(w, "phi_i: {}", deg(b.phi_i()))?;
-            writeln!(w, "theta_o: {}", deg(b.theta_o()))?;
-            writeln!(w, "phi_o: {}", deg(b.phi_o()))?;
-            let (n, empty) = s.slice_counts();
-            let (gt, gp) = s.grid();
-            writeln!(
-                w,
-                "slices: {n} ({empty} without reflectance), grid {} θ_o × {} φ_o ({})",
-                gt.len(),
-                gp.len(),
-                if s.resampled() {
-                    "resampled"
-                } else {
-                    "the table's own"
-                }
-            )?;
-            writeln!(
-                w,
-                "memory: {:.2} MB (table {:.2} MB), build {:.3} s",
-                s.memory_bytes() as f64 / 1e6,
-                b.memory_bytes() as f64 / 1e6,
-                build
-            )?;
-            if let Some((e, nd)) = l.merl_error {
-                writeln!(
-                    w,
-                    "merl: {nd} values without data; resampling error (mean L1 of the normalised f·cos at θ_i = 0,30,60,75,85°): {e:.4}"
-                )?;
-            }
-            let wi = incident(c);
-            writeln!(
-                w,
-                "albedo at incident {:?}: {:.6} (luminance)",
-                c.incident,
-                gonio::brdf::scalar_albedo(b, wi)
-            )?;
-            Ok(true)
-        }
-        BrdfCommand::Sample(sa) => {
-            let l = load(&sa.common)?;
-            let s = sampler_of(&sa.common, l.brdf)?;
-            let wi = incident(&sa.common);
-            // The points: a CSV file, checked whole before anything is written, or a sequence.
-            let points: Vec<[f64; 2]> = match &sa.points {
-                Some(path) => {
-                    let rows = crate::csv_in::read_columns(path, ["u", "v"])?;
-                    let mut pts = Vec::with_capacity(rows.len());
-                    for r in &rows {
-                        for (k, name) in ["u", "v"].iter().enumerate() {
-                            let x = r.values[k];
-                            if !(0.0..=1.0).contains(&x) {
-                                anyhow::bail!(
-                                    "{}: {name} = {x} is outside the unit square [0, 1]",
-                                    r.locate(path)
-                                );
-                            }
-                        }
-                        pts.push(r.values);
-                    }
-                    pts
-                }
-                None => {
-                    let seq = match sa.sequence {
-                        SequenceKind::Halton => {
-                            Sequence::Halton(gonio::sequence::Halton::with_skip(1))
-                        }
-                        kind => Sequence::new(kind, sa.seed),
-                    };
-                    (0..sa.count as u64).map(|k| seq.point(k)).collect()
-                }
-            };
-            let mut out = crate::output::Output::create(sa.output.as_deref())?;
-            with_method(sa.method, &s, |m| -> Result<()> {
-                writeln!(out, "u,v,x,y,z,pdf,w_r,w_g,w_b")?;
-                for u in &points {
-                    let r = m.sample(wi, *u);
-                    let d = r.direction;
-                    writeln!(
-                        out,
-                        "{},{},{},{},{},{},{},{},{}",
-                        u[0], u[1], d[0], d[1], d[2], r.pdf, r.weight[0], r.weight[1], r.weight[2]
-                    )?;
-                }
-                Ok(())
-            })?;
-            out.finish()?;
-            Ok(true)
-        }
-        BrdfCommand::Pdf(da) | BrdfCommand::Invert(da) => {
-            let is_pdf = matches!(a.command, BrdfCommand::Pdf(_));
-            let l = load(&da.common)?;
-            let s = sampler_of(&da.common, l.brdf)?;
-            let wi = incident(&da.common);
-            let dirs = read_directions(&da.directions)?;
-            with_method(da.method, &s, |m| -> Result<()> {
-                writeln!(w, "{}", if is_pdf { "x,y,z,pdf" } else { "x,y,z,u,v" })?;
-                for d in dirs {
-                    if is_pdf {
-                        writeln!(w, "{},{},{},{}", d[0], d[1], d[2], m.pdf(wi, d))?;
-                    } else {
-                        match m.invert(wi, d) {
-                            Some(u) => writeln!(w, "{},{},{},{},{}", d[0], d[1], d[2], u[0], u[1])?,
-                            None => writeln!(w, "{},{},{},nan,nan", d[0], d[1], d[2])?,
-                        }
-                    }
-                }
-                Ok(())
-            })?;
-            Ok(true)
-        }
-        BrdfCommand::Plot(pa) => {
-            let c = &pa.common;
-            let l = load(c)?;
-            let s = sampler_of(c, l.brdf)?;
-            let wi = incident(c);
-            let seq = Sequence::new(SequenceKind::Random, pa.seed);
-            let samples: Vec<Vec3> = with_method(pa.method, &s, |m| {
-                (0..pa.samples as u64)
-                    .map(|k| m.sample(wi, seq.point(k)).direction)
-                    .filter(|d| d[2] >= 0.0)
-                    .collect()
-            });
-            let Some(diagram) = (0..s.slice_counts().0).find_map(|k| s.slice(k)) else {
-                bail!(
-                    "{}: no slice holds reflectance above the horizon",
-                    c.file.display()
-                );
-            };
-            let inc = IncidentSampler::new(&s, wi);
-            let b = s.brdf();
-            let value = |d: Vec3| b.scalar(b.eval(wi, d)) * d[2].max(0.0);
-            let name = c
-                .file
-                .file_name()
-                .map(|n| n.to_string_lossy().into_owned())
-                .unwrap_or_else(|| c.file.display().to_string());
-            let method = with_method(pa.method, &s, |m| m.name());
-            let title = format!(
-                "{name} ({}) — slice at θ_i = {}°, φ_i = {}°, samples of `{method}`",
-                l.format, c.incident.0, c.incident.1
-            );
-            crate::plot::brdf::render_slice(
-                &crate::plot::brdf::SlicePlot {
-                    title,
-                    sampler: &inc,
-                    method,
-                    diagram: diagram.diagram(),
-                    value: &value,
-                    samples: &samples,
-                    mirror: [-wi[0], -wi[1], wi[2]],
-                },
-                &pa.output,
-                pa.width,
-                pa.height,
-            )?;
-            Ok(true)
-        }
-        BrdfCommand::Check(ca) => {
-            let c = &ca.common;
-            let l = load(c)?;
-            let s = sampler_of(c, l.brdf)?;
-            let inc = IncidentSampler::new(&s, incident(c));
-            let opts = if ca.quick {
-                gonio::BatteryOptions::quick()
-            } else {
-                gonio::BatteryOptions::default()
-            }
-            .with_seed(ca.seed);
-            let report = gonio::run_battery(&inc, &opts);
-            writeln!(w, "incident {:?}: albedo {:.6}", c.incident, inc.albedo())?;
-            writeln!(w, "{report}")?;
-            Ok(report.passed)
-        }
-        BrdfCommand::Bench(ba) => {
-            let l = load(&ba.common)?;
-            let s = sampler_of(&ba.common, l.brdf)?;
-            let wi = incident(&ba.common);
-            let n = ba.count.max(1);
-            let mut us = vec![[0.0; 2]; n];
-            Sequence::new(SequenceKind::Random, 1).fill(0, &mut us);
-            writeln!(w, "method,ns_per_sample,mean_weight_lum,weight_variance")?;
-            // The light map: one slice's HemisphereMap, sampled the same way.
-            if let Some(map) = (0..s.slice_counts().0).find_map(|k| s.slice(k)) {
-                let t0 = std::time::Instant::now();
-                let mut acc = 0.0;
-                for u in &us {
-                    acc += map.sample(*u).pdf;
-                }
-                let ns = t0.elapsed().as_secs_f64() * 1e9 / n as f64;
-                std::hint::black_box(acc);
-                writeln!(w, "light-map,{ns:.1},,")?;
-            }
-            for m in [
-                MethodArg::Hds,
-                MethodArg::Cosine,
-                MethodArg::GgxFit,
-                MethodArg::PiecewiseConstant,
-            ] {
-                with_method(m, &s, |m| -> Result<()> {
-                    let t0 = std::time::Instant::now();
-                    let (mut s1, mut s2) = (0.0, 0.0);
-                    for u in &us {
-                        let r = m.sample(wi, *u);
-                        let v = s.brdf().scalar(r.weight);
-                        s1 += v;
-                        s2 += v * v;
-                    }
-                    let ns = t0.elapsed().as_secs_f64() * 1e9 / n as f64;
-                    let mean = s1 / n as f64;
-                    let var = if mean > 0.0 {
-                        s2 / n as f64 / (mean * mean) - 1.0
-                    } else {
-                        f64::NAN
-                    };
-                    writeln!(w, "{},{ns:.1},{mean:.6},{var:.3e}", m.name())?;
-                    Ok(())
-                })?;
-            }
-            writeln!(
-                w,
-                "# memory of the HDS sampler: {:.2} MB",
-                s.memory_bytes() as f64 / 1e6
-            )?;
-            Ok(true)
+fn with_method<T>(m: MethodName, s: &BrdfSampler, f: impl FnOnce(&dyn BrdfMethod) -> T) -> T {
+    match m {
+        MethodName::Cosine => f(&CosineBrdf::new(s.brdf())),
+        MethodName::GgxFit => f(&GgxFit::fit(s.brdf())),
+        MethodName::PiecewiseConstant => f(&PerSliceConstant::new(s, 128)),
+        _ => f(s),
+    }
+}
+
+/// A BRDF method at a fixed incident direction: a [`Sampler`] of the outgoing direction (the
+/// upper hemisphere), whose target is f̄(ω_i, ω_o)·cos θ_o normalised by the albedo (f̄ the
+/// luminance of the table's RGB, or its one channel).
+pub struct AtIncident<'a> {
+    method: &'a dyn BrdfMethod,
+    brdf: &'a TabulatedBrdf,
+    wi: Vec3,
+    albedo: f64,
+}
+
+impl<'a> AtIncident<'a> {
+    /// `method` at ω_i.
+    pub fn new(method: &'a dyn BrdfMethod, brdf: &'a TabulatedBrdf, wi: Vec3) -> Self {
+        AtIncident {
+            method,
+            brdf,
+            wi,
+            albedo: gonio::brdf::scalar_albedo(brdf, wi),
         }
     }
+}
+
+impl Sampler for AtIncident<'_> {
+    fn name(&self) -> &'static str {
+        self.method.name()
+    }
+    fn domain(&self) -> Domain {
+        Domain::Hemisphere
+    }
+    fn sample(&self, u: Point2) -> Sample {
+        let s = self.method.sample(self.wi, u);
+        Sample {
+            direction: s.direction,
+            pdf: s.pdf,
+        }
+    }
+    fn pdf(&self, d: Vec3) -> f64 {
+        self.method.pdf(self.wi, d)
+    }
+    fn invert(&self, d: Vec3) -> Result<Point2, InvertError> {
+        if d[2].is_nan() || d[2] < 0.0 {
+            return Err(InvertError::OutsideDomain);
+        }
+        self.method
+            .invert(self.wi, d)
+            .ok_or(InvertError::ZeroDensity)
+    }
+    fn target_pdf(&self, d: Vec3) -> f64 {
+        if d[2].is_nan() || d[2] < 0.0 || self.albedo.is_nan() || self.albedo <= 0.0 {
+            return 0.0;
+        }
+        self.brdf.scalar(self.brdf.eval(self.wi, d)) * d[2] / self.albedo
+    }
+    fn target_power(&self) -> f64 {
+        self.albedo
+    }
+    fn memory_bytes(&self) -> usize {
+        0
+    }
+}
+
+/// `gonio info BRDF --incident …` (text, or one JSON object with `--json`).
+pub fn info(b: &Input, a: &InfoArgs) -> Result<()> {
+    let l = load(b)?;
+    let t = &l.brdf;
+    let t0 = std::time::Instant::now();
+    let s = sampler_of(b, t.clone())?;
+    let build = t0.elapsed().as_secs_f64();
+    let (n, empty) = s.slice_counts();
+    let (gt, gp) = s.grid();
+    let wi = incident(b);
+    let albedo = gonio::brdf::scalar_albedo(t, wi);
+    let nodes = |v: &[f64]| (v.len(), v[0].to_degrees(), v[v.len() - 1].to_degrees());
+    let text = if a.json {
+        let grid = |v: &[f64]| {
+            let (n, lo, hi) = nodes(v);
+            serde_json::json!({ "nodes": n, "min_deg": lo, "max_deg": hi })
+        };
+        let v = serde_json::json!({
+            "file": b.file.display().to_string(),
+            "format": l.format,
+            "symmetry": format!("{:?}", t.symmetry()),
+            "channels": t.channels(),
+            "theta_i": grid(t.theta_i()),
+            "phi_i": grid(t.phi_i()),
+            "theta_o": grid(t.theta_o()),
+            "phi_o": grid(t.phi_o()),
+            "slices": n,
+            "empty_slices": empty,
+            "slice_grid": [gt.len(), gp.len()],
+            "resampled": s.resampled(),
+            "memory_bytes": s.memory_bytes(),
+            "table_bytes": t.memory_bytes(),
+            "build_time_ms": build * 1e3,
+            "merl_no_data": l.merl_error.map(|(_, nd)| nd),
+            "merl_resampling_error": l.merl_error.map(|(e, _)| e),
+            "incident_deg": [b.incident.0, b.incident.1],
+            "albedo": albedo,
+        });
+        serde_json::to_string_pretty(&v)? + "\n"
+    } else {
+        let deg = |v: &[f64]| {
+            let (n, lo, hi) = nodes(v);
+            format!("{n} nodes {lo:.4}°…{hi:.4}°")
+        };
+        let mut w = String::new();
+        use std::fmt::Write as _;
+        writeln!(w, "file: {}", b.file.display())?;
+        writeln!(w, "format: {}", l.format)?;
+        writeln!(
+            w,
+            "symmetry: {:?}, channels: {}",
+            t.symmetry(),
+            t.channels()
+        )?;
+        writeln!(w, "theta_i: {}", deg(t.theta_i()))?;
+        writeln!(w, "phi_i: {}", deg(t.phi_i()))?;
+        writeln!(w, "theta_o: {}", deg(t.theta_o()))?;
+        writeln!(w, "phi_o: {}", deg(t.phi_o()))?;
+        writeln!(
+            w,
+            "slices: {n} ({empty} without reflectance), grid {} θ_o × {} φ_o ({})",
+            gt.len(),
+            gp.len(),
+            if s.resampled() {
+                "resampled"
+            } else {
+                "the table's own"
+            }
+        )?;
+        writeln!(
+            w,
+            "memory: {:.2} MB (table {:.2} MB), build {:.3} s",
+            s.memory_bytes() as f64 / 1e6,
+            t.memory_bytes() as f64 / 1e6,
+            build
+        )?;
+        if let Some((e, nd)) = l.merl_error {
+            writeln!(
+                w,
+                "merl: {nd} values without data; resampling error (mean L1 of the normalised f·cos at θ_i = 0,30,60,75,85°): {e:.4}"
+            )?;
+        }
+        writeln!(
+            w,
+            "albedo at incident {:?}: {albedo:.6} (luminance)",
+            b.incident
+        )?;
+        w
+    };
+    crate::output::print(&text)
+}
+
+/// `gonio sample BRDF --incident …`: rows `u,v,x,y,z,pdf,w_r,w_g,w_b` (the weight f·cos/pdf of
+/// each channel; 0 where the method has no density) through the same points and writer as every
+/// input ([`super::sample::emit`]).
+pub fn sample(b: &Input, a: &SampleArgs, settings: &Settings) -> Result<()> {
+    let method = brdf_method(a.method)?;
+    let l = load(b)?;
+    let s = sampler_of(b, l.brdf)?;
+    let wi = incident(b);
+    with_method(method, &s, |m| {
+        super::sample::emit(
+            a,
+            settings,
+            "u,v,x,y,z,pdf,w_r,w_g,w_b",
+            9,
+            &|pts: &[Point2], rows: &mut [f64]| {
+                rows.par_chunks_mut(9).zip(pts).for_each(|(row, u)| {
+                    let r = m.sample(wi, *u);
+                    let (d, w) = (r.direction, r.weight);
+                    row.copy_from_slice(&[u[0], u[1], d[0], d[1], d[2], r.pdf, w[0], w[1], w[2]]);
+                });
+            },
+        )
+    })
+}
+
+/// `gonio pdf BRDF --incident …`: the pdf of each outgoing direction, as for every input.
+pub fn pdf(b: &Input, a: &DirectionsArgs) -> Result<()> {
+    let method = brdf_method(a.method)?;
+    let l = load(b)?;
+    let s = sampler_of(b, l.brdf)?;
+    with_method(method, &s, |m| {
+        super::directions::write_pdf(&AtIncident::new(m, s.brdf(), incident(b)), a)
+    })
+}
+
+/// `gonio invert BRDF --incident …`: the point of the square of each outgoing direction, as for
+/// every input (empty fields and a warning where there is none).
+pub fn invert(b: &Input, a: &DirectionsArgs) -> Result<()> {
+    let method = brdf_method(a.method)?;
+    let l = load(b)?;
+    let s = sampler_of(b, l.brdf)?;
+    with_method(method, &s, |m| {
+        super::directions::write_invert(&AtIncident::new(m, s.brdf(), incident(b)), a)
+    })
+}
+
+/// `gonio check BRDF --incident …`: the battery on the method at ω_i (its flux check integrates
+/// the albedo), reported as for every input after a line with the incident direction and albedo.
+pub fn check(b: &Input, a: &CheckArgs, settings: &Settings) -> Result<bool> {
+    let method = brdf_method(a.method)?;
+    let l = load(b)?;
+    let s = sampler_of(b, l.brdf)?;
+    with_method(method, &s, |m| {
+        let at = AtIncident::new(m, s.brdf(), incident(b));
+        let head = format!("incident {:?}: albedo {:.6}\n", b.incident, at.albedo);
+        let extra = serde_json::json!({
+            "incident_deg": [b.incident.0, b.incident.1],
+            "albedo": at.albedo,
+        });
+        let opts = super::check::options(a)?;
+        super::check::report(&at, opts, a, settings, None, &head, extra)
+    })
+}
+
+/// `gonio plot BRDF --incident … -o OUT`: the slice at ω_i with the method's samples over it.
+pub fn plot(b: &Input, a: &PlotArgs) -> Result<()> {
+    if a.kind != PlotKind::Polar {
+        return Err(UsageError(
+            "--kind: a BRDF file draws one picture, its slice at the incident direction (the default kind)".into(),
+        )
+        .into());
+    }
+    let method = brdf_method(a.method)?;
+    let l = load(b)?;
+    let s = sampler_of(b, l.brdf)?;
+    let wi = incident(b);
+    let seq = Sequence::new(SequenceKind::Random, a.seed);
+    let n = a.samples.unwrap_or(2000);
+    let samples: Vec<Vec3> = with_method(method, &s, |m| {
+        (0..n as u64)
+            .map(|k| m.sample(wi, seq.point(k)).direction)
+            .filter(|d| d[2] >= 0.0)
+            .collect()
+    });
+    let Some(diagram) = (0..s.slice_counts().0).find_map(|k| s.slice(k)) else {
+        bail!(
+            "{}: no slice holds reflectance above the horizon",
+            b.file.display()
+        );
+    };
+    let t = s.brdf();
+    let value = |d: Vec3| t.scalar(t.eval(wi, d)) * d[2].max(0.0);
+    let name = b
+        .file
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| b.file.display().to_string());
+    with_method(method, &s, |m| {
+        let at = AtIncident::new(m, t, wi);
+        let title = format!(
+            "{name} ({}) — slice at θ_i = {}°, φ_i = {}°, samples of `{}`",
+            l.format,
+            b.incident.0,
+            b.incident.1,
+            m.name()
+        );
+        crate::plot::brdf::render_slice(
+            &crate::plot::brdf::SlicePlot {
+                title,
+                sampler: &at,
+                method: m.name(),
+                diagram: diagram.diagram(),
+                value: &value,
+                samples: &samples,
+                mirror: [-wi[0], -wi[1], wi[2]],
+            },
+            &a.output,
+            a.width.unwrap_or(1200),
+            a.height.unwrap_or(700),
+        )
+    })
+}
+
+/// `gonio bench BRDF --incident …`: time per sample and weight variance of every method, and of
+/// one slice's light map, on `--samples` random points.
+pub fn bench(b: &Input, a: &BenchArgs) -> Result<()> {
+    if let Some(opt) = [
+        (!a.methods.is_empty(), "--method"),
+        (a.json, "--json"),
+        (a.soa, "--soa"),
+        (a.threads.is_some(), "--threads"),
+    ]
+    .iter()
+    .find_map(|&(given, name)| given.then_some(name))
+    {
+        return Err(UsageError(format!(
+            "{opt}: the bench of a BRDF file runs every method, one thread, as CSV"
+        ))
+        .into());
+    }
+    let l = load(b)?;
+    let s = sampler_of(b, l.brdf)?;
+    let wi = incident(b);
+    let n = a.samples.max(1);
+    let mut us = vec![[0.0; 2]; n];
+    Sequence::new(SequenceKind::Random, 1).fill(0, &mut us);
+    let mut w = String::new();
+    use std::fmt::Write as _;
+    writeln!(w, "method,ns_per_sample,mean_weight_lum,weight_variance")?;
+    // The light map: one slice's HemisphereMap, sampled the same way.
+    if let Some(map) = (0..s.slice_counts().0).find_map(|k| s.slice(k)) {
+        let t0 = std::time::Instant::now();
+        let mut acc = 0.0;
+        for u in &us {
+            acc += map.sample(*u).pdf;
+        }
+        let ns = t0.elapsed().as_secs_f64() * 1e9 / n as f64;
+        std::hint::black_box(acc);
+        writeln!(w, "light-map,{ns:.1},,")?;
+    }
+    for m in [
+        MethodName::Hds,
+        MethodName::Cosine,
+        MethodName::GgxFit,
+        MethodName::PiecewiseConstant,
+    ] {
+        with_method(m, &s, |m| -> Result<()> {
+            let t0 = std::time::Instant::now();
+            let (mut s1, mut s2) = (0.0, 0.0);
+            for u in &us {
+                let r = m.sample(wi, *u);
+                let v = s.brdf().scalar(r.weight);
+                s1 += v;
+                s2 += v * v;
+            }
+            let ns = t0.elapsed().as_secs_f64() * 1e9 / n as f64;
+            let mean = s1 / n as f64;
+            let var = if mean > 0.0 {
+                s2 / n as f64 / (mean * mean) - 1.0
+            } else {
+                f64::NAN
+            };
+            writeln!(w, "{},{ns:.1},{mean:.6},{var:.3e}", m.name())?;
+            Ok(())
+        })?;
+    }
+    writeln!(
+        w,
+        "# memory of the HDS sampler: {:.2} MB",
+        s.memory_bytes() as f64 / 1e6
+    )?;
+    crate::output::print(&w)
 }

@@ -3,11 +3,42 @@
 use crate::args::CheckArgs;
 use crate::load::{build_sampler, load};
 use crate::progress::Progress;
+use crate::settings::Settings;
 use gonio::check::{cell_boundary_points, run_battery_with_progress, BatteryOptions};
+use gonio::Sampler;
 
 /// Runs `gonio check`; `Ok(true)` when every item passed.
-pub fn run(a: &CheckArgs, settings: &crate::settings::Settings) -> anyhow::Result<bool> {
+pub fn run(a: &CheckArgs, settings: &Settings) -> anyhow::Result<bool> {
+    if let Some(b) = super::brdf::input("check", &a.input, &a.brdf)? {
+        return super::brdf::check(&b, a, settings);
+    }
     let loaded = load(&a.input, settings)?;
+    let mut opts = options(a)?;
+    let sampler = build_sampler(a.method.diagram()?, &loaded)?;
+    let refinement = sampler.refinement().cloned();
+    // A method with a guaranteed bound (the HDS map) claims it; the flux check integrates the power
+    // of the target the sampler normalises: the DATA's power for every method (the HDS map's target
+    // is the data, zero outside its measured range), so a map that invents or drops light fails it.
+    opts.ratio.claimed_bound = sampler.ratio_bound();
+    // The round trip also runs on the preimages of the diagram's cell boundaries.
+    opts.round_trip.extra_points = cell_boundary_points(
+        sampler.as_ref(),
+        &loaded.diagram,
+        if a.quick { 16 } else { 64 },
+    );
+    report(
+        &*sampler,
+        opts,
+        a,
+        settings,
+        refinement.as_ref(),
+        "",
+        serde_json::json!({}),
+    )
+}
+
+/// The battery options of `a` (`--quick`, `--seed`, `--samples`).
+pub fn options(a: &CheckArgs) -> anyhow::Result<BatteryOptions> {
     let mut opts = if a.quick {
         BatteryOptions::quick()
     } else {
@@ -19,27 +50,32 @@ pub fn run(a: &CheckArgs, settings: &crate::settings::Settings) -> anyhow::Resul
         opts.chi_square.samples = n;
         opts.flux.samples = n;
     }
-    let sampler = build_sampler(a.method, &loaded)?;
-    let refinement = sampler.refinement().cloned();
-    // A method with a guaranteed bound (the HDS map) claims it; the flux check integrates the power
-    // of the target the sampler normalises: the DATA's power for every method (the HDS map's target
-    // is the data, zero outside its measured range), so a map that invents or drops light fails it.
-    opts.ratio.claimed_bound = sampler.ratio_bound();
+    Ok(opts)
+}
+
+/// Runs the battery on `sampler` (its flux check against the sampler's target power) and prints
+/// the report: `head` and the refinement line, then the report's text; with `--json` one object,
+/// the report's keys with `extra`'s and the refinement's. `Ok(true)` when every item passed.
+pub fn report(
+    sampler: &dyn Sampler,
+    mut opts: BatteryOptions,
+    a: &CheckArgs,
+    settings: &Settings,
+    refinement: Option<&gonio::mapping::Refinement>,
+    head: &str,
+    extra: serde_json::Value,
+) -> anyhow::Result<bool> {
     opts.flux_total = sampler.target_power();
-    // The round trip also runs on the preimages of the diagram's cell boundaries.
-    opts.round_trip.extra_points = cell_boundary_points(
-        sampler.as_ref(),
-        &loaded.diagram,
-        if a.quick { 16 } else { 64 },
-    );
     let progress = Progress::fraction("check", settings.quiet);
-    let report = run_battery_with_progress(sampler.as_ref(), &opts, &|item, f| {
-        progress.set_fraction(f, item)
-    });
+    let report =
+        run_battery_with_progress(sampler, &opts, &|item, f| progress.set_fraction(f, item));
     drop(progress);
     let text = if a.json {
         let mut v = serde_json::to_value(&report)?;
-        if let (Some(r), Some(o)) = (&refinement, v.as_object_mut()) {
+        if let (Some(o), serde_json::Value::Object(e)) = (v.as_object_mut(), extra) {
+            o.extend(e);
+        }
+        if let (Some(r), Some(o)) = (refinement, v.as_object_mut()) {
             o.insert("tolerance".into(), r.tolerance.into());
             o.insert(
                 "refinement".into(),
@@ -56,7 +92,8 @@ pub fn run(a: &CheckArgs, settings: &crate::settings::Settings) -> anyhow::Resul
         }
         serde_json::to_string_pretty(&v)? + "\n"
     } else {
-        let mut t = match &refinement {
+        let mut t = head.to_string();
+        t += &match refinement {
             Some(r) => format!(
                 "tolerance {} asked: pdf/target guaranteed within [{:.6}, {:.6}] ({}); {} → {} parallels, {} bytes, built in {:.3} ms\n",
                 r.tolerance,

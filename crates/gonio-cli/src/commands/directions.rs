@@ -5,7 +5,7 @@ use crate::csv_in::read_columns;
 use crate::load::{build_sampler, load};
 use crate::output::{push_csv_row, Output};
 use gonio::sampler::{invert_batch_par, normalize, pdf_batch_par};
-use gonio::{InvertError, Vec3};
+use gonio::{InvertError, Sampler, Vec3};
 use std::io::Write;
 
 /// (1-based line, 1-based data row) of an input row.
@@ -36,15 +36,23 @@ fn read_directions(path: &str) -> anyhow::Result<(Vec<Vec3>, Vec<LineRow>)> {
 
 /// Runs `gonio pdf`: output `x,y,z,pdf` with the normalised direction.
 pub fn run_pdf(a: &DirectionsArgs, settings: &crate::settings::Settings) -> anyhow::Result<()> {
+    if let Some(b) = super::brdf::input("pdf", &a.input, &a.brdf)? {
+        return super::brdf::pdf(&b, a);
+    }
     let loaded = load(&a.input, settings)?;
-    let sampler = build_sampler(a.method, &loaded)?;
+    let sampler = build_sampler(a.method.diagram()?, &loaded)?;
+    write_pdf(&*sampler, a)
+}
+
+/// The pdf of every direction of `--directions` under `sampler`, as CSV `x,y,z,pdf`.
+pub fn write_pdf(sampler: &dyn Sampler, a: &DirectionsArgs) -> anyhow::Result<()> {
     let (dirs, _) = read_directions(&a.directions)?;
     let mut out = Output::create(a.output.as_deref())?;
     out.write_all(b"x,y,z,pdf\n")?;
     let mut pdf = vec![0.0; BATCH.min(dirs.len())];
     for chunk in dirs.chunks(BATCH) {
         let p = &mut pdf[..chunk.len()];
-        pdf_batch_par(sampler.as_ref(), chunk, p);
+        pdf_batch_par(sampler, chunk, p);
         let mut buf = Vec::with_capacity(chunk.len() * 80);
         for (d, p) in chunk.iter().zip(p.iter()) {
             push_csv_row(&mut buf, &[d[0], d[1], d[2], *p]);
@@ -59,8 +67,17 @@ pub fn run_pdf(a: &DirectionsArgs, settings: &crate::settings::Settings) -> anyh
 /// gets empty `u,v` fields; how many is said on standard error, and the exit status stays 0.
 /// Only a malformed input row (not a number, a zero or non-finite direction) stops the run.
 pub fn run_invert(a: &DirectionsArgs, settings: &crate::settings::Settings) -> anyhow::Result<()> {
+    if let Some(b) = super::brdf::input("invert", &a.input, &a.brdf)? {
+        return super::brdf::invert(&b, a);
+    }
     let loaded = load(&a.input, settings)?;
-    let sampler = build_sampler(a.method, &loaded)?;
+    let sampler = build_sampler(a.method.diagram()?, &loaded)?;
+    write_invert(&*sampler, a)
+}
+
+/// The point of the square of every direction of `--directions` under `sampler`, as CSV
+/// `x,y,z,u,v` (empty `u,v` and one warning where there is none).
+pub fn write_invert(sampler: &dyn Sampler, a: &DirectionsArgs) -> anyhow::Result<()> {
     if sampler.invert([0.0, 0.0, 1.0]) == Err(InvertError::Unsupported) {
         anyhow::bail!(
             "method `{}` has no inverse; use hds, piecewise-constant, bilinear or uniform",
@@ -69,7 +86,7 @@ pub fn run_invert(a: &DirectionsArgs, settings: &crate::settings::Settings) -> a
     }
     let (dirs, locs) = read_directions(&a.directions)?;
     let mut uv: Vec<Result<[f64; 2], InvertError>> = vec![Ok([0.0; 2]); dirs.len()];
-    invert_batch_par(sampler.as_ref(), &dirs, &mut uv);
+    invert_batch_par(sampler, &dirs, &mut uv);
     let mut out = Output::create(a.output.as_deref())?;
     out.write_all(b"x,y,z,u,v\n")?;
     let (mut zero, mut outside) = (0usize, 0usize);

@@ -215,7 +215,8 @@ fn write_gallery() {
                 },
                 samples: Some(kind.default_samples()),
                 seed: 0,
-                method: Method::Hds,
+                method: crate::args::MethodName::Hds,
+                brdf: Default::default(),
                 width: Some(width),
                 height: Some(height),
             };
@@ -279,7 +280,11 @@ fn run_draws_the_example_and_a_json_hemisphere() {
             kind,
             samples: Some(2000),
             seed: 3,
-            method,
+            method: match method {
+                Method::Bilinear => crate::args::MethodName::Bilinear,
+                _ => crate::args::MethodName::Hds,
+            },
+            brdf: Default::default(),
             width: Some(800),
             height: Some(500),
         };
