@@ -146,9 +146,6 @@ pub struct SoaBench {
 /// `gonio bench FILE [--json]`: loads the input, runs [`run_bench`] and prints the report (an aligned
 /// table, or one pretty-printed JSON object with `--json`).
 pub fn run(args: &crate::args::BenchArgs, settings: &crate::settings::Settings) -> Result<()> {
-    if let Some(b) = crate::commands::brdf::input("bench", &args.input, &args.brdf)? {
-        return crate::commands::brdf::bench(&b, args);
-    }
     let loaded = crate::load::load(&args.input, settings)?;
     let mut report = run_bench(
         &loaded.diagram,

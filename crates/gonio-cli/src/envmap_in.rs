@@ -242,10 +242,10 @@ pub fn render_equal_area(env: &EnvironmentMap, n: usize) -> Vec<f32> {
 pub fn convert_pbrt(
     a: &ConvertArgs,
     ext: Option<&str>,
-    settings: &crate::settings::Settings,
+    options: &EnvCliOptions,
 ) -> anyhow::Result<()> {
     let out_name = a.output.display().to_string();
-    let env = &load_envmap(&a.input, &settings.env)?;
+    let env = &load_envmap(&a.input, options)?;
     let (w, h) = (env.image().width(), env.image().height());
     let n = a
         .resolution

@@ -178,15 +178,64 @@ fn main() -> ExitCode {
         }
     }
 
+    use commands::brdf;
     let result = match &cli.command {
-        Command::Sample(a) => commands::sample::run(a, s).map(|()| true),
-        Command::Pdf(a) => commands::directions::run_pdf(a, s).map(|()| true),
-        Command::Invert(a) => commands::directions::run_invert(a, s).map(|()| true),
-        Command::Info(a) => commands::info::run(a, s).map(|()| true),
+        Command::Sample(a) => by_kind(
+            "sample",
+            &a.input,
+            &a.brdf,
+            |b| brdf::sample(b, a, s),
+            || commands::sample::run(a, s),
+        )
+        .map(|()| true),
+        Command::Pdf(a) => by_kind(
+            "pdf",
+            &a.input,
+            &a.brdf,
+            |b| brdf::pdf(b, a),
+            || commands::directions::run_pdf(a, s),
+        )
+        .map(|()| true),
+        Command::Invert(a) => by_kind(
+            "invert",
+            &a.input,
+            &a.brdf,
+            |b| brdf::invert(b, a),
+            || commands::directions::run_invert(a, s),
+        )
+        .map(|()| true),
+        Command::Info(a) => by_kind(
+            "info",
+            &a.input,
+            &a.brdf,
+            |b| brdf::info(b, a),
+            || commands::info::run(a, s),
+        )
+        .map(|()| true),
         Command::Convert(a) => commands::convert::run(a, s).map(|()| true),
-        Command::Check(a) => commands::check::run(a, s),
-        Command::Plot(a) => plot::run(a, s).map(|()| true),
-        Command::Bench(a) => bench::run(a, s).map(|()| true),
+        Command::Check(a) => by_kind(
+            "check",
+            &a.input,
+            &a.brdf,
+            |b| brdf::check(b, a, s),
+            || commands::check::run(a, s),
+        ),
+        Command::Plot(a) => by_kind(
+            "plot",
+            &a.input,
+            &a.brdf,
+            |b| brdf::plot(b, a),
+            || plot::run(a, s),
+        )
+        .map(|()| true),
+        Command::Bench(a) => by_kind(
+            "bench",
+            &a.input,
+            &a.brdf,
+            |b| brdf::bench(b, a),
+            || bench::run(a, s),
+        )
+        .map(|()| true),
         Command::Uv(a) => commands::uv::run_uv(a, s).map(|()| true),
         Command::Bake(a) => commands::uv::run_bake(a, s).map(|()| true),
         Command::Brdf(a) => commands::brdf::run(a, s),
@@ -196,6 +245,22 @@ fn main() -> ExitCode {
         Ok(true) => ExitCode::SUCCESS,
         Ok(false) => ExitCode::from(EXIT_CHECK_FAILED),
         Err(e) => report(&e),
+    }
+}
+
+/// Runs `cmd` on its input by kind: a BRDF file (`--incident`, or recognised by its content) goes
+/// to `brdf`, every other input to `other` ([`commands::brdf::input`] decides, and refuses a BRDF
+/// file without `--incident` or a BRDF option on another input).
+fn by_kind<T>(
+    cmd: &str,
+    input: &str,
+    options: &args::BrdfOptions,
+    brdf: impl FnOnce(&commands::brdf::Input) -> anyhow::Result<T>,
+    other: impl FnOnce() -> anyhow::Result<T>,
+) -> anyhow::Result<T> {
+    match commands::brdf::input(cmd, input, options)? {
+        Some(b) => brdf(&b),
+        None => other(),
     }
 }
 

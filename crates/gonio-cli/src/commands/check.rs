@@ -9,9 +9,6 @@ use gonio::Sampler;
 
 /// Runs `gonio check`; `Ok(true)` when every item passed.
 pub fn run(a: &CheckArgs, settings: &Settings) -> anyhow::Result<bool> {
-    if let Some(b) = super::brdf::input("check", &a.input, &a.brdf)? {
-        return super::brdf::check(&b, a, settings);
-    }
     let loaded = load(&a.input, settings)?;
     let mut opts = options(a)?;
     let sampler = build_sampler(a.method.diagram()?, &loaded)?;

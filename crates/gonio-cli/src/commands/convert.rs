@@ -17,7 +17,7 @@ pub fn run(a: &ConvertArgs, settings: &crate::settings::Settings) -> anyhow::Res
     let out_name = a.output.display().to_string();
     if a.to == Some(ConvertTarget::PbrtV4) {
         if crate::envmap_in::is_image_name(&a.input) {
-            return crate::envmap_in::convert_pbrt(a, ext.as_deref(), settings);
+            return crate::envmap_in::convert_pbrt(a, ext.as_deref(), &settings.env);
         }
         return super::pbrt::run(a, ext.as_deref(), settings);
     }

@@ -36,9 +36,6 @@ fn read_directions(path: &str) -> anyhow::Result<(Vec<Vec3>, Vec<LineRow>)> {
 
 /// Runs `gonio pdf`: output `x,y,z,pdf` with the normalised direction.
 pub fn run_pdf(a: &DirectionsArgs, settings: &crate::settings::Settings) -> anyhow::Result<()> {
-    if let Some(b) = super::brdf::input("pdf", &a.input, &a.brdf)? {
-        return super::brdf::pdf(&b, a);
-    }
     let loaded = load(&a.input, settings)?;
     let sampler = build_sampler(a.method.diagram()?, &loaded)?;
     write_pdf(&*sampler, a)
@@ -67,9 +64,6 @@ pub fn write_pdf(sampler: &dyn Sampler, a: &DirectionsArgs) -> anyhow::Result<()
 /// gets empty `u,v` fields; how many is said on standard error, and the exit status stays 0.
 /// Only a malformed input row (not a number, a zero or non-finite direction) stops the run.
 pub fn run_invert(a: &DirectionsArgs, settings: &crate::settings::Settings) -> anyhow::Result<()> {
-    if let Some(b) = super::brdf::input("invert", &a.input, &a.brdf)? {
-        return super::brdf::invert(&b, a);
-    }
     let loaded = load(&a.input, settings)?;
     let sampler = build_sampler(a.method.diagram()?, &loaded)?;
     write_invert(&*sampler, a)

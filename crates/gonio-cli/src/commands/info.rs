@@ -325,9 +325,6 @@ pub fn collect(loaded: &Loaded) -> anyhow::Result<Info> {
 
 /// Runs `gonio info`.
 pub fn run(a: &InfoArgs, settings: &crate::settings::Settings) -> anyhow::Result<()> {
-    if let Some(b) = super::brdf::input("info", &a.input, &a.brdf)? {
-        return super::brdf::info(&b, a);
-    }
     let loaded = load(&a.input, settings)?;
     let info = collect(&loaded)?;
     let text = if a.json {

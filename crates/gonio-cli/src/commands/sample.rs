@@ -21,9 +21,6 @@ use std::io::Write;
 const BATCH: usize = 1 << 16;
 
 pub fn run(a: &SampleArgs, settings: &Settings) -> anyhow::Result<()> {
-    if let Some(b) = super::brdf::input("sample", &a.input, &a.brdf)? {
-        return super::brdf::sample(&b, a, settings);
-    }
     let loaded = load(&a.input, settings)?;
     let sampler = build_sampler(a.method.diagram()?, &loaded)?;
     // An environment map adds its radiance in each sampled direction (columns r, g, b).

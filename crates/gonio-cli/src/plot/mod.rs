@@ -277,9 +277,6 @@ fn encode_png(rgb: &[u8], width: u32, height: u32) -> Result<Vec<u8>> {
 
 /// `gonio plot FILE -o OUT --kind K [--samples N] [--seed S] [--method M] [--width W] [--height H]`.
 pub fn run(args: &PlotArgs, settings: &crate::settings::Settings) -> Result<()> {
-    if let Some(b) = crate::commands::brdf::input("plot", &args.input, &args.brdf)? {
-        return crate::commands::brdf::plot(&b, args);
-    }
     let loaded = load::load(&args.input, settings)?;
     let kind = PlotKind::from(args.kind);
     let sampler = load::build_sampler(args.method.diagram()?, &loaded)?;

@@ -1,5 +1,7 @@
-//! The AVX2 + FMA backend: the vocabulary of [`super::kernels`] over K = 4 independent `__m256d`
-//! chains of four lanes per block of [`BLOCK`] points, with the table searches as vector descents
+//! The AVX2 + FMA backend: the vocabulary of [`super::kernels`], written once over both element
+//! types (one macro over the intrinsics' names, issue 36): f64 at the module's top level over K = 4
+//! independent `__m256d` chains of four lanes per block of [`BLOCK`] points, and f32 in
+//! [`f32_k2`] over K = 2 chains of eight `__m256` lanes, with the table searches as vector descents
 //! over AVX2 gathers. The kernels themselves are written once in [`super::kernels`] and
 //! instantiated here, in [`super::portable`] and, for AVX-512, in [`super::avx512`]. The design
 //! notes below hold for every backend.
@@ -31,23 +33,6 @@ use crate::mapping::simd::math::Precision;
 use std::arch::x86_64::*;
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI, TAU};
 
-/// Vectors per block: independent chains that the core overlaps (the kernel's stages are long
-/// dependency chains of gathers, divisions and square roots).
-const K: usize = 4;
-/// Points per block.
-pub(crate) const BLOCK: usize = 4 * K;
-
-/// The element type of the tables and lanes.
-type E = f64;
-/// K vectors of four f64 lanes (a value, or a mask of all-ones / all-zeros lanes).
-#[derive(Clone, Copy)]
-struct F([__m256d; K]);
-/// Masks are vectors of all-ones / all-zeros lanes on AVX2.
-type M = F;
-/// K vectors of four i64 lanes (table indices).
-#[derive(Clone, Copy)]
-struct I([__m256i; K]);
-
 macro_rules! f_binary {
     ($($name:ident => $op:expr;)*) => {$(
         #[inline]
@@ -60,19 +45,6 @@ macro_rules! f_binary {
             o
         }
     )*};
-}
-f_binary! {
-    add => _mm256_add_pd;
-    sub => _mm256_sub_pd;
-    mul => _mm256_mul_pd;
-    div => _mm256_div_pd;
-    lt => _mm256_cmp_pd::<_CMP_LT_OQ>;
-    le => _mm256_cmp_pd::<_CMP_LE_OQ>;
-    gt => _mm256_cmp_pd::<_CMP_GT_OQ>;
-    ge => _mm256_cmp_pd::<_CMP_GE_OQ>;
-    eq => _mm256_cmp_pd::<_CMP_EQ_OQ>;
-    and => _mm256_and_pd;
-    or => _mm256_or_pd;
 }
 
 macro_rules! i_binary {
@@ -88,235 +60,406 @@ macro_rules! i_binary {
         }
     )*};
 }
-i_binary! {
-    iadd => _mm256_add_epi64;
-    isub => _mm256_sub_epi64;
-    imin => |a, b| _mm256_blendv_epi8(a, b, _mm256_cmpgt_epi64(a, b));
-    imax => |a, b| _mm256_blendv_epi8(b, a, _mm256_cmpgt_epi64(a, b));
-    // a · b for lanes below 2³² (the low halves' 64-bit product).
-    imul => _mm256_mul_epu32;
+
+/// The AVX2 vocabulary for one element type and the kernels instantiated over it, in the calling
+/// module: the same words in f64 (four lanes per `__m256d`, 64-bit indices) and f32 (eight lanes
+/// per `__m256`, 32-bit indices), written once over the intrinsics' names (issue 36).
+macro_rules! avx2_kernels {
+    (
+        k: $k:literal,
+        lanes: $lanes:literal,
+        elem: $e:ident,
+        index: $ie:ident,
+        vector: $fv:ident,
+        float: [$add:ident, $sub:ident, $mul:ident, $div:ident, $cmp:ident, $and:ident, $or:ident,
+            $set1:ident, $sqrt:ident, $andnot:ident, $xor:ident, $blendv:ident, $movemask:ident,
+            $storeu:ident, $loadu:ident, $castsi:ident, $castfi:ident],
+        int: [$iadd:ident, $isub:ident, $imin:expr, $imax:expr, $imul:ident, $iset1:ident,
+            $icmpeq:ident, $icmpgt:ident],
+        extra: { $($extra:tt)* }
+    ) => {
+    /// Vectors per block: independent chains that the core overlaps (the kernel's stages are long
+    /// dependency chains of gathers, divisions and square roots).
+    const K: usize = $k;
+    /// Points per block.
+    pub(crate) const BLOCK: usize = $lanes * K;
+
+    /// The element type of the tables and lanes.
+    type E = $e;
+    /// K vectors of `$lanes` `$e` lanes (a value, or a mask of all-ones / all-zeros lanes).
+    #[derive(Clone, Copy)]
+    struct F([$fv; K]);
+    /// Masks are vectors of all-ones / all-zeros lanes on AVX2.
+    type M = F;
+    /// K vectors of `$lanes` `$ie` lanes (table indices).
+    #[derive(Clone, Copy)]
+    struct I([__m256i; K]);
+
+    f_binary! {
+        add => $add;
+        sub => $sub;
+        mul => $mul;
+        div => $div;
+        lt => $cmp::<_CMP_LT_OQ>;
+        le => $cmp::<_CMP_LE_OQ>;
+        gt => $cmp::<_CMP_GT_OQ>;
+        ge => $cmp::<_CMP_GE_OQ>;
+        eq => $cmp::<_CMP_EQ_OQ>;
+        and => $and;
+        or => $or;
+    }
+
+    i_binary! {
+        iadd => $iadd;
+        isub => $isub;
+        imin => $imin;
+        imax => $imax;
+        // a · b: for $ie lanes below 2³² (the low halves' 64-bit product), for i32 lanes the low
+        // 32 bits (wrapping, as the portable `wrapping_mul`).
+        imul => $imul;
+    }
+
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    // An f64 constant rounded to the element type, on every lane (no rounding for f64).
+    #[allow(clippy::unnecessary_cast)]
+    fn splat(x: f64) -> F {
+        F([$set1(x as $e); K])
+    }
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    fn zero() -> F {
+        splat(0.0)
+    }
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    fn sqrt(a: F) -> F {
+        let mut o = a;
+        for k in 0..K {
+            o.0[k] = $sqrt(a.0[k]);
+        }
+        o
+    }
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    fn abs(a: F) -> F {
+        let mut o = a;
+        for k in 0..K {
+            o.0[k] = $andnot($set1(-0.0), a.0[k]);
+        }
+        o
+    }
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    fn neg(a: F) -> F {
+        let mut o = a;
+        for k in 0..K {
+            o.0[k] = $xor(a.0[k], $set1(-0.0));
+        }
+        o
+    }
+    /// NaN lanes of `a`.
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    fn isnan(a: F) -> F {
+        let mut o = a;
+        for k in 0..K {
+            o.0[k] = $cmp::<_CMP_UNORD_Q>(a.0[k], a.0[k]);
+        }
+        o
+    }
+    /// `!m`.
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    fn not(m: F) -> F {
+        let mut o = m;
+        for k in 0..K {
+            o.0[k] = $xor(m.0[k], $castsi($iset1(-1)));
+        }
+        o
+    }
+    /// Per lane `if m { a } else { b }`.
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    fn sel(m: F, a: F, b: F) -> F {
+        let mut o = a;
+        for k in 0..K {
+            o.0[k] = $blendv(b.0[k], a.0[k], m.0[k]);
+        }
+        o
+    }
+    /// Whether any lane of the mask is set.
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    fn any(m: F) -> bool {
+        let mut acc = m.0[0];
+        for k in 1..K {
+            acc = $or(acc, m.0[k]);
+        }
+        $movemask(acc) != 0
+    }
+
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    fn isplat(x: usize) -> I {
+        I([$iset1(x as $ie); K])
+    }
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    fn izero() -> I {
+        isplat(0)
+    }
+    /// Per lane `if m { a } else { b }`, `m` a lane mask.
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    fn isel(m: F, a: I, b: I) -> I {
+        let mut o = a;
+        for k in 0..K {
+            o.0[k] = $castfi($blendv(
+                $castsi(b.0[k]),
+                $castsi(a.0[k]),
+                m.0[k],
+            ));
+        }
+        o
+    }
+    /// `a == b` as a lane mask.
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    fn ieq(a: I, b: I) -> F {
+        let mut o = zero();
+        for k in 0..K {
+            o.0[k] = $castsi($icmpeq(a.0[k], b.0[k]));
+        }
+        o
+    }
+    /// `a > b` (signed) as a lane mask.
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    fn igt(a: I, b: I) -> F {
+        let mut o = zero();
+        for k in 0..K {
+            o.0[k] = $castsi($icmpgt(a.0[k], b.0[k]));
+        }
+        o
+    }
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    fn ilanes(a: I) -> [usize; BLOCK] {
+        let mut o: [$ie; BLOCK] = [0; BLOCK];
+        for k in 0..K {
+            // SAFETY: `o` holds the block's lanes; unaligned store of one vector.
+            unsafe { _mm256_storeu_si256(o[$lanes * k..].as_mut_ptr().cast(), a.0[k]) };
+        }
+        o.map(|x| x as usize)
+    }
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    fn flanes(a: F) -> [$e; BLOCK] {
+        let mut o = [0.0; BLOCK];
+        for k in 0..K {
+            // SAFETY: `o` holds the block's lanes; unaligned store of one vector.
+            unsafe { $storeu(o[$lanes * k..].as_mut_ptr(), a.0[k]) };
+        }
+        o
+    }
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    fn fload(a: &[$e; BLOCK]) -> F {
+        let mut o = zero();
+        for k in 0..K {
+            // SAFETY: `a` holds the block's lanes; unaligned load of one vector.
+            o.0[k] = unsafe { $loadu(a[$lanes * k..].as_ptr()) };
+        }
+        o
+    }
+
+
+
+
+    /// Lanes whose sign bit is set (`is_sign_negative`).
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    fn sign_negative(a: F) -> F {
+        let mut o = a;
+        for k in 0..K {
+            o.0[k] = $castsi($icmpgt(
+                _mm256_setzero_si256(),
+                $castfi(a.0[k]),
+            ));
+        }
+        o
+    }
+
+    $($extra)*
+
+    crate::mapping::simd::kernels::vector_kernels!("avx2,fma");
+    };
 }
 
-#[inline]
-#[target_feature(enable = "avx2,fma")]
-fn splat(x: f64) -> F {
-    F([_mm256_set1_pd(x); K])
-}
-#[inline]
-#[target_feature(enable = "avx2,fma")]
-fn zero() -> F {
-    splat(0.0)
-}
-#[inline]
-#[target_feature(enable = "avx2,fma")]
-fn sqrt(a: F) -> F {
-    let mut o = a;
-    for k in 0..K {
-        o.0[k] = _mm256_sqrt_pd(a.0[k]);
-    }
-    o
-}
-#[inline]
-#[target_feature(enable = "avx2,fma")]
-fn abs(a: F) -> F {
-    let mut o = a;
-    for k in 0..K {
-        o.0[k] = _mm256_andnot_pd(_mm256_set1_pd(-0.0), a.0[k]);
-    }
-    o
-}
-#[inline]
-#[target_feature(enable = "avx2,fma")]
-fn neg(a: F) -> F {
-    let mut o = a;
-    for k in 0..K {
-        o.0[k] = _mm256_xor_pd(a.0[k], _mm256_set1_pd(-0.0));
-    }
-    o
-}
-/// NaN lanes of `a`.
-#[inline]
-#[target_feature(enable = "avx2,fma")]
-fn isnan(a: F) -> F {
-    let mut o = a;
-    for k in 0..K {
-        o.0[k] = _mm256_cmp_pd::<_CMP_UNORD_Q>(a.0[k], a.0[k]);
-    }
-    o
-}
-/// `!m`.
-#[inline]
-#[target_feature(enable = "avx2,fma")]
-fn not(m: F) -> F {
-    let mut o = m;
-    for k in 0..K {
-        o.0[k] = _mm256_xor_pd(m.0[k], _mm256_castsi256_pd(_mm256_set1_epi64x(-1)));
-    }
-    o
-}
-/// Per lane `if m { a } else { b }`.
-#[inline]
-#[target_feature(enable = "avx2,fma")]
-fn sel(m: F, a: F, b: F) -> F {
-    let mut o = a;
-    for k in 0..K {
-        o.0[k] = _mm256_blendv_pd(b.0[k], a.0[k], m.0[k]);
-    }
-    o
-}
-/// Whether any lane of the mask is set.
-#[inline]
-#[target_feature(enable = "avx2,fma")]
-fn any(m: F) -> bool {
-    let mut acc = m.0[0];
-    for k in 1..K {
-        acc = _mm256_or_pd(acc, m.0[k]);
-    }
-    _mm256_movemask_pd(acc) != 0
+/// The f64 vocabulary: four f64 lanes per `__m256d`, K = 4, 64-bit indices (AVX2 has no 64-bit
+/// min/max: a compare and a blend).
+macro_rules! avx2_f64 {
+    () => {
+        avx2_kernels! {
+            k: 4,
+            lanes: 4,
+            elem: f64,
+            index: i64,
+            vector: __m256d,
+            float: [_mm256_add_pd, _mm256_sub_pd, _mm256_mul_pd, _mm256_div_pd, _mm256_cmp_pd,
+                _mm256_and_pd, _mm256_or_pd, _mm256_set1_pd, _mm256_sqrt_pd, _mm256_andnot_pd,
+                _mm256_xor_pd, _mm256_blendv_pd, _mm256_movemask_pd, _mm256_storeu_pd,
+                _mm256_loadu_pd, _mm256_castsi256_pd, _mm256_castpd_si256],
+            int: [_mm256_add_epi64, _mm256_sub_epi64,
+                |a, b| _mm256_blendv_epi8(a, b, _mm256_cmpgt_epi64(a, b)),
+                |a, b| _mm256_blendv_epi8(b, a, _mm256_cmpgt_epi64(a, b)),
+                _mm256_mul_epu32, _mm256_set1_epi64x, _mm256_cmpeq_epi64, _mm256_cmpgt_epi64],
+            extra: {
+                #[inline]
+                #[target_feature(enable = "avx2,fma")]
+                fn ifrom(a: [usize; BLOCK]) -> I {
+                    let mut o = izero();
+                    for k in 0..K {
+                        let q = &a[4 * k..4 * k + 4];
+                        o.0[k] = _mm256_setr_epi64x(q[0] as i64, q[1] as i64, q[2] as i64, q[3] as i64);
+                    }
+                    o
+                }
+
+                /// `(x as usize).min(kmax)` per lane (NaN and negatives give 0), for `kmax` < 2³¹.
+                #[inline]
+                #[target_feature(enable = "avx2,fma")]
+                fn to_index(x: F, kmax: usize) -> I {
+                    // maxpd returns its second operand for a NaN lane: 0, as `as usize` does.
+                    let mut o = izero();
+                    for k in 0..K {
+                        let v = _mm256_min_pd(
+                            _mm256_max_pd(x.0[k], _mm256_setzero_pd()),
+                            _mm256_set1_pd(kmax as f64),
+                        );
+                        o.0[k] = _mm256_cvtepi32_epi64(_mm256_cvttpd_epi32(v));
+                    }
+                    o
+                }
+
+                /// `t[idx]` per lane, the index clamped into `t` first (`t` must not be empty).
+                #[inline]
+                #[target_feature(enable = "avx2,fma")]
+                fn gather(t: &[f64], idx: I) -> F {
+                    assert!(!t.is_empty());
+                    let idx = imax(imin(idx, isplat(t.len() - 1)), izero());
+                    let mut o = zero();
+                    for k in 0..K {
+                        // SAFETY: every index lies in 0..t.len().
+                        o.0[k] = unsafe { _mm256_i64gather_pd::<8>(t.as_ptr(), idx.0[k]) };
+                    }
+                    o
+                }
+
+                /// `t[idx] as usize` per lane for a u32 table, the index clamped into `t` first.
+                #[inline]
+                #[target_feature(enable = "avx2,fma")]
+                fn gather_u32(t: &[u32], idx: I) -> I {
+                    assert!(!t.is_empty());
+                    let idx = imax(imin(idx, isplat(t.len() - 1)), izero());
+                    let mut o = idx;
+                    for k in 0..K {
+                        // SAFETY: every index lies in 0..t.len(); u32 and i32 have the same layout.
+                        let g = unsafe { _mm256_i64gather_epi32::<4>(t.as_ptr().cast(), idx.0[k]) };
+                        o.0[k] = _mm256_cvtepu32_epi64(g);
+                    }
+                    o
+                }
+            }
+        }
+    };
 }
 
-#[inline]
-#[target_feature(enable = "avx2,fma")]
-fn isplat(x: usize) -> I {
-    I([_mm256_set1_epi64x(x as i64); K])
-}
-#[inline]
-#[target_feature(enable = "avx2,fma")]
-fn izero() -> I {
-    isplat(0)
-}
-/// Per lane `if m { a } else { b }`, `m` an f64 mask.
-#[inline]
-#[target_feature(enable = "avx2,fma")]
-fn isel(m: F, a: I, b: I) -> I {
-    let mut o = a;
-    for k in 0..K {
-        o.0[k] = _mm256_castpd_si256(_mm256_blendv_pd(
-            _mm256_castsi256_pd(b.0[k]),
-            _mm256_castsi256_pd(a.0[k]),
-            m.0[k],
-        ));
-    }
-    o
-}
-/// `a == b` as an f64 mask.
-#[inline]
-#[target_feature(enable = "avx2,fma")]
-fn ieq(a: I, b: I) -> F {
-    let mut o = zero();
-    for k in 0..K {
-        o.0[k] = _mm256_castsi256_pd(_mm256_cmpeq_epi64(a.0[k], b.0[k]));
-    }
-    o
-}
-/// `a > b` (signed) as an f64 mask.
-#[inline]
-#[target_feature(enable = "avx2,fma")]
-fn igt(a: I, b: I) -> F {
-    let mut o = zero();
-    for k in 0..K {
-        o.0[k] = _mm256_castsi256_pd(_mm256_cmpgt_epi64(a.0[k], b.0[k]));
-    }
-    o
-}
-#[inline]
-#[target_feature(enable = "avx2,fma")]
-fn ilanes(a: I) -> [usize; BLOCK] {
-    let mut o = [0i64; BLOCK];
-    for k in 0..K {
-        // SAFETY: `o` holds 4K i64; unaligned store of four.
-        unsafe { _mm256_storeu_si256(o[4 * k..].as_mut_ptr().cast(), a.0[k]) };
-    }
-    o.map(|x| x as usize)
-}
-#[inline]
-#[target_feature(enable = "avx2,fma")]
-fn flanes(a: F) -> [f64; BLOCK] {
-    let mut o = [0.0; BLOCK];
-    for k in 0..K {
-        // SAFETY: `o` holds 4K f64; unaligned store of four.
-        unsafe { _mm256_storeu_pd(o[4 * k..].as_mut_ptr(), a.0[k]) };
-    }
-    o
-}
-#[inline]
-#[target_feature(enable = "avx2,fma")]
-fn fload(a: &[f64; BLOCK]) -> F {
-    let mut o = zero();
-    for k in 0..K {
-        // SAFETY: `a` holds 4K f64; unaligned load of four.
-        o.0[k] = unsafe { _mm256_loadu_pd(a[4 * k..].as_ptr()) };
-    }
-    o
-}
-#[inline]
-#[target_feature(enable = "avx2,fma")]
-fn ifrom(a: [usize; BLOCK]) -> I {
-    let mut o = izero();
-    for k in 0..K {
-        let q = &a[4 * k..4 * k + 4];
-        o.0[k] = _mm256_setr_epi64x(q[0] as i64, q[1] as i64, q[2] as i64, q[3] as i64);
-    }
-    o
+/// The f32 vocabulary: eight f32 lanes per `__m256`, K = 2, 32-bit indices and
+/// `vpgatherdd`/`vgatherdps` gathers; the same words, with the same semantics, as
+/// [`super::portable32`] (no fused multiply–add), so the f32 results are the same bits on every
+/// backend.
+macro_rules! avx2_f32 {
+    () => {
+        avx2_kernels! {
+            k: 2,
+            lanes: 8,
+            elem: f32,
+            index: i32,
+            vector: __m256,
+            float: [_mm256_add_ps, _mm256_sub_ps, _mm256_mul_ps, _mm256_div_ps, _mm256_cmp_ps,
+                _mm256_and_ps, _mm256_or_ps, _mm256_set1_ps, _mm256_sqrt_ps, _mm256_andnot_ps,
+                _mm256_xor_ps, _mm256_blendv_ps, _mm256_movemask_ps, _mm256_storeu_ps,
+                _mm256_loadu_ps, _mm256_castsi256_ps, _mm256_castps_si256],
+            int: [_mm256_add_epi32, _mm256_sub_epi32, _mm256_min_epi32, _mm256_max_epi32,
+                _mm256_mullo_epi32, _mm256_set1_epi32, _mm256_cmpeq_epi32, _mm256_cmpgt_epi32],
+            extra: {
+                #[inline]
+                #[target_feature(enable = "avx2,fma")]
+                fn ifrom(a: [usize; BLOCK]) -> I {
+                    let mut o = izero();
+                    let a = a.map(|x| x as i32);
+                    for k in 0..K {
+                        // SAFETY: `a` holds 8K i32; unaligned load of eight.
+                        o.0[k] = unsafe { _mm256_loadu_si256(a[8 * k..].as_ptr().cast()) };
+                    }
+                    o
+                }
+
+                /// `(x as usize).min(kmax)` per lane (NaN and negatives give 0), for `kmax` < 2²⁴.
+                #[inline]
+                #[target_feature(enable = "avx2,fma")]
+                fn to_index(x: F, kmax: usize) -> I {
+                    // maxps returns its second operand for a NaN lane: 0, as `as usize` does.
+                    let mut o = izero();
+                    for k in 0..K {
+                        let v = _mm256_min_ps(
+                            _mm256_max_ps(x.0[k], _mm256_setzero_ps()),
+                            _mm256_set1_ps(kmax as f32),
+                        );
+                        o.0[k] = _mm256_cvttps_epi32(v);
+                    }
+                    o
+                }
+
+                /// `t[idx]` per lane, the index clamped into `t` first (`t` must not be empty, below 2³¹
+                /// entries).
+                #[inline]
+                #[target_feature(enable = "avx2,fma")]
+                fn gather(t: &[f32], idx: I) -> F {
+                    assert!(!t.is_empty());
+                    let idx = imax(imin(idx, isplat(t.len() - 1)), izero());
+                    let mut o = zero();
+                    for k in 0..K {
+                        // SAFETY: every index lies in 0..t.len().
+                        o.0[k] = unsafe { _mm256_i32gather_ps::<4>(t.as_ptr(), idx.0[k]) };
+                    }
+                    o
+                }
+
+                /// `t[idx]` per lane for a u32 table (entries below 2³¹), the index clamped into `t` first.
+                #[inline]
+                #[target_feature(enable = "avx2,fma")]
+                fn gather_u32(t: &[u32], idx: I) -> I {
+                    assert!(!t.is_empty());
+                    let idx = imax(imin(idx, isplat(t.len() - 1)), izero());
+                    let mut o = idx;
+                    for k in 0..K {
+                        // SAFETY: every index lies in 0..t.len(); u32 and i32 have the same layout.
+                        o.0[k] = unsafe { _mm256_i32gather_epi32::<4>(t.as_ptr().cast(), idx.0[k]) };
+                    }
+                    o
+                }
+            }
+        }
+    };
 }
 
-/// `(x as usize).min(kmax)` per lane (NaN and negatives give 0), for `kmax` < 2³¹.
-#[inline]
-#[target_feature(enable = "avx2,fma")]
-fn to_index(x: F, kmax: usize) -> I {
-    // maxpd returns its second operand for a NaN lane: 0, as `as usize` does.
-    let mut o = izero();
-    for k in 0..K {
-        let v = _mm256_min_pd(
-            _mm256_max_pd(x.0[k], _mm256_setzero_pd()),
-            _mm256_set1_pd(kmax as f64),
-        );
-        o.0[k] = _mm256_cvtepi32_epi64(_mm256_cvttpd_epi32(v));
-    }
-    o
-}
+avx2_f64!();
 
-/// `t[idx]` per lane, the index clamped into `t` first (`t` must not be empty).
-#[inline]
-#[target_feature(enable = "avx2,fma")]
-fn gather(t: &[f64], idx: I) -> F {
-    assert!(!t.is_empty());
-    let idx = imax(imin(idx, isplat(t.len() - 1)), izero());
-    let mut o = zero();
-    for k in 0..K {
-        // SAFETY: every index lies in 0..t.len().
-        o.0[k] = unsafe { _mm256_i64gather_pd::<8>(t.as_ptr(), idx.0[k]) };
-    }
-    o
+/// The f32 kernels (K = 2 vectors of eight lanes per block).
+pub(crate) mod f32_k2 {
+    use super::*;
+    avx2_f32!();
 }
-
-/// `t[idx] as usize` per lane for a u32 table, the index clamped into `t` first.
-#[inline]
-#[target_feature(enable = "avx2,fma")]
-fn gather_u32(t: &[u32], idx: I) -> I {
-    assert!(!t.is_empty());
-    let idx = imax(imin(idx, isplat(t.len() - 1)), izero());
-    let mut o = idx;
-    for k in 0..K {
-        // SAFETY: every index lies in 0..t.len(); u32 and i32 have the same layout.
-        let g = unsafe { _mm256_i64gather_epi32::<4>(t.as_ptr().cast(), idx.0[k]) };
-        o.0[k] = _mm256_cvtepu32_epi64(g);
-    }
-    o
-}
-
-/// Lanes whose sign bit is set (`is_sign_negative`).
-#[inline]
-#[target_feature(enable = "avx2,fma")]
-fn sign_negative(a: F) -> F {
-    let mut o = a;
-    for k in 0..K {
-        o.0[k] = _mm256_castsi256_pd(_mm256_cmpgt_epi64(
-            _mm256_setzero_si256(),
-            _mm256_castpd_si256(a.0[k]),
-        ));
-    }
-    o
-}
-
-super::kernels::vector_kernels!("avx2,fma");

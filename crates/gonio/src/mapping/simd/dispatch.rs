@@ -251,9 +251,9 @@ impl TablesElem for f32 {
         match b {
             // SAFETY (both): as in the f64 `sample`.
             #[cfg(target_arch = "x86_64")]
-            Backend::Avx512 => unsafe { super::avx512_f32::k4::sample_slices(t, u, v, out) },
+            Backend::Avx512 => unsafe { super::avx512::f32_k4::sample_slices(t, u, v, out) },
             #[cfg(target_arch = "x86_64")]
-            Backend::Avx2Fma => unsafe { super::avx2_f32::sample_slices(t, u, v, out) },
+            Backend::Avx2Fma => unsafe { super::avx2::f32_k2::sample_slices(t, u, v, out) },
             _ => super::portable32::sample_slices(t, u, v, out),
         }
     }
@@ -261,9 +261,9 @@ impl TablesElem for f32 {
         match b {
             // SAFETY (both): as in the f64 `sample`.
             #[cfg(target_arch = "x86_64")]
-            Backend::Avx512 => unsafe { super::avx512_f32::k4::density_slices(t, dir, out) },
+            Backend::Avx512 => unsafe { super::avx512::f32_k4::density_slices(t, dir, out) },
             #[cfg(target_arch = "x86_64")]
-            Backend::Avx2Fma => unsafe { super::avx2_f32::density_slices(t, dir, out) },
+            Backend::Avx2Fma => unsafe { super::avx2::f32_k2::density_slices(t, dir, out) },
             _ => super::portable32::density_slices(t, dir, out),
         }
     }
@@ -271,9 +271,9 @@ impl TablesElem for f32 {
         match b {
             // SAFETY (both): as in the f64 `sample`.
             #[cfg(target_arch = "x86_64")]
-            Backend::Avx512 => unsafe { super::avx512_f32::k4::invert_slices(t, dir, out) },
+            Backend::Avx512 => unsafe { super::avx512::f32_k4::invert_slices(t, dir, out) },
             #[cfg(target_arch = "x86_64")]
-            Backend::Avx2Fma => unsafe { super::avx2_f32::invert_slices(t, dir, out) },
+            Backend::Avx2Fma => unsafe { super::avx2::f32_k2::invert_slices(t, dir, out) },
             _ => super::portable32::invert_slices(t, dir, out),
         }
     }

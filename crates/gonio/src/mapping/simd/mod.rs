@@ -6,11 +6,9 @@
 //! | [`math`] | branch-free sin/cos and atan2 (the kernels' transcendental functions, also scalar) |
 //! | `kernels.rs` | the forward map, pdf and inverse, **one body each**, over a vocabulary of vector words (`add`, `gather`, `sel`, `descend`, …): the `vector_kernels!` macro, which stamps a backend's `#[target_feature]` on one body |
 //! | `portable.rs` | the f64 vocabulary over arrays of eight lanes (the target's baseline instruction set; the fallback on every CPU and for tables too large for 32-bit index conversions) |
-//! | `avx2.rs` | the f64 vocabulary over four `__m256d` per value (AVX2 + FMA, detected at run time) |
-//! | `avx512.rs` | the f64 vocabulary over `__m512d` (AVX-512 F + DQ, detected at run time), instantiated twice (two vectors per block for the forward map, four for pdf and inverse) |
+//! | `avx2.rs` | the vocabulary over AVX2 + FMA (detected at run time), **one macro over both element types**: f64 over four `__m256d` per value, f32 (module `f32_k2`) over two `__m256` per value, 32-bit indices and gathers |
+//! | `avx512.rs` | the vocabulary over AVX-512 F + DQ (detected at run time), **one macro over both element types**: f64 over `__m512d`, instantiated twice (two vectors per block for the forward map, four for pdf and inverse), and f32 over four `__m512` per value, 32-bit indices and gathers |
 //! | `portable32.rs` | the f32 vocabulary over arrays of sixteen lanes, 32-bit indices (the float32 map's fallback) |
-//! | `avx2_f32.rs` | the f32 vocabulary over two `__m256` per value, 32-bit indices and gathers |
-//! | `avx512_f32.rs` | the f32 vocabulary over four `__m512` per value, 32-bit indices and gathers |
 //! | `dispatch.rs` | backend choice per call, the f32 calls' widening to the f64 kernels (the f64 maps' f32 batches), and the kernels over a table view in f32 or f64 ([`crate::mapping::Float32Map`] and its exact reference) |
 //!
 //! **Why this and not `wide`/`pulp`/`multiversion`.** The kernels need gathers and vector
@@ -36,11 +34,8 @@ pub mod math;
 #[cfg(target_arch = "x86_64")]
 mod avx2;
 #[cfg(target_arch = "x86_64")]
-mod avx2_f32;
-#[cfg(target_arch = "x86_64")]
 mod avx512;
 #[cfg(target_arch = "x86_64")]
-mod avx512_f32;
 pub(crate) mod dispatch;
 mod kernels;
 mod portable;

@@ -2,7 +2,7 @@
 //! [`BLOCK`] f32 lanes (values `[f32; BLOCK]`, 32-bit indices `[i32; BLOCK]`, masks
 //! `[bool; BLOCK]`), compiled for the target's baseline instruction set. The float32 map's
 //! fallback on every CPU. Every word has the semantics of its AVX2/AVX-512 f32 spelling
-//! ([`super::avx2_f32`], [`super::avx512_f32`]): IEEE-rounded f32 arithmetic, no fused
+//! ([`super::avx2`], [`super::avx512`]): IEEE-rounded f32 arithmetic, no fused
 //! multiply–add, ordered comparisons, wrapping 32-bit index arithmetic, the same clamping of
 //! indices and of `to_index` (exact while `kmax` < 2²⁴, which [`crate::mapping::Float32Map`]
 //! guarantees), so this backend gives the same bits as the others.
