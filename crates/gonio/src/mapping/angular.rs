@@ -171,21 +171,13 @@ impl Angular {
     /// [`Angular::star_radius2`]).
     #[inline]
     pub(crate) fn forward(&self, phib: f64) -> (usize, f64, f64) {
-        let i = self.wedge(phib);
-        let eps = solve_wedge(
-            self.beta[i],
-            self.r2[i],
-            self.r2[i + 1],
-            (phib - self.cum[i]) / self.kappa,
-        );
-        (i, eps, self.phi[i] + eps * self.beta[i])
+        forward_on(self, &self.beta, &self.phi, phib)
     }
 
     /// Inverse M_C: the B-disk azimuth of fraction `eps` of sector `i`.
     #[inline]
     pub(crate) fn inverse(&self, i: usize, eps: f64) -> f64 {
-        (self.cum[i] + self.kappa * wedge_angle(self.beta[i], self.r2[i], self.r2[i + 1], eps))
-            .min(self.cum[i + 1])
+        inverse_on(self, &self.beta, i, eps)
     }
 
     /// Sector of azimuth `p` ∈ [0, 2π) and the fraction ε within it (the azimuth is the same on the
@@ -243,6 +235,66 @@ impl Angular {
     pub(crate) fn phi(&self) -> &[f64] {
         &self.phi
     }
+}
+
+/// The wedges of the angular stage: the cumulative wedge angles Γ_i, the squared star radii R_i²,
+/// the scale κ and the wedge search. The map's own tables are one source ([`Angular`]); a blend
+/// of K maps reads Σ w_k Γ_{k,i} and Σ w_k R²_{k,i} ([`super::blend`]). [`forward_on`] and
+/// [`inverse_on`] are M_C over any source, written once.
+pub(crate) trait Wedges {
+    /// Γ_i.
+    fn gamma(&self, i: usize) -> f64;
+    /// R_i².
+    fn rho2(&self, i: usize) -> f64;
+    /// κ = Γ_M / Σγ (1 up to round-off).
+    fn scale(&self) -> f64;
+    /// The largest i ≤ M − 1 with Γ_i ≤ φ_B.
+    fn find(&self, phib: f64) -> usize;
+}
+
+impl Wedges for Angular {
+    #[inline]
+    fn gamma(&self, i: usize) -> f64 {
+        self.cum[i]
+    }
+    #[inline]
+    fn rho2(&self, i: usize) -> f64 {
+        self.r2[i]
+    }
+    #[inline]
+    fn scale(&self) -> f64 {
+        self.kappa
+    }
+    #[inline]
+    fn find(&self, phib: f64) -> usize {
+        self.wedge(phib)
+    }
+}
+
+/// Forward M_C over `w` on the sectors of widths `beta` starting at `phi`: the wedge i with
+/// Γ_i ≤ φ_B < Γ_{i+1}, the fraction ε of sector i that has the wedge's area, and φ_C = φ_i + εβ_i.
+#[inline]
+pub(crate) fn forward_on<W: Wedges>(
+    w: &W,
+    beta: &[f64],
+    phi: &[f64],
+    phib: f64,
+) -> (usize, f64, f64) {
+    let i = w.find(phib);
+    let eps = solve_wedge(
+        beta[i],
+        w.rho2(i),
+        w.rho2(i + 1),
+        (phib - w.gamma(i)) / w.scale(),
+    );
+    (i, eps, phi[i] + eps * beta[i])
+}
+
+/// Inverse M_C over `w`: the B-disk azimuth of fraction `eps` of sector `i`.
+#[inline]
+pub(crate) fn inverse_on<W: Wedges>(w: &W, beta: &[f64], i: usize, eps: f64) -> f64 {
+    (w.gamma(i) + w.scale() * wedge_angle(beta[i], w.rho2(i), w.rho2(i + 1), eps))
+        .min(w.gamma(i + 1))
 }
 
 /// Area of the wedge of sector width `beta` between ε = 0 and `eps`, per unit ½ (that is, the angle

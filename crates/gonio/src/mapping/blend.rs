@@ -13,19 +13,22 @@
 //! * the cumulative wedge angles Γ_i = Σ w_k Γ_{k,i} (each Γ_k ends at 2π, so Γ does too).
 //!
 //! So the map of the mixture is the HDS map of the diagram Σ c_k d_k **exactly** (the tests build
-//! [`HemisphereMap::new`] of that diagram and compare to round-off): its stages read the blended
-//! entries on the fly (a few table reads per entry), with the same primitives as the single map
-//! ([`solve_wedge`], [`wedge_angle`], [`solve_radius`], [`partial_mass`], M_B and M_E). The searches
+//! [`HemisphereMap::new`] of that diagram and compare to round-off). This file keeps the blending
+//! weights and nothing else of the map: the stages' own forward and inverse run over the blended
+//! entries read on the fly (issue 36, as Mitsuba's `Marginal2D` blends its slices inside one
+//! lookup): M_C over the blended wedges ([`Wedges`], [`forward_on`], [`inverse_on`]), M_D over a
+//! row of 2K table rows ([`RadialRow`], [`radial::forward_on`], [`radial::inverse_on`]), M_B and
+//! M_E as for one map. The searches
 //! are bracketed by the parts' own guide tables: a blended cumulative is a convex combination of
 //! the parts' normalised cumulatives, so its answer lies between theirs. The pdf is Σ w_k p_k, the
 //! exact density of the map; the map is continuous in the weights, so a family of weights that is
 //! continuous in a parameter gives maps continuous in that parameter.
 
-use super::angular::{solve_wedge, wedge_angle, Angular};
+use super::angular::{forward_on, inverse_on, Angular, Wedges};
 use super::concentric::{disk_to_square, square_to_disk};
 use super::hds::HdsCore;
 use super::lift::{disk_to_sphere, sphere_to_disk_azimuth, sphere_to_disk_radius};
-use super::radial::{partial_mass, solve_radius, Radial};
+use super::radial::{self, Radial, RadialRow};
 use super::HemisphereMap;
 use crate::sampler::{Point2, Sample, Vec3};
 
@@ -152,131 +155,37 @@ impl<'a> BlendedMap<'a> {
         self.cores[k].tables().1
     }
 
-    /// Blended Γ_i.
-    #[inline]
-    fn gamma(&self, i: usize) -> f64 {
-        (0..self.len)
-            .map(|k| self.w[k] * self.angular(k).view().cum[i])
-            .sum()
-    }
-    /// Blended R_i².
-    #[inline]
-    fn r2(&self, i: usize) -> f64 {
-        (0..self.len)
-            .map(|k| self.w[k] * self.angular(k).view().r2[i])
-            .sum()
-    }
-
     /// The coefficients of the rows (k, meridian) that the radial stage of sector (i, i1) at
     /// fraction `eps` combines: (core, meridian, coefficient), 2·len entries.
     #[inline]
-    fn rows(&self, i: usize, i1: usize, eps: f64) -> ([(usize, usize, f64); 2 * MAX_PARTS], usize) {
+    fn rows(&self, i: usize, i1: usize, eps: f64) -> BlendRow<'_, 'a> {
         let mut rows = [(0, 0, 0.0); 2 * MAX_PARTS];
         for k in 0..self.len {
             rows[2 * k] = (k, i, self.c[k] * (1.0 - eps));
             rows[2 * k + 1] = (k, i1, self.c[k] * eps);
         }
-        (rows, 2 * self.len)
-    }
-
-    /// Blended U(·, j) of `rows`.
-    #[inline]
-    fn ut(&self, rows: &[(usize, usize, f64)], j: usize) -> f64 {
-        rows.iter()
-            .map(|&(k, r, a)| {
-                let rad = self.radial(k);
-                a * rad.view().u[r * rad.view().n + j]
-            })
-            .sum()
-    }
-    /// Blended d(·, j) of `rows`.
-    #[inline]
-    fn dt(&self, rows: &[(usize, usize, f64)], j: usize) -> f64 {
-        rows.iter()
-            .map(|&(k, r, a)| {
-                let rad = self.radial(k);
-                a * rad.view().d[r * rad.view().n + j]
-            })
-            .sum()
-    }
-
-    /// Forward M_C on the blended tables: (sector, fraction, φ_C).
-    #[inline]
-    fn angular_forward(&self, phib: f64) -> (usize, f64, f64) {
-        let a0 = self.angular(0);
-        let (mut lo, mut hi) = (usize::MAX, 0);
-        for k in 0..self.len {
-            let i = self.angular(k).wedge(phib);
-            lo = lo.min(i);
-            hi = hi.max(i);
+        BlendRow {
+            map: self,
+            rows,
+            len: 2 * self.len,
         }
-        // Largest i in [lo, hi] with Γ_i ≤ φ_B (Γ_lo ≤ φ_B holds: every part's Γ_lo is).
-        while hi > lo {
-            let mid = (lo + hi).div_ceil(2);
-            if self.gamma(mid) <= phib {
-                lo = mid;
-            } else {
-                hi = mid - 1;
-            }
-        }
-        let i = lo;
-        let beta = a0.view().beta[i];
-        let eps = solve_wedge(
-            beta,
-            self.r2(i),
-            self.r2(i + 1),
-            (phib - self.gamma(i)) / self.kappa,
-        );
-        (i, eps, a0.view().phi[i] + eps * beta)
     }
 
-    /// The forward map: a point of the unit square to (direction, blended disk density there).
+    /// The forward map: a point of the unit square to (direction, blended disk density there):
+    /// the stages' own M_C and M_D ([`forward_on`], [`radial::forward_on`]) over the blended
+    /// wedges and rows.
     fn forward(&self, uv: Point2) -> (Vec3, f64) {
         let (rb, phib) = square_to_disk(uv);
-        let (i, eps, phi) = self.angular_forward(phib);
         let a0 = self.angular(0);
-        let i1 = a0.next(i);
-        let (rows, nr) = self.rows(i, i1, eps);
-        let rows = &rows[..nr];
+        let (i, eps, phi) = forward_on(self, a0.view().beta, a0.view().phi, phib);
         let r0 = self.radial(0);
-        let n = r0.view().n;
-        let w = rb * rb * self.ut(rows, n - 1);
-        // Bracket from every row's own radial guide table (convex combination, as in M_D).
-        let kg = r0.view().radial_k;
-        let kk = ((rb * rb * kg as f64) as usize).min(kg - 1);
-        let (mut lo, mut hi) = (usize::MAX, 0usize);
-        for &(k, r, _) in rows {
-            let g = &self.radial(k).view().radial_guide[r * (kg + 1)..(r + 1) * (kg + 1)];
-            lo = lo.min(g[kk] as usize);
-            hi = hi.max(g[kk + 1] as usize);
-        }
-        while hi > lo {
-            let mid = (lo + hi).div_ceil(2);
-            if self.ut(rows, mid) <= w {
-                lo = mid;
-            } else {
-                hi = mid - 1;
-            }
-        }
-        let mut j = lo;
-        while j > 0 && self.ut(rows, j) > w {
-            j -= 1;
-        }
-        while j + 2 < n && self.ut(rows, j + 1) <= w {
-            j += 1;
-        }
-        while j > 0 && self.ut(rows, j + 1) <= self.ut(rows, j) {
-            j -= 1;
-        }
-        let (d0, d1) = (self.dt(rows, j), self.dt(rows, j + 1));
-        let (x0, x1) = (r0.view().x[j], r0.view().x[j + 1]);
-        let xr = solve_radius(x0, x1, d0, d1, w - self.ut(rows, j)).min(x1);
+        let row = self.rows(i, a0.next(i), eps);
+        let (xr, seg) = radial::forward_on(r0.view().x, r0.view().radial_k, &row, rb);
         let dir = disk_to_sphere(xr, phi);
         if dir[0] == 0.0 && dir[1] == 0.0 {
             return (dir, self.density(dir));
         }
-        let t = ((sphere_to_disk_radius(dir) - x0) * r0.view().inv_dx[j]).clamp(0.0, 1.0);
-        (dir, (d0 + (d1 - d0) * t).max(0.0))
+        (dir, r0.density_on(seg, sphere_to_disk_radius(dir)))
     }
 
     /// The blended disk density D at a direction of the upper hemisphere.
@@ -317,32 +226,101 @@ impl<'a> BlendedMap<'a> {
         let xr = sphere_to_disk_radius(dir);
         let a0 = self.angular(0);
         let (i, eps) = a0.sector(sphere_to_disk_azimuth(dir));
-        let i1 = a0.next(i);
-        let (rows, nr) = self.rows(i, i1, eps);
-        let rows = &rows[..nr];
+        let row = self.rows(i, a0.next(i), eps);
         let r0 = self.radial(0);
-        let n = r0.view().n;
         let j = r0.segment_of(xr);
-        let (x0, x1) = (r0.view().x[j], r0.view().x[j + 1]);
-        let (d0, d1) = (self.dt(rows, j), self.dt(rows, j + 1));
-        let k = (d1 - d0) * r0.view().inv_dx[j];
-        let tau = (xr - x0).clamp(0.0, x1 - x0);
-        let w = self.ut(rows, j) + partial_mass(x0, d0, k, tau);
-        let wn = self.ut(rows, n - 1);
-        let rb = if wn > 0.0 {
-            (w / wn).clamp(0.0, 1.0).sqrt()
-        } else {
-            0.0
-        };
-        let phib = (self.gamma(i)
-            + self.kappa * wedge_angle(a0.view().beta[i], self.r2(i), self.r2(i + 1), eps))
-        .min(self.gamma(i + 1));
+        let rb = radial::inverse_on(r0.view().x, r0.view().inv_dx, j, &row, xr);
+        let phib = inverse_on(self, a0.view().beta, i, eps);
         Some(disk_to_square(rb, phib))
     }
 
     /// The mixture weights of the parts kept (positive, summing to 1).
     pub fn weights(&self) -> &[f64] {
         &self.w[..self.len]
+    }
+}
+
+/// The blended wedges: Γ_i = Σ w_k Γ_{k,i}, R_i² = Σ w_k R²_{k,i}, κ = Σ w_k κ_k; the wedge
+/// search is bracketed by the parts' own (each part's Γ_lo ≤ φ_B, so the blend's is too).
+impl Wedges for BlendedMap<'_> {
+    #[inline]
+    fn gamma(&self, i: usize) -> f64 {
+        (0..self.len)
+            .map(|k| self.w[k] * self.angular(k).view().cum[i])
+            .sum()
+    }
+    #[inline]
+    fn rho2(&self, i: usize) -> f64 {
+        (0..self.len)
+            .map(|k| self.w[k] * self.angular(k).view().r2[i])
+            .sum()
+    }
+    #[inline]
+    fn scale(&self) -> f64 {
+        self.kappa
+    }
+    #[inline]
+    fn find(&self, phib: f64) -> usize {
+        let (mut lo, mut hi) = (usize::MAX, 0);
+        for k in 0..self.len {
+            let i = self.angular(k).wedge(phib);
+            lo = lo.min(i);
+            hi = hi.max(i);
+        }
+        // Largest i in [lo, hi] with Γ_i ≤ φ_B (Γ_lo ≤ φ_B holds: every part's Γ_lo is).
+        while hi > lo {
+            let mid = (lo + hi).div_ceil(2);
+            if self.gamma(mid) <= phib {
+                lo = mid;
+            } else {
+                hi = mid - 1;
+            }
+        }
+        lo
+    }
+}
+
+/// The radial row of a blend at one azimuth: 2K rows of the parts' tables, each with its
+/// coefficient c_k·(1 − ε) or c_k·ε.
+struct BlendRow<'m, 'a> {
+    map: &'m BlendedMap<'a>,
+    rows: [(usize, usize, f64); 2 * MAX_PARTS],
+    len: usize,
+}
+
+impl RadialRow for BlendRow<'_, '_> {
+    #[inline]
+    fn u(&self, j: usize) -> f64 {
+        self.rows[..self.len]
+            .iter()
+            .map(|&(k, r, a)| {
+                let rad = self.map.radial(k);
+                a * rad.view().u[r * rad.view().n + j]
+            })
+            .sum()
+    }
+    #[inline]
+    fn d(&self, j: usize) -> f64 {
+        self.rows[..self.len]
+            .iter()
+            .map(|&(k, r, a)| {
+                let rad = self.map.radial(k);
+                a * rad.view().d[r * rad.view().n + j]
+            })
+            .sum()
+    }
+    /// Every row's own radial guide bracket, united (a convex combination, as in M_D).
+    #[inline]
+    fn bracket(&self, k: usize) -> (usize, usize) {
+        let (mut lo, mut hi) = (usize::MAX, 0usize);
+        for &(p, r, _) in &self.rows[..self.len] {
+            let v = self.map.radial(p).view();
+            let kg = v.radial_k;
+            let g = &v.radial_guide[r * (kg + 1)..(r + 1) * (kg + 1)];
+            lo = lo.min(g[k] as usize);
+            hi = hi.max(g[k + 1] as usize);
+        }
+        (lo, hi)
     }
 }
 

@@ -45,6 +45,117 @@ pub(crate) struct Segment {
     d1: f64,
 }
 
+/// One row of the radial stage at an azimuth: the cumulative masses Ũ_j and nodal densities
+/// d̃_j interpolated from the tables' rows, and the bracket their radial guide tables give. The
+/// map's own tables give two rows (one wedge, [`Radial::forward`]); a blend of K maps gives 2K
+/// ([`super::blend`]). [`forward_on`] and [`inverse_on`] are M_D over any such row, written once.
+pub(crate) trait RadialRow {
+    /// Ũ_j.
+    fn u(&self, j: usize) -> f64;
+    /// d̃_j.
+    fn d(&self, j: usize) -> f64;
+    /// `[lo, hi]`, an interval that holds the largest j ≤ N − 2 with Ũ_j ≤ r_B²·Ũ_{N−1} for every
+    /// r_B² in guide cell `k`: Ũ/Ũ_{N−1} is a convex combination of the rows' normalised
+    /// cumulatives, so the answer lies between the rows' own answers, which their radial guide
+    /// tables bracket.
+    fn bracket(&self, k: usize) -> (usize, usize);
+}
+
+/// Two rows of the map's tables interpolated at fraction `eps` (one wedge).
+struct WedgeRow<'a> {
+    ua: &'a [f64],
+    ub: &'a [f64],
+    da: &'a [f64],
+    db: &'a [f64],
+    ga: &'a [u32],
+    gb: &'a [u32],
+    eps: f64,
+}
+
+impl RadialRow for WedgeRow<'_> {
+    #[inline]
+    fn u(&self, j: usize) -> f64 {
+        (1.0 - self.eps) * self.ua[j] + self.eps * self.ub[j]
+    }
+    #[inline]
+    fn d(&self, j: usize) -> f64 {
+        (1.0 - self.eps) * self.da[j] + self.eps * self.db[j]
+    }
+    #[inline]
+    fn bracket(&self, k: usize) -> (usize, usize) {
+        let (ga, gb) = (self.ga, self.gb);
+        (ga[k].min(gb[k]) as usize, ga[k + 1].max(gb[k + 1]) as usize)
+    }
+}
+
+/// Forward M_D on `row` over the parallel radii `x` (docs/DERIVATION.md §6.3, A6): the D-disk
+/// radius whose radial CDF equals r_B², and the segment it lies in.
+#[inline]
+pub(crate) fn forward_on<R: RadialRow>(
+    x: &[f64],
+    radial_k: usize,
+    row: &R,
+    rb: f64,
+) -> (f64, Segment) {
+    let n = x.len();
+    let w = rb * rb * row.u(n - 1);
+    // Largest j ≤ N−2 with Ũ_j ≤ w, bisected inside the rows' guide bracket.
+    let k = ((rb * rb * radial_k as f64) as usize).min(radial_k - 1);
+    let (mut lo, mut hi) = row.bracket(k);
+    while hi > lo {
+        let mid = (lo + hi).div_ceil(2);
+        if row.u(mid) <= w {
+            lo = mid;
+        } else {
+            hi = mid - 1;
+        }
+    }
+    let mut j = lo;
+    // Round-off may move the answer just outside the bracket: settle it exactly.
+    while j > 0 && row.u(j) > w {
+        j -= 1;
+    }
+    while j + 2 < n && row.u(j + 1) <= w {
+        j += 1;
+    }
+    // The edge of the square (r_B = 1, w = Ũ_{N−1}) where the last segments carry no mass (an
+    // unlit zone at the end of the map): the search ends on a segment without light, and the
+    // sample would land inside that zone, with zero density all around it. Step back to the
+    // last segment with mass: the sample is then the end of the lit zone (the same B-radius,
+    // so the inverse still round-trips). Elsewhere segment j always has mass.
+    while j > 0 && row.u(j + 1) <= row.u(j) {
+        j -= 1;
+    }
+    let (d0, d1) = (row.d(j), row.d(j + 1));
+    let (x0, x1) = (x[j], x[j + 1]);
+    let xr = solve_radius(x0, x1, d0, d1, w - row.u(j)).min(x1);
+    (xr, Segment { j, d0, d1 })
+}
+
+/// Inverse M_D on `row`: the B-disk radius r_B = √(Ũ(x_r)/Ũ_{N−1}) of D-disk radius `xr` in
+/// segment `j` of the parallel radii `x` (closed form, docs/DERIVATION.md §6.5).
+#[inline]
+pub(crate) fn inverse_on<R: RadialRow>(
+    x: &[f64],
+    inv_dx: &[f64],
+    j: usize,
+    row: &R,
+    xr: f64,
+) -> f64 {
+    let n = x.len();
+    let (x0, x1) = (x[j], x[j + 1]);
+    let (d0, d1) = (row.d(j), row.d(j + 1));
+    let k = (d1 - d0) * inv_dx[j];
+    let tau = (xr - x0).clamp(0.0, x1 - x0);
+    let w = row.u(j) + partial_mass(x0, d0, k, tau);
+    let wn = row.u(n - 1);
+    if wn > 0.0 {
+        (w / wn).clamp(0.0, 1.0).sqrt()
+    } else {
+        0.0
+    }
+}
+
 /// The radius X ∈ [x0, x1] with [`partial_mass`] = `m` on the segment with end densities d0, d1.
 /// `m` outside [0, segment mass] is clamped to the segment's ends.
 #[inline]
@@ -374,55 +485,28 @@ impl Radial {
         )
     }
 
+    /// The row of the wedge between meridians `i` and `i1` at fraction `eps`: the two rows'
+    /// entries interpolated linearly ([`RadialRow`]).
+    #[inline]
+    fn wedge_row(&self, i: usize, i1: usize, eps: f64) -> WedgeRow<'_> {
+        let (n, kg) = (self.n, self.radial_k);
+        WedgeRow {
+            ua: &self.u[i * n..i * n + n],
+            ub: &self.u[i1 * n..i1 * n + n],
+            da: &self.d[i * n..i * n + n],
+            db: &self.d[i1 * n..i1 * n + n],
+            ga: &self.radial_guide[i * (kg + 1)..(i + 1) * (kg + 1)],
+            gb: &self.radial_guide[i1 * (kg + 1)..(i1 + 1) * (kg + 1)],
+            eps,
+        }
+    }
+
     /// Forward M_D on the tables interpolated at fraction `eps` between meridians `i` and `i1`
     /// (docs/DERIVATION.md §6.3, A6): the D-disk radius whose radial CDF equals r_B², and the
     /// segment it lies in (for the disk density D there, [`Radial::density_on`]).
     #[inline]
     pub(crate) fn forward(&self, rb: f64, i: usize, i1: usize, eps: f64) -> (f64, Segment) {
-        let n = self.n;
-        let (ua, ub) = (&self.u[i * n..i * n + n], &self.u[i1 * n..i1 * n + n]);
-        let (da, db) = (&self.d[i * n..i * n + n], &self.d[i1 * n..i1 * n + n]);
-        let ut = |j: usize| (1.0 - eps) * ua[j] + eps * ub[j];
-        let w = rb * rb * ut(n - 1);
-        // Largest j ≤ N−2 with Ũ_j ≤ w. Ũ/Ũ_{N−1} is a convex combination of the two rows'
-        // normalised cumulatives, so the answer lies between the rows' own answers for r_B², which
-        // the radial guide tables bracket: j ∈ [min(g_a[k], g_b[k]), max(g_a[k+1], g_b[k+1])].
-        let kg = self.radial_k;
-        let k = ((rb * rb * kg as f64) as usize).min(kg - 1);
-        let (ga, gb) = (
-            &self.radial_guide[i * (kg + 1)..(i + 1) * (kg + 1)],
-            &self.radial_guide[i1 * (kg + 1)..(i1 + 1) * (kg + 1)],
-        );
-        let (mut lo, mut hi) = (ga[k].min(gb[k]) as usize, ga[k + 1].max(gb[k + 1]) as usize);
-        while hi > lo {
-            let mid = (lo + hi).div_ceil(2);
-            if ut(mid) <= w {
-                lo = mid;
-            } else {
-                hi = mid - 1;
-            }
-        }
-        let mut j = lo;
-        // Round-off may move the answer just outside the bracket: settle it exactly.
-        while j > 0 && ut(j) > w {
-            j -= 1;
-        }
-        while j + 2 < n && ut(j + 1) <= w {
-            j += 1;
-        }
-        // The edge of the square (r_B = 1, w = Ũ_{N−1}) where the last segments carry no mass (an
-        // unlit zone at the end of the map): the search ends on a segment without light, and the
-        // sample would land inside that zone, with zero density all around it. Step back to the
-        // last segment with mass: the sample is then the end of the lit zone (the same B-radius,
-        // so the inverse still round-trips). Elsewhere segment j always has mass.
-        while j > 0 && ut(j + 1) <= ut(j) {
-            j -= 1;
-        }
-        let d0 = (1.0 - eps) * da[j] + eps * db[j];
-        let d1 = (1.0 - eps) * da[j + 1] + eps * db[j + 1];
-        let (x0, x1) = (self.x[j], self.x[j + 1]);
-        let xr = solve_radius(x0, x1, d0, d1, w - ut(j)).min(x1);
-        (xr, Segment { j, d0, d1 })
+        forward_on(&self.x, self.radial_k, &self.wedge_row(i, i1, eps), rb)
     }
 
     /// The density on the segment the forward map landed in, at D-disk radius `xr` (clamped to
@@ -438,22 +522,8 @@ impl Radial {
     /// docs/DERIVATION.md §6.5).
     #[inline]
     pub(crate) fn inverse(&self, xr: f64, i: usize, i1: usize, eps: f64) -> f64 {
-        let n = self.n;
-        let (ua, ub) = (&self.u[i * n..i * n + n], &self.u[i1 * n..i1 * n + n]);
-        let (da, db) = (&self.d[i * n..i * n + n], &self.d[i1 * n..i1 * n + n]);
         let j = self.segment_of(xr);
-        let (x0, x1) = (self.x[j], self.x[j + 1]);
-        let d0 = (1.0 - eps) * da[j] + eps * db[j];
-        let d1 = (1.0 - eps) * da[j + 1] + eps * db[j + 1];
-        let k = (d1 - d0) * self.inv_dx[j];
-        let tau = (xr - x0).clamp(0.0, x1 - x0);
-        let w = (1.0 - eps) * ua[j] + eps * ub[j] + partial_mass(x0, d0, k, tau);
-        let wn = (1.0 - eps) * ua[n - 1] + eps * ub[n - 1];
-        if wn > 0.0 {
-            (w / wn).clamp(0.0, 1.0).sqrt()
-        } else {
-            0.0
-        }
+        inverse_on(&self.x, &self.inv_dx, j, &self.wedge_row(i, i1, eps), xr)
     }
 
     /// The disk density D at D-disk radius `xr` between meridians `i` and `i1` at fraction `eps`
