@@ -38,12 +38,12 @@
 use super::angular::AngularView as AngularTablesView;
 use super::hds::{HdsCore, TablesView};
 use super::radial::RadialView as RadialTablesView;
-use super::simd::dispatch::{tables_density, tables_invert, tables_sample, TablesElem};
+use super::simd::dispatch::TablesElem;
 use super::simd::math::Precision;
 use super::simd::Backend;
-use super::soa_maps::split_by_side;
+use super::soa_maps::{Shape, ViewKernel};
 use super::sphere::CoresRef;
-use super::split::{Side, SplitRule};
+use super::split::SplitRule;
 use super::{HemisphereMap, SphereMap};
 use crate::batch::Soa;
 use crate::diagram::segment;
@@ -382,168 +382,37 @@ pub(super) struct Maps<T> {
 }
 
 impl<T: TablesElem> Maps<T> {
-    fn sample(&self, b: Backend, u: &[T], v: &[T], dir: [&mut [T]; 3], pdf: &mut [T]) {
-        let [x, y, z] = dir;
-        check_len(
-            "sample_soa",
-            u.len(),
-            &[v.len(), x.len(), y.len(), z.len(), pdf.len()],
-        );
+    /// The layout as a [`Shape`] over its tables' views on backend `b` (or the fastest below it
+    /// that the CPU has): the one layout driver of every map (`soa_maps.rs`).
+    fn shape(&self, b: Backend) -> Shape<ViewKernel<'_, T>> {
+        let backend = b.usable();
+        fn k<T: Copy>(backend: Backend, t: &Tables<T>) -> ViewKernel<'_, T> {
+            ViewKernel {
+                backend,
+                tables: t.view(),
+            }
+        }
         match &self.layout {
-            Layout::Hemisphere(t) | Layout::Lambert(t) => {
-                tables_sample(b, &t.view(), u, v, [x, y, z, &mut *pdf])
-            }
-            Layout::Split { upper, lower, rule } => {
-                let views = [
-                    lower.as_ref().map(Tables::view),
-                    upper.as_ref().map(Tables::view),
-                ];
-                let mut start = 0;
-                while start < u.len() {
-                    let cnt = (u.len() - start).min(CHUNK);
-                    // Partition the chunk by hemisphere, u rescaled by the rule in T.
-                    let mut idx = [[0u16; CHUNK]; 2];
-                    let mut nn = [0usize; 2];
-                    let mut bu = [[T::ZERO; CHUNK]; 2];
-                    let mut bv = [[T::ZERO; CHUNK]; 2];
-                    for k in 0..cnt {
-                        let (side, w) = rule.split_u(u[start + k]);
-                        let s = side as usize;
-                        let at = nn[s];
-                        idx[s][at] = k as u16;
-                        bu[s][at] = w;
-                        bv[s][at] = v[start + k];
-                        nn[s] += 1;
-                    }
-                    for (s, view) in views.iter().enumerate() {
-                        let cn = nn[s];
-                        if cn == 0 {
-                            continue;
-                        }
-                        let mut o = [[T::ZERO; CHUNK]; 4];
-                        match view {
-                            Some(t) => {
-                                let [ox, oy, oz, od] = &mut o;
-                                tables_sample(
-                                    b,
-                                    t,
-                                    &bu[s][..cn],
-                                    &bv[s][..cn],
-                                    [&mut ox[..cn], &mut oy[..cn], &mut oz[..cn], &mut od[..cn]],
-                                );
-                            }
-                            // The rule sends no point to a side without a map; as the f64 map's
-                            // refusal of such a layout, the pole with density 0 regardless.
-                            None => o[2] = [T::ONE; CHUNK],
-                        }
-                        for q in 0..cn {
-                            let k = start + idx[s][q] as usize;
-                            x[k] = o[0][q];
-                            y[k] = o[1][q];
-                            z[k] = if s == Side::Lower as usize {
-                                -o[2][q]
-                            } else {
-                                o[2][q]
-                            };
-                            pdf[k] = o[3][q];
-                        }
-                    }
-                    start += cnt;
-                }
-            }
+            Layout::Hemisphere(t) => Shape::Hemisphere(k(backend, t)),
+            Layout::Lambert(t) => Shape::Lambert(k(backend, t)),
+            Layout::Split { upper, lower, rule } => Shape::Split {
+                upper: upper.as_ref().map(|t| k(backend, t)),
+                lower: lower.as_ref().map(|t| k(backend, t)),
+                rule: *rule,
+            },
         }
-        let s = self.inv_2t;
-        for p in pdf.iter_mut() {
-            *p = *p * s;
-        }
+    }
+
+    fn sample(&self, b: Backend, u: &[T], v: &[T], dir: [&mut [T]; 3], pdf: &mut [T]) {
+        self.shape(b).sample(self.inv_2t, u, v, dir, pdf)
     }
 
     fn pdf(&self, b: Backend, dir: [&[T]; 3], pdf: &mut [T]) {
-        check_len(
-            "pdf_soa",
-            pdf.len(),
-            &[dir[0].len(), dir[1].len(), dir[2].len()],
-        );
-        let s = self.inv_2t;
-        match &self.layout {
-            Layout::Hemisphere(t) => {
-                tables_density(b, &t.view(), dir, pdf);
-                for (p, &z) in pdf.iter_mut().zip(dir[2]) {
-                    *p = if z >= T::ZERO { *p * s } else { T::ZERO };
-                }
-                return;
-            }
-            Layout::Lambert(t) => tables_density(b, &t.view(), dir, pdf),
-            Layout::Split { upper, lower, rule } => {
-                let views = [
-                    lower.as_ref().map(Tables::view),
-                    upper.as_ref().map(Tables::view),
-                ];
-                split_by_side(dir, *rule, |side, d, pos| {
-                    let mut o = [T::ZERO; CHUNK];
-                    let o = &mut o[..pos.len()];
-                    if let Some(t) = &views[side as usize] {
-                        tables_density(b, t, d, o);
-                    }
-                    for (q, &k) in pos.iter().enumerate() {
-                        pdf[k] = o[q];
-                    }
-                });
-            }
-        }
-        for p in pdf.iter_mut() {
-            *p = *p * s;
-        }
+        self.shape(b).pdf(self.inv_2t, dir, pdf)
     }
 
     fn invert(&self, b: Backend, dir: [&[T]; 3], uv: [&mut [T]; 2]) {
-        let [u, v] = uv;
-        check_len(
-            "invert_soa",
-            u.len(),
-            &[v.len(), dir[0].len(), dir[1].len(), dir[2].len()],
-        );
-        let hemisphere = matches!(self.layout, Layout::Hemisphere(_));
-        match &self.layout {
-            Layout::Hemisphere(t) | Layout::Lambert(t) => {
-                tables_invert(b, &t.view(), dir, [&mut *u, &mut *v])
-            }
-            Layout::Split { upper, lower, rule } => {
-                let views = [
-                    lower.as_ref().map(Tables::view),
-                    upper.as_ref().map(Tables::view),
-                ];
-                split_by_side(dir, *rule, |side, d, pos| {
-                    let (mut ou, mut ov) = ([T::NAN; CHUNK], [T::NAN; CHUNK]);
-                    let (ou, ov) = (&mut ou[..pos.len()], &mut ov[..pos.len()]);
-                    if let Some(t) = &views[side as usize] {
-                        tables_invert(b, t, d, [&mut *ou, &mut *ov]);
-                    }
-                    for (q, &k) in pos.iter().enumerate() {
-                        // No preimage stays NaN (`min` in `join_u` would turn NaN into 1).
-                        u[k] = if ou[q].is_finite() {
-                            rule.join_u(side, ou[q])
-                        } else {
-                            T::NAN
-                        };
-                        v[k] = ov[q];
-                    }
-                });
-            }
-        }
-        // No preimage below the horizon of a hemisphere map or for a non-finite direction.
-        for (((u, v), x), (y, z)) in u
-            .iter_mut()
-            .zip(v.iter_mut())
-            .zip(dir[0])
-            .zip(dir[1].iter().zip(dir[2]))
-        {
-            let ok = (!hemisphere || *z >= T::ZERO) & x.is_finite() & y.is_finite() & z.is_finite();
-            if !ok {
-                *u = T::NAN;
-                *v = T::NAN;
-            }
-        }
+        self.shape(b).invert(dir, uv)
     }
 
     fn table_bytes(&self) -> usize {
