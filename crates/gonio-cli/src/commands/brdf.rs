@@ -7,7 +7,7 @@
 //!
 //! Directions are in the local shading frame (z the normal, x the tangent), both pointing away
 //! from the surface; `--incident` gives ω_i's polar angle and azimuth in degrees. At a fixed ω_i a
-//! BRDF method is a [`Sampler`] of ω_o ([`AtIncident`]), so `pdf`, `invert` and `check` run the
+//! BRDF method is a [`Sampler`] of ω_o ([`IncidentSampler`]), so `pdf`, `invert` and `check` run the
 //! same code as for every other input.
 
 use crate::args::{
@@ -18,12 +18,12 @@ use crate::settings::Settings;
 use anyhow::{bail, Context, Result};
 use clap::{Args, Subcommand};
 use gonio::brdf::{
-    read_any, BrdfMethod, BrdfSampler, CosineBrdf, GgxFit, MerlOptions, MerlRaw, PerSliceConstant,
-    SamplerOptions, TabulatedBrdf,
+    read_any, BrdfMethod, BrdfSampler, CosineBrdf, GgxFit, IncidentSampler, MerlOptions, MerlRaw,
+    PerSliceConstant, SamplerOptions, TabulatedBrdf,
 };
 use gonio::sampler::direction;
 use gonio::sequence::{Sequence, SequenceKind};
-use gonio::{Domain, InvertError, Point2, Sample, Sampler, Vec3};
+use gonio::{Point2, Sampler, Vec3};
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 
@@ -275,67 +275,6 @@ fn with_method<T>(m: MethodName, s: &BrdfSampler, f: impl FnOnce(&dyn BrdfMethod
     }
 }
 
-/// A BRDF method at a fixed incident direction: a [`Sampler`] of the outgoing direction (the
-/// upper hemisphere), whose target is f̄(ω_i, ω_o)·cos θ_o normalised by the albedo (f̄ the
-/// luminance of the table's RGB, or its one channel).
-pub struct AtIncident<'a> {
-    method: &'a dyn BrdfMethod,
-    brdf: &'a TabulatedBrdf,
-    wi: Vec3,
-    albedo: f64,
-}
-
-impl<'a> AtIncident<'a> {
-    /// `method` at ω_i.
-    pub fn new(method: &'a dyn BrdfMethod, brdf: &'a TabulatedBrdf, wi: Vec3) -> Self {
-        AtIncident {
-            method,
-            brdf,
-            wi,
-            albedo: gonio::brdf::scalar_albedo(brdf, wi),
-        }
-    }
-}
-
-impl Sampler for AtIncident<'_> {
-    fn name(&self) -> &'static str {
-        self.method.name()
-    }
-    fn domain(&self) -> Domain {
-        Domain::Hemisphere
-    }
-    fn sample(&self, u: Point2) -> Sample {
-        let s = self.method.sample(self.wi, u);
-        Sample {
-            direction: s.direction,
-            pdf: s.pdf,
-        }
-    }
-    fn pdf(&self, d: Vec3) -> f64 {
-        self.method.pdf(self.wi, d)
-    }
-    fn invert(&self, d: Vec3) -> Result<Point2, InvertError> {
-        if d[2].is_nan() || d[2] < 0.0 {
-            return Err(InvertError::OutsideDomain);
-        }
-        self.method
-            .invert(self.wi, d)
-            .ok_or(InvertError::ZeroDensity)
-    }
-    fn target_pdf(&self, d: Vec3) -> f64 {
-        if d[2].is_nan() || d[2] < 0.0 || self.albedo.is_nan() || self.albedo <= 0.0 {
-            return 0.0;
-        }
-        self.brdf.scalar(self.brdf.eval(self.wi, d)) * d[2] / self.albedo
-    }
-    fn target_power(&self) -> f64 {
-        self.albedo
-    }
-    fn memory_bytes(&self) -> usize {
-        0
-    }
-}
-
 /// `gonio info BRDF --incident …` (text, or one JSON object with `--json`).
 pub fn info(b: &Input, a: &InfoArgs) -> Result<()> {
     let l = load(b)?;
@@ -459,7 +398,7 @@ pub fn pdf(b: &Input, a: &DirectionsArgs) -> Result<()> {
     let l = load(b)?;
     let s = sampler_of(b, l.brdf)?;
     with_method(method, &s, |m| {
-        super::directions::write_pdf(&AtIncident::new(m, s.brdf(), incident(b)), a)
+        super::directions::write_pdf(&IncidentSampler::of(m, s.brdf(), incident(b)), a)
     })
 }
 
@@ -470,7 +409,7 @@ pub fn invert(b: &Input, a: &DirectionsArgs) -> Result<()> {
     let l = load(b)?;
     let s = sampler_of(b, l.brdf)?;
     with_method(method, &s, |m| {
-        super::directions::write_invert(&AtIncident::new(m, s.brdf(), incident(b)), a)
+        super::directions::write_invert(&IncidentSampler::of(m, s.brdf(), incident(b)), a)
     })
 }
 
@@ -481,11 +420,11 @@ pub fn check(b: &Input, a: &CheckArgs, settings: &Settings) -> Result<bool> {
     let l = load(b)?;
     let s = sampler_of(b, l.brdf)?;
     with_method(method, &s, |m| {
-        let at = AtIncident::new(m, s.brdf(), incident(b));
-        let head = format!("incident {:?}: albedo {:.6}\n", b.incident, at.albedo);
+        let at = IncidentSampler::of(m, s.brdf(), incident(b));
+        let head = format!("incident {:?}: albedo {:.6}\n", b.incident, at.albedo());
         let extra = serde_json::json!({
             "incident_deg": [b.incident.0, b.incident.1],
-            "albedo": at.albedo,
+            "albedo": at.albedo(),
         });
         let opts = super::check::options(a)?;
         super::check::report(&at, opts, a, settings, None, &head, extra)
@@ -526,7 +465,7 @@ pub fn plot(b: &Input, a: &PlotArgs) -> Result<()> {
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_else(|| b.file.display().to_string());
     with_method(method, &s, |m| {
-        let at = AtIncident::new(m, t, wi);
+        let at = IncidentSampler::of(m, t, wi);
         let title = format!(
             "{name} ({}) — slice at θ_i = {}°, φ_i = {}°, samples of `{}`",
             l.format,

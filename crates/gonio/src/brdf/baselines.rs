@@ -10,10 +10,10 @@
 //! direction); the nearest-slice tabulation is discontinuous in ω_i by construction.
 
 use super::analytic::{ggx_d, ggx_g1};
-use super::sampler::{cosine_invert, cosine_sample, BrdfSample, BrdfSampler};
+use super::sampler::{cosine_invert, cosine_sample, scalar_albedo, BrdfSample, BrdfSampler};
 use super::{clamped, periodic, scalar_albedo_grid, Symmetry, TabulatedBrdf};
 use crate::baselines::PiecewiseConstant;
-use crate::sampler::{normalize, spherical, Domain, Point2, Sampler, Vec3};
+use crate::sampler::{normalize, spherical, Domain, InvertError, Point2, Sample, Sampler, Vec3};
 use std::f64::consts::{PI, TAU};
 
 /// A BRDF sampling method: samples ω_o for an incident direction, with exact pdf and inverse.
@@ -388,5 +388,95 @@ impl<S: std::ops::Deref<Target = BrdfSampler> + Send + Sync> BrdfMethod for PerS
             (Some(img), p) => img.invert(rotate(wo, -p)).ok(),
             (None, _) => Some(cosine_invert(wo)),
         }
+    }
+}
+
+/// A BRDF sampling method at one incident direction, behind the crate's [`Sampler`] contract:
+/// `sample`, `pdf` and `invert` are the method's at ω_i (an outgoing direction below the horizon
+/// or not finite has no preimage, [`InvertError::OutsideDomain`]; one above it where the method
+/// has none, [`InvertError::ZeroDensity`]); the target is f̄(ω_i, ω_o)·cos θ_o normalised by
+/// [`scalar_albedo`] (used by the check battery and the CLI's `pdf`, `invert` and `check`).
+pub struct IncidentSampler<'a> {
+    method: &'a dyn BrdfMethod,
+    brdf: &'a TabulatedBrdf,
+    wi: Vec3,
+    /// ∫ f̄ cos θ_o dω_o by quadrature.
+    albedo: f64,
+    /// Bytes of the method's tables, where known (the HDS sampler's).
+    memory: usize,
+}
+
+impl BrdfSampler {
+    /// The sampler for one incident direction, as a [`Sampler`] (for the check battery): its
+    /// target is f̄·cos θ_o normalised by [`scalar_albedo`].
+    pub fn at(&self, wi: Vec3) -> IncidentSampler<'_> {
+        IncidentSampler::new(self, wi)
+    }
+}
+
+impl<'a> IncidentSampler<'a> {
+    /// The HDS sampler `sampler` at ω_i.
+    pub fn new(sampler: &'a BrdfSampler, wi: Vec3) -> Self {
+        IncidentSampler {
+            memory: sampler.memory_bytes(),
+            ..Self::of(sampler, sampler.brdf(), wi)
+        }
+    }
+    /// Any method of `brdf` (the HDS sampler, a baseline) at ω_i.
+    pub fn of(method: &'a dyn BrdfMethod, brdf: &'a TabulatedBrdf, wi: Vec3) -> Self {
+        IncidentSampler {
+            method,
+            brdf,
+            wi,
+            albedo: scalar_albedo(brdf, wi),
+            memory: 0,
+        }
+    }
+    /// ∫ f̄(ω_i, ω_o) cos θ_o dω_o (the scalar's directional albedo, [`scalar_albedo`]).
+    pub fn albedo(&self) -> f64 {
+        self.albedo
+    }
+}
+
+impl Sampler for IncidentSampler<'_> {
+    fn name(&self) -> &'static str {
+        match self.method.name() {
+            "hds" => "hds-brdf",
+            other => other,
+        }
+    }
+    fn domain(&self) -> Domain {
+        Domain::Hemisphere
+    }
+    fn sample(&self, u: Point2) -> Sample {
+        let s = self.method.sample(self.wi, u);
+        Sample {
+            direction: s.direction,
+            pdf: s.pdf,
+        }
+    }
+    fn pdf(&self, direction: Vec3) -> f64 {
+        self.method.pdf(self.wi, direction)
+    }
+    fn invert(&self, direction: Vec3) -> Result<Point2, InvertError> {
+        if !(direction[2] >= 0.0) || !direction.iter().all(|c| c.is_finite()) {
+            return Err(InvertError::OutsideDomain);
+        }
+        self.method
+            .invert(self.wi, direction)
+            .ok_or(InvertError::ZeroDensity)
+    }
+    fn target_pdf(&self, direction: Vec3) -> f64 {
+        if !(direction[2] >= 0.0) || !(self.albedo > 0.0) {
+            return 0.0;
+        }
+        let b = self.brdf;
+        b.scalar(b.eval(self.wi, direction)) * direction[2] / self.albedo
+    }
+    fn target_power(&self) -> f64 {
+        self.albedo
+    }
+    fn memory_bytes(&self) -> usize {
+        self.memory
     }
 }

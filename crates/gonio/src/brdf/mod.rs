@@ -33,12 +33,12 @@ mod utia;
 mod tests;
 
 pub use analytic::Analytic;
-pub use baselines::{BrdfMethod, CosineBrdf, GgxFit, PerSliceConstant};
+pub use baselines::{BrdfMethod, CosineBrdf, GgxFit, IncidentSampler, PerSliceConstant};
 pub use json::{read_json, write_json, BrdfJson};
 pub use merl::{
     from_half_diff, half_diff, read_merl, write_merl, MerlOptions, MerlRaw, MERL_SCALE,
 };
-pub use sampler::{scalar_albedo, BrdfSample, BrdfSampler, IncidentSampler, SamplerOptions};
+pub use sampler::{scalar_albedo, BrdfSample, BrdfSampler, SamplerOptions};
 pub use utia::{read_utia, write_utia, write_utia_dirs, UTIA_SIZE};
 
 use crate::sampler::{spherical, Vec3};

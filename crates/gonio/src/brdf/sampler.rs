@@ -31,7 +31,7 @@ use super::{periodic, BrdfError, Symmetry, TabulatedBrdf};
 use crate::mapping::blend::MAX_PARTS;
 use crate::mapping::blob::{self, BrdfTable, Precision, TablesError};
 use crate::mapping::BlendedMap;
-use crate::sampler::{spherical, Domain, InvertError, Point2, Sample, Sampler, Vec3};
+use crate::sampler::{spherical, Point2, Sampler, Vec3};
 use crate::{Diagram, HemisphereMap};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
@@ -363,38 +363,6 @@ impl BrdfSampler {
             None => Some(cosine_invert(wo)),
         }
     }
-
-    /// The sampler for one incident direction, as a [`Sampler`] (for the check battery): its
-    /// target is f̄·cos θ_o normalised by [`scalar_albedo`].
-    pub fn at(&self, wi: Vec3) -> IncidentSampler<'_> {
-        IncidentSampler::new(self, wi)
-    }
-}
-
-/// [`BrdfSampler`] at one incident direction, behind the crate's [`Sampler`] contract: `sample`,
-/// `pdf` and `invert` are those of the BRDF sampler; the target is f̄(ω_i, ω_o)·cos θ_o
-/// normalised by [`scalar_albedo`] (used by the check battery).
-pub struct IncidentSampler<'a> {
-    sampler: &'a BrdfSampler,
-    wi: Vec3,
-    /// ∫ f̄ cos θ_o dω_o by quadrature.
-    albedo: f64,
-}
-
-impl<'a> IncidentSampler<'a> {
-    /// The sampler of `sampler` at ω_i.
-    pub fn new(sampler: &'a BrdfSampler, wi: Vec3) -> Self {
-        let albedo = scalar_albedo(sampler.brdf(), wi);
-        IncidentSampler {
-            sampler,
-            wi,
-            albedo,
-        }
-    }
-    /// ∫ f̄(ω_i, ω_o) cos θ_o dω_o (the scalar's directional albedo, [`scalar_albedo`]).
-    pub fn albedo(&self) -> f64 {
-        self.albedo
-    }
 }
 
 /// ∫ f̄(ω_i, ω_o) cos θ_o dω_o, exact up to round-off: for a fixed ω_i the table's interpolant is
@@ -451,41 +419,4 @@ pub fn scalar_albedo(brdf: &TabulatedBrdf, wi: Vec3) -> f64 {
         }
     }
     total
-}
-
-impl Sampler for IncidentSampler<'_> {
-    fn name(&self) -> &'static str {
-        "hds-brdf"
-    }
-    fn domain(&self) -> Domain {
-        Domain::Hemisphere
-    }
-    fn sample(&self, u: Point2) -> Sample {
-        let s = self.sampler.sample(self.wi, u);
-        Sample {
-            direction: s.direction,
-            pdf: s.pdf,
-        }
-    }
-    fn pdf(&self, direction: Vec3) -> f64 {
-        self.sampler.pdf(self.wi, direction)
-    }
-    fn invert(&self, direction: Vec3) -> Result<Point2, InvertError> {
-        self.sampler
-            .invert(self.wi, direction)
-            .ok_or(InvertError::OutsideDomain)
-    }
-    fn target_pdf(&self, direction: Vec3) -> f64 {
-        if !(direction[2] >= 0.0) || !(self.albedo > 0.0) {
-            return 0.0;
-        }
-        let b = self.sampler.brdf();
-        b.scalar(b.eval(self.wi, direction)) * direction[2] / self.albedo
-    }
-    fn target_power(&self) -> f64 {
-        self.albedo
-    }
-    fn memory_bytes(&self) -> usize {
-        self.sampler.memory_bytes()
-    }
 }

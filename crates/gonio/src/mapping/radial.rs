@@ -487,7 +487,7 @@ impl Radial {
 
     /// The row of the wedge between meridians `i` and `i1` at fraction `eps`: the two rows'
     /// entries interpolated linearly ([`RadialRow`]).
-    #[inline]
+    #[inline(always)]
     fn wedge_row(&self, i: usize, i1: usize, eps: f64) -> WedgeRow<'_> {
         let (n, kg) = (self.n, self.radial_k);
         WedgeRow {

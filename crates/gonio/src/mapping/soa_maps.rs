@@ -274,19 +274,34 @@ impl<K> Shape<K> {
             }
         }
         // No preimage below the horizon of a hemisphere map or for a non-finite direction.
-        // Evaluated without short-circuits or indexing, so that the pass compiles to selects.
-        for (((u, v), x), (y, z)) in u
-            .iter_mut()
-            .zip(v.iter_mut())
-            .zip(dir[0])
-            .zip(dir[1].iter().zip(dir[2]))
-        {
-            let ok =
-                (!hemisphere | (*z >= T::ZERO)) & x.is_finite() & y.is_finite() & z.is_finite();
-            if !ok {
-                *u = T::NAN;
-                *v = T::NAN;
-            }
+        if hemisphere {
+            no_preimage::<T, true>(dir, [u, v]);
+        } else {
+            no_preimage::<T, false>(dir, [u, v]);
+        }
+    }
+}
+
+/// NaN in both coordinates of `uv` where the direction is not finite, or (`HEMISPHERE`) below the
+/// horizon. Evaluated without short-circuits or indexing, one loop per layout, so that the pass
+/// compiles to selects.
+#[inline(always)]
+fn no_preimage<T: Elem, const HEMISPHERE: bool>(dir: [&[T]; 3], uv: [&mut [T]; 2]) {
+    let [u, v] = uv;
+    for (((u, v), x), (y, z)) in u
+        .iter_mut()
+        .zip(v.iter_mut())
+        .zip(dir[0])
+        .zip(dir[1].iter().zip(dir[2]))
+    {
+        let ok = if HEMISPHERE {
+            (*z >= T::ZERO) & x.is_finite() & y.is_finite() & z.is_finite()
+        } else {
+            x.is_finite() & y.is_finite() & z.is_finite()
+        };
+        if !ok {
+            *u = T::NAN;
+            *v = T::NAN;
         }
     }
 }

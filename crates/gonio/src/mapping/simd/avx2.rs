@@ -251,7 +251,12 @@ macro_rules! avx2_kernels {
             // SAFETY: `o` holds the block's lanes; unaligned store of one vector.
             unsafe { _mm256_storeu_si256(o[$lanes * k..].as_mut_ptr().cast(), a.0[k]) };
         }
-        o.map(|x| x as usize)
+        // An explicit loop: `array::map`'s closure was left out of line (a call per block).
+        let mut r = [0usize; BLOCK];
+        for l in 0..BLOCK {
+            r[l] = o[l] as usize;
+        }
+        r
     }
     #[inline]
     #[target_feature(enable = "avx2,fma")]
@@ -399,7 +404,11 @@ macro_rules! avx2_f32 {
                 #[target_feature(enable = "avx2,fma")]
                 fn ifrom(a: [usize; BLOCK]) -> I {
                     let mut o = izero();
-                    let a = a.map(|x| x as i32);
+                    let mut b = [0i32; BLOCK];
+                    for l in 0..BLOCK {
+                        b[l] = a[l] as i32;
+                    }
+                    let a = b;
                     for k in 0..K {
                         // SAFETY: `a` holds 8K i32; unaligned load of eight.
                         o.0[k] = unsafe { _mm256_loadu_si256(a[8 * k..].as_ptr().cast()) };

@@ -265,7 +265,12 @@ macro_rules! avx512_kernels {
                 // SAFETY: `o` holds the block's lanes; unaligned store of one vector.
                 unsafe { _mm512_storeu_si512(o[$lanes * k..].as_mut_ptr().cast(), a.0[k]) };
             }
-            o.map(|x| x as usize)
+            // An explicit loop: `array::map`'s closure was left out of line (a call per block).
+            let mut r = [0usize; BLOCK];
+            for l in 0..BLOCK {
+                r[l] = o[l] as usize;
+            }
+            r
         }
         #[inline]
         #[target_feature(enable = "avx512f,avx512dq")]
@@ -291,7 +296,11 @@ macro_rules! avx512_kernels {
         #[target_feature(enable = "avx512f,avx512dq")]
         fn ifrom(a: [usize; BLOCK]) -> I {
             let mut o = izero();
-            let a = a.map(|x| x as $ie);
+            let mut b = [0 as $ie; BLOCK];
+            for l in 0..BLOCK {
+                b[l] = a[l] as $ie;
+            }
+            let a = b;
             for k in 0..K {
                 // SAFETY: `a` holds the block's lanes; unaligned load of one vector.
                 o.0[k] = unsafe { _mm512_loadu_si512(a[$lanes * k..].as_ptr().cast()) };
