@@ -19,12 +19,11 @@ use gonio::{Batches, InvertError, Sampler};
 // ---------------------------------------------------------------------------------------------
 // Batches.
 
-/// The two float types of the batch functions, each with its structure-of-arrays calls of the
-/// sampler trait.
-trait Real: Copy + Default {
+/// The two float types of the batch functions: a sample call in either is
+/// `sampler.batch(T::call(job))`; the pdf and the inverse take f64 unit directions (rounded once
+/// to f32 for the f32 calls).
+trait Real: Copy + Default + gonio::batch::Element {
     fn to_f64(self) -> f64;
-    /// [`Batches::sample_batch_soa`] or its `_f32` twin.
-    fn sample(s: &dyn Sampler, u: &[Self], v: &[Self], dir: [&mut [Self]; 3], pdf: &mut [Self]);
     /// [`Batches::pdf_batch_soa`] or its `_f32` twin at unit f64 directions (at most [`CHUNK`]),
     /// rounded to f32 first for the twin.
     fn pdf(s: &dyn Sampler, dir: [&[f64]; 3], pdf: &mut [Self]);
@@ -39,9 +38,6 @@ impl Real for f64 {
     #[inline]
     fn to_f64(self) -> f64 {
         self
-    }
-    fn sample(s: &dyn Sampler, u: &[f64], v: &[f64], dir: [&mut [f64]; 3], pdf: &mut [f64]) {
-        s.sample_batch_soa(u, v, dir, pdf)
     }
     fn pdf(s: &dyn Sampler, dir: [&[f64]; 3], pdf: &mut [f64]) {
         s.pdf_batch_soa(dir, pdf)
@@ -71,9 +67,6 @@ impl Real for f32 {
     #[inline]
     fn to_f64(self) -> f64 {
         f64::from(self)
-    }
-    fn sample(s: &dyn Sampler, u: &[f32], v: &[f32], dir: [&mut [f32]; 3], pdf: &mut [f32]) {
-        s.sample_batch_soa_f32(u, v, dir, pdf)
     }
     fn pdf(s: &dyn Sampler, dir: [&[f64]; 3], pdf: &mut [f32]) {
         let m = pdf.len();
@@ -219,13 +212,12 @@ unsafe fn sample_n<T: Real>(
             pts[1][k] = p[1];
         }
         let [x, y, z, p] = &mut out;
-        T::sample(
-            s,
-            &pts[0][..m],
-            &pts[1][..m],
-            [&mut x[..m], &mut y[..m], &mut z[..m]],
-            &mut p[..m],
-        );
+        s.batch(T::call(gonio::batch::Soa::Sample {
+            u: &pts[0][..m],
+            v: &pts[1][..m],
+            dir: [&mut x[..m], &mut y[..m], &mut z[..m]],
+            pdf: &mut p[..m],
+        }));
         dirs.put(start, [&x[..m], &y[..m], &z[..m]]);
         pdfs.put(start, [&p[..m]]);
         start += m;

@@ -4,10 +4,9 @@ use crate::arrays;
 use crate::batch::{fmt_row, in_slices, map_rows};
 use crate::types::{domain_name, parse_domain, PyDiagram};
 use crate::{detached, BuildError, InputError};
-use gonio::batch::{CHUNK, PAR_CHUNK};
+use gonio::batch::{Soa, CHUNK, PAR_CHUNK};
 use gonio::mapping::blob::{self, Frame, Precision, Target};
 use gonio::sampler::normalize;
-use gonio::Batches;
 use gonio::Method;
 use gonio::{InvertError, Sampler};
 use numpy::{Element, PyArray1, PyArray2};
@@ -443,48 +442,24 @@ impl PySampler {
     }
 }
 
-/// The two element types of the batches, each with its structure-of-arrays calls of the sampler
-/// trait.
+/// The two element types of the batches; a batch call in either is
+/// `sampler.batch(T::call(job))` ([`gonio::batch::Element`]).
 pub(crate) trait Float:
-    Element + Copy + Default + Send + Sync + Into<f64> + 'static
+    Element + gonio::batch::Element + Copy + Default + Send + Sync + Into<f64> + 'static
 {
     /// `x` rounded to this type.
     fn from_f64(x: f64) -> Self;
-    /// [`Batches::sample_batch_soa`] or its `_f32` twin.
-    fn sample(s: &dyn Sampler, u: &[Self], v: &[Self], dir: [&mut [Self]; 3], pdf: &mut [Self]);
-    /// [`Batches::pdf_batch_soa`] or its `_f32` twin.
-    fn pdf(s: &dyn Sampler, dir: [&[Self]; 3], pdf: &mut [Self]);
-    /// [`Batches::invert_batch_soa`] or its `_f32` twin.
-    fn invert(s: &dyn Sampler, dir: [&[Self]; 3], uv: [&mut [Self]; 2]);
 }
 
 impl Float for f64 {
     fn from_f64(x: f64) -> Self {
         x
     }
-    fn sample(s: &dyn Sampler, u: &[f64], v: &[f64], dir: [&mut [f64]; 3], pdf: &mut [f64]) {
-        s.sample_batch_soa(u, v, dir, pdf)
-    }
-    fn pdf(s: &dyn Sampler, dir: [&[f64]; 3], pdf: &mut [f64]) {
-        s.pdf_batch_soa(dir, pdf)
-    }
-    fn invert(s: &dyn Sampler, dir: [&[f64]; 3], uv: [&mut [f64]; 2]) {
-        s.invert_batch_soa(dir, uv)
-    }
 }
 
 impl Float for f32 {
     fn from_f64(x: f64) -> Self {
         x as f32
-    }
-    fn sample(s: &dyn Sampler, u: &[f32], v: &[f32], dir: [&mut [f32]; 3], pdf: &mut [f32]) {
-        s.sample_batch_soa_f32(u, v, dir, pdf)
-    }
-    fn pdf(s: &dyn Sampler, dir: [&[f32]; 3], pdf: &mut [f32]) {
-        s.pdf_batch_soa_f32(dir, pdf)
-    }
-    fn invert(s: &dyn Sampler, dir: [&[f32]; 3], uv: [&mut [f32]; 2]) {
-        s.invert_batch_soa_f32(dir, uv)
     }
 }
 
@@ -536,13 +511,12 @@ pub(crate) fn sample_into<T: Float>(
                     cu[k] = q[0];
                     cv[k] = q[1];
                 }
-                T::sample(
-                    s,
-                    &cu[..m],
-                    &cv[..m],
-                    [&mut x[..m], &mut y[..m], &mut z[..m]],
-                    p,
-                );
+                s.batch(T::call(Soa::Sample {
+                    u: &cu[..m],
+                    v: &cv[..m],
+                    dir: [&mut x[..m], &mut y[..m], &mut z[..m]],
+                    pdf: p,
+                }));
                 for (k, row) in d.chunks_exact_mut(3).enumerate() {
                     row.copy_from_slice(&[x[k], y[k], z[k]]);
                 }
@@ -563,11 +537,10 @@ fn invert_into<T: Float>(s: &dyn Sampler, dirs: &[[T; 3]], out: &mut [T]) -> Opt
                 return Some(base + k);
             }
             let [bu, bv] = &mut uv;
-            T::invert(
-                s,
-                [&cols[0][..m], &cols[1][..m], &cols[2][..m]],
-                [&mut bu[..m], &mut bv[..m]],
-            );
+            s.batch(T::call(Soa::Invert {
+                dir: [&cols[0][..m], &cols[1][..m], &cols[2][..m]],
+                uv: [&mut bu[..m], &mut bv[..m]],
+            }));
             for (k, row) in o.chunks_exact_mut(2).enumerate() {
                 let (a, b) = (bu[k], bv[k]);
                 if a.into().is_nan() || b.into().is_nan() {
@@ -596,7 +569,7 @@ fn first_bad<T: Float>(d: &[[T; 3]], cols: &mut [[T; CHUNK]; 3]) -> Option<usize
     None
 }
 
-/// The sampler's structure-of-arrays pdf ([`Float::pdf`], the SIMD path of the HDS maps) of
+/// The sampler's structure-of-arrays pdf (one `Sampler::batch` call, the SIMD path of the HDS maps) of
 /// every normalised direction, written straight into `out`; the first zero or non-finite
 /// direction.
 fn pdf_into<T: Float>(s: &dyn Sampler, dirs: &[[T; 3]], out: &mut [T]) -> Option<usize> {
@@ -607,7 +580,10 @@ fn pdf_into<T: Float>(s: &dyn Sampler, dirs: &[[T; 3]], out: &mut [T]) -> Option
             if let Some(k) = first_bad(d, &mut cols) {
                 return Some(first + j * CHUNK + k);
             }
-            T::pdf(s, [&cols[0][..m], &cols[1][..m], &cols[2][..m]], o);
+            s.batch(T::call(Soa::Pdf {
+                dir: [&cols[0][..m], &cols[1][..m], &cols[2][..m]],
+                pdf: o,
+            }));
         }
         None
     })
@@ -651,7 +627,12 @@ mod tests {
         let v: Vec<T> = pts.iter().map(|p| p[1]).collect();
         let mut w: [Vec<T>; 4] = std::array::from_fn(|_| vec![T::default(); n]);
         let [x, y, z, p] = &mut w;
-        T::sample(s, &u, &v, [x, y, z], p);
+        s.batch(T::call(Soa::Sample {
+            u: &u,
+            v: &v,
+            dir: [x, y, z],
+            pdf: p,
+        }));
         let rows: Vec<T> = (0..3 * n).map(|k| w[k % 3][k / 3]).collect();
         assert_eq!(bits(&dirs), bits(&rows), "{}: sample directions", s.name());
         assert_eq!(bits(&pdf), bits(&w[3]), "{}: sample pdf", s.name());
@@ -674,10 +655,16 @@ mod tests {
         let mut got = vec![T::default(); n];
         assert_eq!(pdf_into(s, &d, &mut got), None);
         let mut want = vec![T::default(); n];
-        T::pdf(s, ur, &mut want);
+        s.batch(T::call(Soa::Pdf {
+            dir: ur,
+            pdf: &mut want,
+        }));
         assert_eq!(bits(&got), bits(&want), "{}: pdf", s.name());
         let (mut iu, mut iv) = (vec![T::default(); n], vec![T::default(); n]);
-        T::invert(s, ur, [&mut iu, &mut iv]);
+        s.batch(T::call(Soa::Invert {
+            dir: ur,
+            uv: [&mut iu, &mut iv],
+        }));
         let mut back = vec![T::default(); 2 * n];
         let first_nan = iu.iter().position(|x| (*x).into().is_nan());
         assert_eq!(invert_into(s, &d, &mut back), first_nan, "{}", s.name());

@@ -258,6 +258,31 @@ impl Batch<'_> {
     }
 }
 
+mod sealed {
+    pub trait Sealed {}
+    impl Sealed for f64 {}
+    impl Sealed for f32 {}
+}
+
+/// The element types of a batch call, f64 and f32: code generic over the precision (the Python
+/// package's and the C ABI's batches) makes its call with `sampler.batch(T::call(job))`.
+pub trait Element: Copy + Send + Sync + sealed::Sealed + 'static {
+    /// `job` as a call in either precision.
+    fn call(job: Soa<'_, Self>) -> Batch<'_>;
+}
+
+impl Element for f64 {
+    fn call(job: Soa<'_, f64>) -> Batch<'_> {
+        Batch::F64(job)
+    }
+}
+
+impl Element for f32 {
+    fn call(job: Soa<'_, f32>) -> Batch<'_> {
+        Batch::F32(job)
+    }
+}
+
 /// Something a parallel batch splits into tasks: a length and a cut.
 pub trait Split: Sized + Send {
     /// The number of points.
