@@ -365,10 +365,17 @@ fn float32_times(map: &Float32Map, u: &[f32], v: &[f32], dirs: &[Vec<f32>]) -> [
         })
     });
     let (mut wu, mut wv) = (vec![0f32; n], vec![0f32; n]);
+    // The kernels' inverse alone (as the f64 columns' `invert_soa_par`), on the one parallel
+    // driver.
     let inverse = best_wall(n, || {
-        map.batch_par(Soa::Invert {
+        let job = Soa::Invert {
             dir: [black_box(&d[0]), &d[1], &d[2]],
             uv: [&mut wu, &mut wv],
+        };
+        gonio::batch::par(job, &|j| {
+            if let Soa::Invert { dir, uv } = j {
+                map.invert_soa(dir, uv)
+            }
         })
     });
     [forward, pdf_ns, inverse]
