@@ -383,7 +383,7 @@ macro_rules! avx2_f64 {
 
 /// The f32 vocabulary: eight f32 lanes per `__m256`, K = 2, 32-bit indices and
 /// `vpgatherdd`/`vgatherdps` gathers; the same words, with the same semantics, as
-/// [`super::portable32`] (no fused multiply–add), so the f32 results are the same bits on every
+/// [`super::portable`] (no fused multiply–add), so the f32 results are the same bits on every
 /// backend.
 macro_rules! avx2_f32 {
     () => {

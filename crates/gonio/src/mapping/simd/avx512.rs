@@ -384,7 +384,7 @@ macro_rules! avx512_f64 {
 
 /// The f32 vocabulary: sixteen f32 lanes per `__m512`, 32-bit indices, `__mmask16` masks,
 /// 16-lane gathers with 32-bit indices. The same words, with the same semantics, as
-/// [`super::portable32`] and the AVX2 f32 vocabulary, so the f32 results are the same bits on
+/// [`super::portable`] and the AVX2 f32 vocabulary, so the f32 results are the same bits on
 /// every backend.
 macro_rules! avx512_f32 {
     ($k:literal) => {

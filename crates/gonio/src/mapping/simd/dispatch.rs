@@ -254,7 +254,7 @@ impl TablesElem for f32 {
             Backend::Avx512 => unsafe { super::avx512::f32_k4::sample_slices(t, u, v, out) },
             #[cfg(target_arch = "x86_64")]
             Backend::Avx2Fma => unsafe { super::avx2::f32_k2::sample_slices(t, u, v, out) },
-            _ => super::portable32::sample_slices(t, u, v, out),
+            _ => super::portable::f32_lanes::sample_slices(t, u, v, out),
         }
     }
     fn density(b: Backend, t: &TablesView<'_, f32>, dir: [&[f32]; 3], out: &mut [f32]) {
@@ -264,7 +264,7 @@ impl TablesElem for f32 {
             Backend::Avx512 => unsafe { super::avx512::f32_k4::density_slices(t, dir, out) },
             #[cfg(target_arch = "x86_64")]
             Backend::Avx2Fma => unsafe { super::avx2::f32_k2::density_slices(t, dir, out) },
-            _ => super::portable32::density_slices(t, dir, out),
+            _ => super::portable::f32_lanes::density_slices(t, dir, out),
         }
     }
     fn invert(b: Backend, t: &TablesView<'_, f32>, dir: [&[f32]; 3], out: [&mut [f32]; 2]) {
@@ -274,7 +274,7 @@ impl TablesElem for f32 {
             Backend::Avx512 => unsafe { super::avx512::f32_k4::invert_slices(t, dir, out) },
             #[cfg(target_arch = "x86_64")]
             Backend::Avx2Fma => unsafe { super::avx2::f32_k2::invert_slices(t, dir, out) },
-            _ => super::portable32::invert_slices(t, dir, out),
+            _ => super::portable::f32_lanes::invert_slices(t, dir, out),
         }
     }
 }

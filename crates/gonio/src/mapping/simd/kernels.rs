@@ -3,7 +3,7 @@
 //! for its own element, value, index and mask types and then instantiates with
 //! [`vector_kernels!`]: in f64 [`super::portable`] (arrays of eight lanes, the baseline
 //! instruction set), [`super::avx2`] (four `__m256d` per value) and [`super::avx512`] (two or
-//! four `__m512d`); in f32 (the float32 map) [`super::portable32`], [`super::avx2`] and
+//! four `__m512d`); in f32 (the float32 map) [`super::portable`], [`super::avx2`] and
 //! [`super::avx512`].
 //!
 //! The body is generic in the element type `E` that the vocabulary names: tables are `&[E]`,

@@ -5,10 +5,9 @@
 //! |---|---|
 //! | [`math`] | branch-free sin/cos and atan2 (the kernels' transcendental functions, also scalar) |
 //! | `kernels.rs` | the forward map, pdf and inverse, **one body each**, over a vocabulary of vector words (`add`, `gather`, `sel`, `descend`, …): the `vector_kernels!` macro, which stamps a backend's `#[target_feature]` on one body |
-//! | `portable.rs` | the f64 vocabulary over arrays of eight lanes (the target's baseline instruction set; the fallback on every CPU and for tables too large for 32-bit index conversions) |
+//! | `portable.rs` | the vocabulary over plain arrays (the target's baseline instruction set), **one macro over both element types**: f64 over eight lanes (the fallback on every CPU and for tables too large for 32-bit index conversions) and f32 (module `f32_lanes`) over sixteen lanes, 32-bit indices (the float32 map's fallback) |
 //! | `avx2.rs` | the vocabulary over AVX2 + FMA (detected at run time), **one macro over both element types**: f64 over four `__m256d` per value, f32 (module `f32_k2`) over two `__m256` per value, 32-bit indices and gathers |
 //! | `avx512.rs` | the vocabulary over AVX-512 F + DQ (detected at run time), **one macro over both element types**: f64 over `__m512d`, instantiated twice (two vectors per block for the forward map, four for pdf and inverse), and f32 over four `__m512` per value, 32-bit indices and gathers |
-//! | `portable32.rs` | the f32 vocabulary over arrays of sixteen lanes, 32-bit indices (the float32 map's fallback) |
 //! | `dispatch.rs` | backend choice per call, the f32 calls' widening to the f64 kernels (the f64 maps' f32 batches), and the kernels over a table view in f32 or f64 ([`crate::mapping::Float32Map`] and its exact reference) |
 //!
 //! **Why this and not `wide`/`pulp`/`multiversion`.** The kernels need gathers and vector
@@ -39,7 +38,6 @@ mod avx512;
 pub(crate) mod dispatch;
 mod kernels;
 mod portable;
-mod portable32;
 
 /// The instruction set a batch call runs on.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
