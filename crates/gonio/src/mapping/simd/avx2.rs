@@ -76,7 +76,10 @@ macro_rules! avx2_kernels {
             $storeu:ident, $loadu:ident, $castsi:ident, $castfi:ident],
         int: [$iadd:ident, $isub:ident, $imin:expr, $imax:expr, $imul:ident, $iset1:ident,
             $icmpeq:ident, $icmpgt:ident],
-        extra: { $($extra:tt)* }
+        clamp: [$fmin:ident, $fmax:ident, $fzero:ident],
+        to_int: |$v:ident| $to_int:expr,
+        gather: |$gp:ident, $gi:ident| $gather:expr,
+        gather_u32: |$up:ident, $ui:ident| $gather_u32:expr
     ) => {
     /// Vectors per block: independent chains that the core overlaps (the kernel's stages are long
     /// dependency chains of gathers, divisions and square roots).
@@ -296,7 +299,67 @@ macro_rules! avx2_kernels {
         o
     }
 
-    $($extra)*
+        #[inline]
+        #[target_feature(enable = "avx2,fma")]
+        fn ifrom(a: [usize; BLOCK]) -> I {
+            let mut o = izero();
+            let mut b: [$ie; BLOCK] = [0; BLOCK];
+            for l in 0..BLOCK {
+                b[l] = a[l] as $ie;
+            }
+            for k in 0..K {
+                // SAFETY: `b` holds the block's lanes; unaligned load of one vector.
+                o.0[k] = unsafe { _mm256_loadu_si256(b[$lanes * k..].as_ptr().cast()) };
+            }
+            o
+        }
+
+        /// `(x as usize).min(kmax)` per lane (NaN and negatives give 0), for `kmax` < 2³¹ (f64) or
+        /// 2²⁴ (f32, exact there).
+        #[inline]
+        #[target_feature(enable = "avx2,fma")]
+        fn to_index(x: F, kmax: usize) -> I {
+            // max returns its second operand for a NaN lane: 0, as `as usize` does.
+            let mut o = izero();
+            for k in 0..K {
+                let $v = $fmin($fmax(x.0[k], $fzero()), $set1(kmax as $e));
+                o.0[k] = $to_int;
+            }
+            o
+        }
+
+        /// `t[idx]` per lane, the index clamped into `t` first (`t` must not be empty, below 2³¹
+        /// entries).
+        #[inline]
+        #[target_feature(enable = "avx2,fma")]
+        fn gather(t: &[$e], idx: I) -> F {
+            assert!(!t.is_empty());
+            let idx = imax(imin(idx, isplat(t.len() - 1)), izero());
+            let mut o = zero();
+            for k in 0..K {
+                let ($gp, $gi) = (t.as_ptr(), idx.0[k]);
+                // SAFETY: every index lies in 0..t.len().
+                o.0[k] = unsafe { $gather };
+            }
+            o
+        }
+
+        /// `t[idx] as usize` per lane for a u32 table (entries below 2³¹), the index clamped into `t`
+        /// first.
+        #[inline]
+        #[target_feature(enable = "avx2,fma")]
+        fn gather_u32(t: &[u32], idx: I) -> I {
+            assert!(!t.is_empty());
+            let idx = imax(imin(idx, isplat(t.len() - 1)), izero());
+            let mut o = idx;
+            for k in 0..K {
+                let ($up, $ui) = (t.as_ptr().cast::<i32>(), idx.0[k]);
+                // SAFETY: every index lies in 0..t.len(); u32 and i32 have the same layout.
+                o.0[k] = unsafe { $gather_u32 };
+            }
+            o
+        }
+
 
     crate::mapping::simd::kernels::vector_kernels!("avx2,fma");
     };
@@ -320,63 +383,10 @@ macro_rules! avx2_f64 {
                 |a, b| _mm256_blendv_epi8(a, b, _mm256_cmpgt_epi64(a, b)),
                 |a, b| _mm256_blendv_epi8(b, a, _mm256_cmpgt_epi64(a, b)),
                 _mm256_mul_epu32, _mm256_set1_epi64x, _mm256_cmpeq_epi64, _mm256_cmpgt_epi64],
-            extra: {
-                #[inline]
-                #[target_feature(enable = "avx2,fma")]
-                fn ifrom(a: [usize; BLOCK]) -> I {
-                    let mut o = izero();
-                    for k in 0..K {
-                        let q = &a[4 * k..4 * k + 4];
-                        o.0[k] = _mm256_setr_epi64x(q[0] as i64, q[1] as i64, q[2] as i64, q[3] as i64);
-                    }
-                    o
-                }
-
-                /// `(x as usize).min(kmax)` per lane (NaN and negatives give 0), for `kmax` < 2³¹.
-                #[inline]
-                #[target_feature(enable = "avx2,fma")]
-                fn to_index(x: F, kmax: usize) -> I {
-                    // maxpd returns its second operand for a NaN lane: 0, as `as usize` does.
-                    let mut o = izero();
-                    for k in 0..K {
-                        let v = _mm256_min_pd(
-                            _mm256_max_pd(x.0[k], _mm256_setzero_pd()),
-                            _mm256_set1_pd(kmax as f64),
-                        );
-                        o.0[k] = _mm256_cvtepi32_epi64(_mm256_cvttpd_epi32(v));
-                    }
-                    o
-                }
-
-                /// `t[idx]` per lane, the index clamped into `t` first (`t` must not be empty).
-                #[inline]
-                #[target_feature(enable = "avx2,fma")]
-                fn gather(t: &[f64], idx: I) -> F {
-                    assert!(!t.is_empty());
-                    let idx = imax(imin(idx, isplat(t.len() - 1)), izero());
-                    let mut o = zero();
-                    for k in 0..K {
-                        // SAFETY: every index lies in 0..t.len().
-                        o.0[k] = unsafe { _mm256_i64gather_pd::<8>(t.as_ptr(), idx.0[k]) };
-                    }
-                    o
-                }
-
-                /// `t[idx] as usize` per lane for a u32 table, the index clamped into `t` first.
-                #[inline]
-                #[target_feature(enable = "avx2,fma")]
-                fn gather_u32(t: &[u32], idx: I) -> I {
-                    assert!(!t.is_empty());
-                    let idx = imax(imin(idx, isplat(t.len() - 1)), izero());
-                    let mut o = idx;
-                    for k in 0..K {
-                        // SAFETY: every index lies in 0..t.len(); u32 and i32 have the same layout.
-                        let g = unsafe { _mm256_i64gather_epi32::<4>(t.as_ptr().cast(), idx.0[k]) };
-                        o.0[k] = _mm256_cvtepu32_epi64(g);
-                    }
-                    o
-                }
-            }
+            clamp: [_mm256_min_pd, _mm256_max_pd, _mm256_setzero_pd],
+            to_int: |v| _mm256_cvtepi32_epi64(_mm256_cvttpd_epi32(v)),
+            gather: |p, i| _mm256_i64gather_pd::<8>(p, i),
+            gather_u32: |p, i| _mm256_cvtepu32_epi64(_mm256_i64gather_epi32::<4>(p, i))
         }
     };
 }
@@ -399,68 +409,10 @@ macro_rules! avx2_f32 {
                 _mm256_loadu_ps, _mm256_castsi256_ps, _mm256_castps_si256],
             int: [_mm256_add_epi32, _mm256_sub_epi32, _mm256_min_epi32, _mm256_max_epi32,
                 _mm256_mullo_epi32, _mm256_set1_epi32, _mm256_cmpeq_epi32, _mm256_cmpgt_epi32],
-            extra: {
-                #[inline]
-                #[target_feature(enable = "avx2,fma")]
-                fn ifrom(a: [usize; BLOCK]) -> I {
-                    let mut o = izero();
-                    let mut b = [0i32; BLOCK];
-                    for l in 0..BLOCK {
-                        b[l] = a[l] as i32;
-                    }
-                    let a = b;
-                    for k in 0..K {
-                        // SAFETY: `a` holds 8K i32; unaligned load of eight.
-                        o.0[k] = unsafe { _mm256_loadu_si256(a[8 * k..].as_ptr().cast()) };
-                    }
-                    o
-                }
-
-                /// `(x as usize).min(kmax)` per lane (NaN and negatives give 0), for `kmax` < 2²⁴.
-                #[inline]
-                #[target_feature(enable = "avx2,fma")]
-                fn to_index(x: F, kmax: usize) -> I {
-                    // maxps returns its second operand for a NaN lane: 0, as `as usize` does.
-                    let mut o = izero();
-                    for k in 0..K {
-                        let v = _mm256_min_ps(
-                            _mm256_max_ps(x.0[k], _mm256_setzero_ps()),
-                            _mm256_set1_ps(kmax as f32),
-                        );
-                        o.0[k] = _mm256_cvttps_epi32(v);
-                    }
-                    o
-                }
-
-                /// `t[idx]` per lane, the index clamped into `t` first (`t` must not be empty, below 2³¹
-                /// entries).
-                #[inline]
-                #[target_feature(enable = "avx2,fma")]
-                fn gather(t: &[f32], idx: I) -> F {
-                    assert!(!t.is_empty());
-                    let idx = imax(imin(idx, isplat(t.len() - 1)), izero());
-                    let mut o = zero();
-                    for k in 0..K {
-                        // SAFETY: every index lies in 0..t.len().
-                        o.0[k] = unsafe { _mm256_i32gather_ps::<4>(t.as_ptr(), idx.0[k]) };
-                    }
-                    o
-                }
-
-                /// `t[idx]` per lane for a u32 table (entries below 2³¹), the index clamped into `t` first.
-                #[inline]
-                #[target_feature(enable = "avx2,fma")]
-                fn gather_u32(t: &[u32], idx: I) -> I {
-                    assert!(!t.is_empty());
-                    let idx = imax(imin(idx, isplat(t.len() - 1)), izero());
-                    let mut o = idx;
-                    for k in 0..K {
-                        // SAFETY: every index lies in 0..t.len(); u32 and i32 have the same layout.
-                        o.0[k] = unsafe { _mm256_i32gather_epi32::<4>(t.as_ptr().cast(), idx.0[k]) };
-                    }
-                    o
-                }
-            }
+            clamp: [_mm256_min_ps, _mm256_max_ps, _mm256_setzero_ps],
+            to_int: |v| _mm256_cvttps_epi32(v),
+            gather: |p, i| _mm256_i32gather_ps::<4>(p, i),
+            gather_u32: |p, i| _mm256_i32gather_epi32::<4>(p, i)
         }
     };
 }

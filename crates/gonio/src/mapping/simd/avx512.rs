@@ -67,7 +67,10 @@ macro_rules! avx512_kernels {
             $cast:ident],
         int: [$iadd:ident, $isub:ident, $imin:ident, $imax:ident, $imul:ident, $iset1:ident,
             $iblend:ident, $icmpeq:ident, $icmpgt:ident, $icmplt:ident],
-        extra: { $($extra:tt)* }
+        clamp: [$fmin:ident, $fmax:ident, $fzero:ident],
+        to_int: |$v:ident| $to_int:expr,
+        gather: |$gp:ident, $gi:ident| $gather:expr,
+        gather_u32: |$up:ident, $ui:ident| $gather_u32:expr
     ) => {
         /// Vectors per block (independent chains the core overlaps).
         const K: usize = $k;
@@ -308,7 +311,51 @@ macro_rules! avx512_kernels {
             o
         }
 
-        $($extra)*
+        /// `(x as usize).min(kmax)` per lane (NaN and negatives give 0), for `kmax` < 2³¹ (f64)
+        /// or 2²⁴ (f32, exact there).
+        #[inline]
+        #[target_feature(enable = "avx512f,avx512dq")]
+        fn to_index(x: F, kmax: usize) -> I {
+            let mut o = izero();
+            for k in 0..K {
+                // max returns its second operand for a NaN lane: 0, as `as usize` does.
+                let $v = $fmin($fmax(x.0[k], $fzero()), $set1(kmax as $e));
+                o.0[k] = $to_int;
+            }
+            o
+        }
+
+        /// `t[idx]` per lane, the index clamped into `t` first (`t` must not be empty, below 2³¹
+        /// entries).
+        #[inline]
+        #[target_feature(enable = "avx512f,avx512dq")]
+        fn gather(t: &[$e], idx: I) -> F {
+            assert!(!t.is_empty());
+            let idx = imax(imin(idx, isplat(t.len() - 1)), izero());
+            let mut o = zero();
+            for k in 0..K {
+                let ($gp, $gi) = (t.as_ptr(), idx.0[k]);
+                // SAFETY: every index lies in 0..t.len().
+                o.0[k] = unsafe { $gather };
+            }
+            o
+        }
+
+        /// `t[idx] as usize` per lane for a u32 table (entries below 2³¹), the index clamped
+        /// into `t` first.
+        #[inline]
+        #[target_feature(enable = "avx512f,avx512dq")]
+        fn gather_u32(t: &[u32], idx: I) -> I {
+            assert!(!t.is_empty());
+            let idx = imax(imin(idx, isplat(t.len() - 1)), izero());
+            let mut o = idx;
+            for k in 0..K {
+                let ($up, $ui) = (t.as_ptr().cast(), idx.0[k]);
+                // SAFETY: every index lies in 0..t.len(); u32 and i32 have the same layout.
+                o.0[k] = unsafe { $gather_u32 };
+            }
+            o
+        }
 
         crate::mapping::simd::kernels::vector_kernels!("avx512f,avx512dq");
     };
@@ -331,53 +378,10 @@ macro_rules! avx512_f64 {
             int: [_mm512_add_epi64, _mm512_sub_epi64, _mm512_min_epi64, _mm512_max_epi64,
                 _mm512_mul_epu32, _mm512_set1_epi64, _mm512_mask_blend_epi64,
                 _mm512_cmpeq_epi64_mask, _mm512_cmpgt_epi64_mask, _mm512_cmplt_epi64_mask],
-            extra: {
-                /// `(x as usize).min(kmax)` per lane (NaN and negatives give 0), for `kmax` < 2³¹.
-                #[inline]
-                #[target_feature(enable = "avx512f,avx512dq")]
-                fn to_index(x: F, kmax: usize) -> I {
-                    let mut o = izero();
-                    for k in 0..K {
-                        // maxpd returns its second operand for a NaN lane: 0, as `as usize` does.
-                        let v = _mm512_min_pd(
-                            _mm512_max_pd(x.0[k], _mm512_setzero_pd()),
-                            _mm512_set1_pd(kmax as f64),
-                        );
-                        o.0[k] = _mm512_cvtepi32_epi64(_mm512_cvttpd_epi32(v));
-                    }
-                    o
-                }
-
-                /// `t[idx]` per lane, the index clamped into `t` first (`t` must not be empty).
-                #[inline]
-                #[target_feature(enable = "avx512f,avx512dq")]
-                fn gather(t: &[f64], idx: I) -> F {
-                    assert!(!t.is_empty());
-                    let idx = imax(imin(idx, isplat(t.len() - 1)), izero());
-                    let mut o = zero();
-                    for k in 0..K {
-                        // SAFETY: every index lies in 0..t.len().
-                        o.0[k] = unsafe { _mm512_i64gather_pd::<8>(idx.0[k], t.as_ptr()) };
-                    }
-                    o
-                }
-
-                /// `t[idx] as usize` per lane for a u32 table, the index clamped into `t` first.
-                #[inline]
-                #[target_feature(enable = "avx512f,avx512dq")]
-                fn gather_u32(t: &[u32], idx: I) -> I {
-                    assert!(!t.is_empty());
-                    let idx = imax(imin(idx, isplat(t.len() - 1)), izero());
-                    let mut o = idx;
-                    for k in 0..K {
-                        // SAFETY: every index lies in 0..t.len(); u32 and i32 have the same layout.
-                        let g = unsafe { _mm512_i64gather_epi32::<4>(idx.0[k], t.as_ptr().cast()) };
-                        o.0[k] = _mm512_cvtepu32_epi64(g);
-                    }
-                    o
-                }
-
-            }
+            clamp: [_mm512_min_pd, _mm512_max_pd, _mm512_setzero_pd],
+            to_int: |v| _mm512_cvtepi32_epi64(_mm512_cvttpd_epi32(v)),
+            gather: |p, i| _mm512_i64gather_pd::<8>(i, p),
+            gather_u32: |p, i| _mm512_cvtepu32_epi64(_mm512_i64gather_epi32::<4>(i, p))
         }
     };
 }
@@ -401,54 +405,10 @@ macro_rules! avx512_f32 {
             int: [_mm512_add_epi32, _mm512_sub_epi32, _mm512_min_epi32, _mm512_max_epi32,
                 _mm512_mullo_epi32, _mm512_set1_epi32, _mm512_mask_blend_epi32,
                 _mm512_cmpeq_epi32_mask, _mm512_cmpgt_epi32_mask, _mm512_cmplt_epi32_mask],
-            extra: {
-                /// `(x as usize).min(kmax)` per lane (NaN and negatives give 0), for `kmax` < 2²⁴.
-                #[inline]
-                #[target_feature(enable = "avx512f,avx512dq")]
-                fn to_index(x: F, kmax: usize) -> I {
-                    let mut o = izero();
-                    for k in 0..K {
-                        // maxps returns its second operand for a NaN lane: 0, as `as usize` does.
-                        let v = _mm512_min_ps(
-                            _mm512_max_ps(x.0[k], _mm512_setzero_ps()),
-                            _mm512_set1_ps(kmax as f32),
-                        );
-                        o.0[k] = _mm512_cvttps_epi32(v);
-                    }
-                    o
-                }
-
-                /// `t[idx]` per lane, the index clamped into `t` first (`t` must not be empty, below
-                /// 2³¹ entries).
-                #[inline]
-                #[target_feature(enable = "avx512f,avx512dq")]
-                fn gather(t: &[f32], idx: I) -> F {
-                    assert!(!t.is_empty());
-                    let idx = imax(imin(idx, isplat(t.len() - 1)), izero());
-                    let mut o = zero();
-                    for k in 0..K {
-                        // SAFETY: every index lies in 0..t.len().
-                        o.0[k] = unsafe { _mm512_i32gather_ps::<4>(idx.0[k], t.as_ptr()) };
-                    }
-                    o
-                }
-
-                /// `t[idx]` per lane for a u32 table (entries below 2³¹), the index clamped into `t`
-                /// first.
-                #[inline]
-                #[target_feature(enable = "avx512f,avx512dq")]
-                fn gather_u32(t: &[u32], idx: I) -> I {
-                    assert!(!t.is_empty());
-                    let idx = imax(imin(idx, isplat(t.len() - 1)), izero());
-                    let mut o = idx;
-                    for k in 0..K {
-                        // SAFETY: every index lies in 0..t.len(); u32 and i32 have the same layout.
-                        o.0[k] = unsafe { _mm512_i32gather_epi32::<4>(idx.0[k], t.as_ptr().cast()) };
-                    }
-                    o
-                }
-
-            }
+            clamp: [_mm512_min_ps, _mm512_max_ps, _mm512_setzero_ps],
+            to_int: |v| _mm512_cvttps_epi32(v),
+            gather: |p, i| _mm512_i32gather_ps::<4>(i, p),
+            gather_u32: |p, i| _mm512_i32gather_epi32::<4>(i, p)
         }
     };
 }
