@@ -98,49 +98,50 @@ pub fn random_hemisphere(
         })
         .collect();
     let profile: Vec<f64> = (0..theta.len()).map(|_| rng.gen()).collect();
-    let mut values: Vec<Vec<f64>> = phi
-        .iter()
-        .map(|&pd| {
-            theta
-                .iter()
-                .enumerate()
-                .map(|(j, &td)| {
-                    let r: f64 = rng.gen();
-                    match family {
-                        Family::UniformRandom => r,
-                        Family::Spiky => {
-                            if r < 0.1 {
-                                100.0 * rng.gen::<f64>()
-                            } else {
-                                rng.gen()
-                            }
-                        }
-                        Family::Lobes => {
-                            let d = crate::sampler::direction(td.to_radians(), pd.to_radians());
-                            lobes
-                                .iter()
-                                .map(|(a, e, w)| {
-                                    w * (d[0] * a[0] + d[1] * a[1] + d[2] * a[2]).max(0.0).powf(*e)
-                                })
-                                .sum()
-                        }
-                        Family::Rotational => profile[j],
-                        Family::ZeroHeavy => {
-                            if r < 0.6 {
-                                0.0
-                            } else {
-                                rng.gen()
-                            }
-                        }
-                    }
-                })
-                .collect()
-        })
-        .collect();
+    let mut values = grid_values(phi.len(), theta.len(), |i, j| {
+        let (pd, td) = (phi[i], theta[j]);
+        let r: f64 = rng.gen();
+        match family {
+            Family::UniformRandom => r,
+            Family::Spiky => {
+                if r < 0.1 {
+                    100.0 * rng.gen::<f64>()
+                } else {
+                    rng.gen()
+                }
+            }
+            Family::Lobes => {
+                let d = crate::sampler::direction(td.to_radians(), pd.to_radians());
+                lobes
+                    .iter()
+                    .map(|(a, e, w)| {
+                        w * (d[0] * a[0] + d[1] * a[1] + d[2] * a[2]).max(0.0).powf(*e)
+                    })
+                    .sum()
+            }
+            Family::Rotational => profile[j],
+            Family::ZeroHeavy => {
+                if r < 0.6 {
+                    0.0
+                } else {
+                    rng.gen()
+                }
+            }
+        }
+    });
     if values.iter().flatten().all(|&v| v == 0.0) {
         values[0][0] = 1.0;
     }
     Diagram::from_degrees(&theta, &phi, &values).expect("generated diagrams are valid")
+}
+
+/// Values on an `m` × `n` grid (`m` meridians of `n` parallels, the layout of
+/// [`Diagram::from_degrees`]), `cell(i, j)` called meridian by meridian, parallel by parallel: the
+/// table of every generated diagram (so a seeded generator draws its numbers in that order).
+pub fn grid_values(m: usize, n: usize, mut cell: impl FnMut(usize, usize) -> f64) -> Vec<Vec<f64>> {
+    (0..m)
+        .map(|i| (0..n).map(|j| cell(i, j)).collect())
+        .collect()
 }
 
 /// The built-in example: an asymmetric street-light-like luminaire on the whole sphere, in candela,

@@ -19,22 +19,14 @@ fn random_sphere(n: usize, m: usize, seed: u64) -> Diagram {
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
     let theta: Vec<f64> = (0..n).map(|k| 180.0 * k as f64 / (n - 1) as f64).collect();
     let phi: Vec<f64> = (0..m).map(|k| 360.0 * k as f64 / m as f64).collect();
-    let values: Vec<Vec<f64>> = phi
-        .iter()
-        .map(|_| {
-            theta
-                .iter()
-                .map(|_| {
-                    let r: f64 = rng.gen();
-                    if r < 0.3 {
-                        0.0
-                    } else {
-                        r
-                    }
-                })
-                .collect()
-        })
-        .collect();
+    let values = gonio::synthetic::grid_values(m, n, |_, _| {
+        let r: f64 = rng.gen();
+        if r < 0.3 {
+            0.0
+        } else {
+            r
+        }
+    });
     let mut values = values;
     values[0][n / 2] = 1.0;
     Diagram::from_degrees(&theta, &phi, &values).unwrap()

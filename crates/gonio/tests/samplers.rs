@@ -55,21 +55,13 @@ fn build(theta: &[f64], phi: &[f64], f: impl Fn(f64, f64) -> f64) -> Diagram {
 
 fn random_grid(theta: &[f64], phi: &[f64], seed: u64) -> Diagram {
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
-    let values: Vec<Vec<f64>> = phi
-        .iter()
-        .map(|_| {
-            theta
-                .iter()
-                .map(|_| {
-                    if rng.gen::<f64>() < 0.3 {
-                        0.0
-                    } else {
-                        10.0 * rng.gen::<f64>()
-                    }
-                })
-                .collect()
-        })
-        .collect();
+    let values = gonio::synthetic::grid_values(phi.len(), theta.len(), |_, _| {
+        if rng.gen::<f64>() < 0.3 {
+            0.0
+        } else {
+            10.0 * rng.gen::<f64>()
+        }
+    });
     Diagram::from_degrees(theta, phi, &values).unwrap()
 }
 

@@ -344,22 +344,14 @@ mod tests {
         phi: &[f64],
         zeros: bool,
     ) -> HemisphereMap {
-        let values: Vec<Vec<f64>> = phi
-            .iter()
-            .map(|_| {
-                theta
-                    .iter()
-                    .map(|_| {
-                        let v: f64 = rng.gen();
-                        if zeros && v < 0.3 {
-                            0.0
-                        } else {
-                            v * 10.0
-                        }
-                    })
-                    .collect()
-            })
-            .collect();
+        let values = crate::synthetic::grid_values(phi.len(), theta.len(), |_, _| {
+            let v: f64 = rng.gen();
+            if zeros && v < 0.3 {
+                0.0
+            } else {
+                v * 10.0
+            }
+        });
         let mut values = values;
         values[0][1] += 1.0;
         HemisphereMap::new(&Diagram::from_degrees(theta, phi, &values).unwrap()).unwrap()

@@ -381,22 +381,14 @@ mod tests {
         phi[0] = 0.0;
         phi.sort_by(f64::total_cmp);
         phi.dedup();
-        let values: Vec<Vec<f64>> = phi
-            .iter()
-            .map(|_| {
-                theta
-                    .iter()
-                    .map(|_| {
-                        let v: f64 = rng.gen();
-                        if zeros && v < 0.4 {
-                            0.0
-                        } else {
-                            v
-                        }
-                    })
-                    .collect()
-            })
-            .collect();
+        let values = crate::synthetic::grid_values(phi.len(), theta.len(), |_, _| {
+            let v: f64 = rng.gen();
+            if zeros && v < 0.4 {
+                0.0
+            } else {
+                v
+            }
+        });
         let mut values = values;
         values[0][0] += 1.0;
         let d = Diagram::from_degrees(&theta, &phi, &values).unwrap();
