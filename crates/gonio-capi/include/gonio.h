@@ -10,7 +10,7 @@
 
 /*
  The default size limit of photometric files and JSON diagrams (64 MiB), as
- [`gonio_read_limit`]`(GONIO_FILE_PHOTOMETRY)` gives it unless it was changed; each input kind
+ `gonio_read_limit``(GONIO_FILE_PHOTOMETRY)` gives it unless it was changed; each input kind
  has its own limit, the same in every gonio front end.
  */
 #define GONIO_MAX_FILE_BYTES (64 << 20)
@@ -53,8 +53,8 @@ typedef struct GonioEnvMap GonioEnvMap;
 typedef struct GonioEnvMapF32 GonioEnvMapF32;
 
 /*
- A sampler of any method and domain (opaque). Created by [`gonio_sampler_build`], released by
- [`gonio_sampler_free`]. Immutable: may be shared between threads and used from all of them at
+ A sampler of any method and domain (opaque). Created by `gonio_sampler_build`, released by
+ `gonio_sampler_free`. Immutable: may be shared between threads and used from all of them at
  once (every function taking `const GonioSampler *` is thread-safe).
  */
 typedef struct GonioSampler GonioSampler;
@@ -90,8 +90,8 @@ typedef int32_t GonioMethod;
 typedef int32_t GonioSphereLayout;
 
 /*
- Options of [`gonio_sampler_build_with`]; each method reads those that apply to it. Fill it
- with [`gonio_build_options_default`], then change fields. (The struct may gain fields in later
+ Options of `gonio_sampler_build_with`; each method reads those that apply to it. Fill it
+ with `gonio_build_options_default`, then change fields. (The struct may gain fields in later
  versions; always start from the defaults.)
  */
 typedef struct GonioBuildOptions {
@@ -548,7 +548,7 @@ GonioStatus gonio_set_read_limit(GonioFileKind kind, uint64_t bytes);
 
  `format` is one of the `GONIO_FORMAT_*` constants; [`GONIO_FORMAT_AUTO`] picks it by the
  extension. TILT files that an IES file names are looked up next to it. Files larger than
- the limit of their kind ([`gonio_read_limit`]) and anything that is not a regular file are refused. On success
+ the limit of their kind (`gonio_read_limit`) and anything that is not a regular file are refused. On success
  `*out` receives a new handle that the caller releases with [`gonio_diagram_free`].
 
  # Safety
@@ -1024,7 +1024,7 @@ GonioStatus gonio_brdf_sampler_options_default(struct GonioBrdfSamplerOptions *o
 /*
  Reads a BRDF file (MERL `.binary`, UTIA `.bin` or gonio BRDF JSON; the format is recognised
  from the content, not the extension). `options` may be NULL (the defaults). Files larger than
- the BRDF limit ([`gonio_read_limit`]) and anything that is not a regular file are refused
+ the BRDF limit (`gonio_read_limit`) and anything that is not a regular file are refused
  ([`GONIO_ERR_IO`]); a file that does not decode (wrong size, NaN, no reflectance at all, …) is
  [`GONIO_ERR_PARSE`] with what and where (byte offset or value index); options out of range are
  `GONIO_ERR_INVALID_ARGUMENT`. On success `*out` receives a new handle that the caller releases
@@ -1041,7 +1041,7 @@ GonioStatus gonio_brdf_read_path(const char *path,
 /*
  Reads a BRDF file from `len` bytes at `data` (any format, as [`gonio_brdf_read_path`]).
  `name` (may be NULL, then `"<memory>"`) is used in messages; `options` may be NULL. More than
- the BRDF limit ([`gonio_read_limit`]) bytes are refused. On success `*out` receives a new handle that the
+ the BRDF limit (`gonio_read_limit`) bytes are refused. On success `*out` receives a new handle that the
  caller releases with [`gonio_brdf_free`].
 
  # Safety
@@ -1259,7 +1259,7 @@ GonioStatus gonio_envmap_options_default(struct GonioEnvOptions *options);
 /*
  Reads an equirectangular environment map (Radiance `.hdr`, OpenEXR `.exr` or `.pfm`) from a
  path; the format is chosen by the file's first bytes, else by its extension. Files larger than
- the image limit ([`gonio_read_limit`]) and anything that is not a regular file are refused
+ the image limit (`gonio_read_limit`) and anything that is not a regular file are refused
  (`GONIO_ERR_IO`); a file that does not decode is
  [`GONIO_ERR_PARSE`], an all-black image [`GONIO_ERR_BUILD`]. On success `*out` receives a new
  handle that the caller releases with [`gonio_envmap_free`].
@@ -1287,7 +1287,7 @@ GonioStatus gonio_envmap_read_path_with(const char *path,
 /*
  Reads an environment map from `len` bytes at `data`, the format announced by the first bytes
  (`#?` Radiance, `PF` PFM, the OpenEXR magic number). `name` (may be NULL, then `"<memory>"`)
- is used in messages. More bytes than the image limit ([`gonio_read_limit`]) are refused. On success `*out`
+ is used in messages. More bytes than the image limit (`gonio_read_limit`) are refused. On success `*out`
  receives a new handle that the caller releases with [`gonio_envmap_free`].
 
  # Safety

@@ -285,7 +285,7 @@ fn build_brdf(name: &str, bytes: &[u8], merl: &MerlOptions) -> Result<GonioBrdf,
 
 /// Reads a BRDF file (MERL `.binary`, UTIA `.bin` or gonio BRDF JSON; the format is recognised
 /// from the content, not the extension). `options` may be NULL (the defaults). Files larger than
-/// the BRDF limit ([`gonio_read_limit`]) and anything that is not a regular file are refused
+/// the BRDF limit (`gonio_read_limit`) and anything that is not a regular file are refused
 /// ([`GONIO_ERR_IO`]); a file that does not decode (wrong size, NaN, no reflectance at all, …) is
 /// [`GONIO_ERR_PARSE`] with what and where (byte offset or value index); options out of range are
 /// `GONIO_ERR_INVALID_ARGUMENT`. On success `*out` receives a new handle that the caller releases
@@ -317,7 +317,7 @@ pub unsafe extern "C" fn gonio_brdf_read_path(
 
 /// Reads a BRDF file from `len` bytes at `data` (any format, as [`gonio_brdf_read_path`]).
 /// `name` (may be NULL, then `"<memory>"`) is used in messages; `options` may be NULL. More than
-/// the BRDF limit ([`gonio_read_limit`]) bytes are refused. On success `*out` receives a new handle that the
+/// the BRDF limit (`gonio_read_limit`) bytes are refused. On success `*out` receives a new handle that the
 /// caller releases with [`gonio_brdf_free`].
 ///
 /// # Safety

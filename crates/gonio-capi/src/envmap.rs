@@ -196,7 +196,7 @@ fn build_env(
 
 /// Reads an equirectangular environment map (Radiance `.hdr`, OpenEXR `.exr` or `.pfm`) from a
 /// path; the format is chosen by the file's first bytes, else by its extension. Files larger than
-/// the image limit ([`gonio_read_limit`]) and anything that is not a regular file are refused
+/// the image limit (`gonio_read_limit`) and anything that is not a regular file are refused
 /// (`GONIO_ERR_IO`); a file that does not decode is
 /// [`GONIO_ERR_PARSE`], an all-black image [`GONIO_ERR_BUILD`]. On success `*out` receives a new
 /// handle that the caller releases with [`gonio_envmap_free`].
@@ -255,7 +255,7 @@ unsafe fn read_path(
 
 /// Reads an environment map from `len` bytes at `data`, the format announced by the first bytes
 /// (`#?` Radiance, `PF` PFM, the OpenEXR magic number). `name` (may be NULL, then `"<memory>"`)
-/// is used in messages. More bytes than the image limit ([`gonio_read_limit`]) are refused. On success `*out`
+/// is used in messages. More bytes than the image limit (`gonio_read_limit`) are refused. On success `*out`
 /// receives a new handle that the caller releases with [`gonio_envmap_free`].
 ///
 /// # Safety

@@ -93,8 +93,8 @@ pub const GONIO_SPHERE_LAYOUT_SPLIT: GonioSphereLayout = 0;
 /// One map with the whole-sphere Lambert lift.
 pub const GONIO_SPHERE_LAYOUT_LAMBERT: GonioSphereLayout = 1;
 
-/// Options of [`gonio_sampler_build_with`]; each method reads those that apply to it. Fill it
-/// with [`gonio_build_options_default`], then change fields. (The struct may gain fields in later
+/// Options of `gonio_sampler_build_with`; each method reads those that apply to it. Fill it
+/// with `gonio_build_options_default`, then change fields. (The struct may gain fields in later
 /// versions; always start from the defaults.)
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -127,8 +127,8 @@ pub struct GonioDiagram {
     pub(crate) warnings: Vec<CString>,
 }
 
-/// A sampler of any method and domain (opaque). Created by [`gonio_sampler_build`], released by
-/// [`gonio_sampler_free`]. Immutable: may be shared between threads and used from all of them at
+/// A sampler of any method and domain (opaque). Created by `gonio_sampler_build`, released by
+/// `gonio_sampler_free`. Immutable: may be shared between threads and used from all of them at
 /// once (every function taking `const GonioSampler *` is thread-safe).
 pub struct GonioSampler {
     pub(crate) inner: gonio::Built<'static>,
@@ -138,7 +138,7 @@ pub struct GonioSampler {
 // Errors.
 
 /// The default size limit of photometric files and JSON diagrams (64 MiB), as
-/// [`gonio_read_limit`]`(GONIO_FILE_PHOTOMETRY)` gives it unless it was changed; each input kind
+/// `gonio_read_limit``(GONIO_FILE_PHOTOMETRY)` gives it unless it was changed; each input kind
 /// has its own limit, the same in every gonio front end.
 pub const GONIO_MAX_FILE_BYTES: u64 = 64 << 20;
 
@@ -455,7 +455,7 @@ pub(crate) fn parse(
 ///
 /// `format` is one of the `GONIO_FORMAT_*` constants; [`GONIO_FORMAT_AUTO`] picks it by the
 /// extension. TILT files that an IES file names are looked up next to it. Files larger than
-/// the limit of their kind ([`gonio_read_limit`]) and anything that is not a regular file are refused. On success
+/// the limit of their kind (`gonio_read_limit`) and anything that is not a regular file are refused. On success
 /// `*out` receives a new handle that the caller releases with [`gonio_diagram_free`].
 ///
 /// # Safety

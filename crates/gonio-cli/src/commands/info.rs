@@ -68,7 +68,7 @@ pub struct MapInfo {
     pub probability_outside_measured: f64,
     /// Zones without data that the map completed with zero light (warnings).
     pub completions: Vec<String>,
-    /// Bytes of the map's tables ([`Sampler::memory_bytes`]).
+    /// Bytes of the map's tables ([`gonio::Sampler::memory_bytes`]).
     pub memory_bytes: usize,
     /// The paper's count of precomputed floats, M·N + 2M + 2, on the map's grid.
     pub paper_table_floats: usize,

@@ -1,6 +1,6 @@
 //! Baselines: the samplers a user would pick instead of the HDS mapping, behind the same trait.
 //!
-//! Every baseline is built from a [`Diagram`] and a [`Domain`] and implements [`Sampler`]:
+//! Every baseline is built from a [`Diagram`] and a [`Domain`] and implements [`crate::Sampler`]:
 //!
 //! * [`Uniform`] — uniform directions on the domain, ignoring the diagram (pdf 1/2π or 1/4π sr⁻¹);
 //! * [`Rejection`] — uniform proposals accepted with probability target / max target; pdf = target;

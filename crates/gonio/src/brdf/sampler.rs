@@ -68,7 +68,7 @@ pub struct BrdfSample {
     pub weight: [f64; 3],
 }
 
-/// The HDS sampler of a [`TabulatedBrdf`]; see the [module documentation](self).
+/// The HDS sampler of a [`TabulatedBrdf`]; see docs/BRDF.md.
 #[derive(Debug, Clone)]
 pub struct BrdfSampler {
     brdf: TabulatedBrdf,

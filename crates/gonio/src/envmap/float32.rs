@@ -24,7 +24,7 @@ use super::{EnvMapError, EnvOptions, EnvironmentMap, Lookup, Radiance, Weight};
 use crate::image::Image;
 use crate::mapping::{Float32Map, Float32MapError};
 
-/// An environment light sampled by a float32 map (see the [module documentation](self)).
+/// An environment light sampled by a float32 map (see docs/ENVMAPS.md).
 ///
 /// ```
 /// use gonio::envmap::Float32EnvironmentMap;

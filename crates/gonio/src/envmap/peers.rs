@@ -17,8 +17,7 @@ use crate::method::BuildError;
 use crate::sampler::{normalize, spherical, Domain, InvertError, Point2, Sample, Sampler, Vec3};
 use std::f64::consts::PI;
 
-/// Lat-long piecewise-constant sampling of an environment map (see the [module
-/// documentation](self)).
+/// Lat-long piecewise-constant sampling of an environment map (see docs/ENVMAPS.md).
 ///
 /// * Weights: pixel (c, r) has f_rc = weight_rc · sin θ_r, θ_r = π(r + ½)/H the row centre.
 /// * Sampling: u₁ inverts the marginal CDF of the row sums, u₀ that row's conditional CDF; the

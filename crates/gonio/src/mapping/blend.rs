@@ -16,9 +16,9 @@
 //! [`HemisphereMap::new`] of that diagram and compare to round-off). This file keeps the blending
 //! weights and nothing else of the map: the stages' own forward and inverse run over the blended
 //! entries read on the fly (issue 36, as Mitsuba's `Marginal2D` blends its slices inside one
-//! lookup): M_C over the blended wedges ([`Wedges`], [`forward_on`], [`inverse_on`]), M_D over a
-//! row of 2K table rows ([`RadialRow`], [`radial::forward_on`], [`radial::inverse_on`]), M_B and
-//! M_E as for one map. The searches
+//! lookup): M_C over the blended wedges (`angular::Wedges`, `angular::forward_on`,
+//! `angular::inverse_on`), M_D over a row of 2K table rows (`radial::RadialRow`,
+//! `radial::forward_on`, `radial::inverse_on`), M_B and M_E as for one map. The searches
 //! are bracketed by the parts' own guide tables: a blended cumulative is a convex combination of
 //! the parts' normalised cumulatives, so its answer lies between theirs. The pdf is Σ w_k p_k, the
 //! exact density of the map; the map is continuous in the weights, so a family of weights that is

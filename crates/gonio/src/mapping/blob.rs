@@ -12,7 +12,7 @@
 //! * a directory: one 32-byte entry per table (id, element type, byte offset, count);
 //! * the tables, each starting on a 64-byte boundary.
 //!
-//! [`write`] makes a blob from a map ([`MapRef`]); [`read`] validates every field and table
+//! [`write()`] makes a blob from a map ([`MapRef`]); [`read`] validates every field and table
 //! (sizes against the bytes present before anything is allocated, offsets in range and aligned,
 //! monotone tables, finite values, guide entries in range, the checksum) and answers a typed
 //! [`TablesError`], never a panic. A map read back samples bit for bit as the one that wrote it:
@@ -115,7 +115,7 @@ pub enum BlobLayout {
 }
 
 /// What a blob carries beside the map to evaluate the distribution it samples (the header's
-/// `target` field), borrowed for [`write`].
+/// `target` field), borrowed for [`write()`].
 #[derive(Debug, Clone, Copy)]
 pub enum Target<'a> {
     /// The map alone.
@@ -559,10 +559,10 @@ pub fn write(
     }
 }
 
-/// [`write`] for a float32 map already built.
+/// [`write()`] for a float32 map already built.
 ///
 /// # Errors
-/// As [`write`].
+/// As [`write()`].
 pub fn write_float32(
     map: &Float32Map,
     frame: Frame,

@@ -464,7 +464,7 @@ pub struct Float32Exact {
     maps: Maps<f64>,
 }
 
-/// The f64 map's tables alone: what a float64 table blob ([`crate::tables`]) reads back into.
+/// The f64 map's tables alone: what a float64 table blob ([`crate::mapping::blob`]) reads back into.
 /// Its batch calls run the same f64 kernels over the same tables as the map that wrote them, so
 /// they give the bits of that map's structure-of-arrays batches
 /// ([`crate::Batches::sample_batch_soa`], [`crate::Batches::pdf_batch_soa`],

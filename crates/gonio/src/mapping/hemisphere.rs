@@ -73,17 +73,6 @@ pub struct HemisphereMap {
 }
 
 impl HemisphereMap {
-    /// This map's float32 map ([`super::Float32Map`]), built on the first call and kept (one
-    /// f32 copy of the tables, [`super::Float32Map::memory_bytes`], not counted in
-    /// [`Sampler::memory_bytes`]); `None` for a grid beyond the float32 kernels' limits. The
-    /// float32 batch calls of [`Sampler`] (`sample_batch_soa_f32`, `pdf_batch_soa_f32`,
-    /// `invert_batch_soa_f32`, which the C ABI's and Python's float32 batches call) run it.
-    pub fn float32(&self) -> Option<&super::Float32Map> {
-        self.float32
-            .get_or_init(|| self.float32_map().ok())
-            .as_ref()
-    }
-
     /// Builds the map. The diagram must lie within θ ∈ [0°, 90°].
     pub fn new(diagram: &Diagram) -> Result<Self, DiagramError> {
         let completed = complete(diagram, FRAC_PI_2, false, diagram.max_value())?;
@@ -178,52 +167,10 @@ impl HemisphereMap {
         &self.core
     }
 
-    /// 1/(2T): the pdf per unit of disk density.
-    pub(crate) fn inv_2t(&self) -> f64 {
-        self.inv_2t
-    }
-
-    /// What refinement to a tolerance asked, reached and cost; `None` for a map built without a
-    /// tolerance ([`HemisphereMap::new`]).
-    pub fn refinement(&self) -> Option<&Refinement> {
-        self.refinement.as_ref()
-    }
-
-    /// The map's own intensity at `direction`: the disk density D(ω), i.e. `pdf(ω) ·`
-    /// [`HemisphereMap::map_power`], in the diagram's units (candela for a diagram in candela).
-    ///
-    /// It equals the diagram's value at every node of the map's grid (the input's nodes and those
-    /// refinement added) and lies within [`HemisphereMap::ratio_bound`] (up to the normalisation
-    /// `map_power / target_power`) of the (θ, φ)-interpolated diagram elsewhere. A renderer that
-    /// emits this intensity and samples with this map gets the constant weight
-    /// `map_intensity / pdf = map_power` for every sample: no variance from the emission at all.
-    /// See `docs/MAPPING.md` for when to prefer it to the interpolated diagram.
-    pub fn map_intensity(&self, direction: Vec3) -> f64 {
-        self.pdf(direction) * self.map_power()
-    }
-
-    /// The map's own flux: ∫ [`HemisphereMap::map_intensity`] dω = 2T, in diagram units × sr (lumens
-    /// for candela). It differs from [`HemisphereMap::target_power`] by a factor within the bound.
-    pub fn map_power(&self) -> f64 {
-        self.scale / self.inv_2t
-    }
-
     /// The completed diagram the map was built from, its values divided by the data's largest value
     /// ([`HemisphereMap::value_scale`]); see the type's documentation.
     pub fn diagram(&self) -> &Diagram {
         self.core.diagram()
-    }
-
-    /// The data's largest value: [`HemisphereMap::diagram`] times this is the completed diagram in
-    /// the data's units.
-    pub fn value_scale(&self) -> f64 {
-        self.scale
-    }
-
-    /// The zones the data does not cover, completed with zero light (empty when the diagram spans
-    /// θ = 0° … 90°). Each is a warning for the user.
-    pub fn completions(&self) -> &[Completion] {
-        &self.completions
     }
 
     /// Guaranteed (min, max) of `pdf / target_pdf` over every direction where the target is positive,
@@ -268,12 +215,6 @@ impl HemisphereMap {
     /// 1 + (the guard bands' share), within 1e-6 of 1.
     pub fn power_ratio(&self) -> f64 {
         self.core.target_total() / self.data_total
-    }
-
-    /// The measured θ range [θ_0, θ_{N−1}] of the data, in radians: the support of the target; the
-    /// map puts at most ~2e-7 of its probability outside it.
-    pub fn measured_theta(&self) -> (f64, f64) {
-        self.measured
     }
 
     /// The intermediate points of the forward map at `u` (see [`super::Stages`]).
@@ -341,3 +282,5 @@ impl Sampler for HemisphereMap {
     }
     super::batch::soa_sampler_methods!();
 }
+
+super::shared_accessors!(HemisphereMap);

@@ -43,6 +43,73 @@ pub use hemisphere::HemisphereMap;
 pub use refine::{RefineLimits, RefineStop, Refinement};
 pub use sphere::{SphereLayout, SphereMap};
 
+/// The accessors [`HemisphereMap`] and [`SphereMap`] share, written once over their common
+/// fields (`refinement`, `completions`, `scale`, `inv_2t`, `measured`, `float32`).
+macro_rules! shared_accessors {
+    ($map:ident) => {
+        impl $map {
+            /// What refinement to a tolerance asked, reached and cost; `None` for a map built
+            /// without a tolerance.
+            pub fn refinement(&self) -> Option<&$crate::mapping::Refinement> {
+                self.refinement.as_ref()
+            }
+
+            /// The zones the data does not cover, completed with zero light (each is a warning
+            /// for the user), in θ order; empty when the data covers the map's whole domain.
+            pub fn completions(&self) -> &[$crate::mapping::Completion] {
+                &self.completions
+            }
+
+            /// The map's own flux: ∫ `map_intensity` dω = 2T, in diagram units × sr (lumens for
+            /// candela). It differs from `target_power` by a factor within the ratio bound.
+            pub fn map_power(&self) -> f64 {
+                self.scale / self.inv_2t
+            }
+
+            /// The map's own intensity at `direction`: `pdf(ω) · map_power`, the disk density D
+            /// of the map that serves ω, in the diagram's units (candela for a diagram in
+            /// candela). It equals the diagram's value at every node of the map's grid (the
+            /// input's nodes and those refinement added) and lies within the ratio bound (up to
+            /// the normalisation `map_power / target_power`) of the (θ, φ)-interpolated diagram
+            /// elsewhere. A renderer that emits this intensity and samples with this map gets the
+            /// constant weight `map_intensity / pdf = map_power` for every sample: no variance
+            /// from the emission at all. See `docs/MAPPING.md` for when to prefer it to the
+            /// interpolated diagram.
+            pub fn map_intensity(&self, direction: $crate::Vec3) -> f64 {
+                $crate::Sampler::pdf(self, direction) * self.map_power()
+            }
+
+            /// The measured θ range [θ_0, θ_{N−1}] of the data (radians): the target's support.
+            pub fn measured_theta(&self) -> (f64, f64) {
+                self.measured
+            }
+
+            /// The factor by which the map's tables were scaled (the data's largest value): the
+            /// map is built on the data divided by it.
+            pub fn value_scale(&self) -> f64 {
+                self.scale
+            }
+
+            /// This map's float32 map ([`crate::mapping::Float32Map`]), built on the first call and
+            /// kept (one f32 copy of the tables, `Float32Map::memory_bytes`, not counted in
+            /// [`crate::Sampler::memory_bytes`]); `None` for a grid beyond the float32 kernels'
+            /// limits. The float32 batch calls (`Batches::sample_batch_soa_f32` and its twins,
+            /// which the C ABI's and Python's float32 batches call) run it.
+            pub fn float32(&self) -> Option<&$crate::mapping::Float32Map> {
+                self.float32
+                    .get_or_init(|| self.float32_map().ok())
+                    .as_ref()
+            }
+
+            /// 1/(2T): the pdf per unit of disk density.
+            pub(crate) fn inv_2t(&self) -> f64 {
+                self.inv_2t
+            }
+        }
+    };
+}
+pub(crate) use shared_accessors;
+
 /// A borrowed HDS map, as [`crate::method::Built::hds_map`] returns it: what only the HDS map
 /// has (ratio bound, refinement, completions, stages) is a method here, and the map itself is
 /// reached through its variant, with no downcast.

@@ -10,7 +10,7 @@
 //!
 //! the slide's cubic written in the local variable τ, which avoids the cancellation of the intercept
 //! form X³ − x_j³. g is increasing (g′ = 2X d(X) ≥ 0), so g(τ) = m has one root on the segment. The
-//! root is found by Halley's method from the root of the density linear in area ([`area_guess`]),
+//! root is found by Halley's method from the root of the density linear in area (`area_guess`),
 //! safeguarded by bisection and
 //! polished to the last bits (plain Cardano misses by up to 1e-4 of the segment,
 //! docs/DERIVATION.md §6.4).

@@ -16,7 +16,7 @@
 //! D/B − 1 = (s − t)(b − a)/B is bounded by a multiple of h (below).
 //!
 //! **The algorithm.** Every input segment is cut into sub-segments; each carries its guaranteed
-//! (min, max) of D/B ([`segment_ratio_range`]) and its contributions to ∫D dω and ∫B dω. The
+//! (min, max) of D/B (`segment_ratio_range`) and its contributions to ∫D dω and ∫B dω. The
 //! normalised bound is that range divided by the mean m = ∫D dω / ∫B dω (pdf = D/∫D, target = B/∫B).
 //! Each round splits, at its θ midpoint, every sub-segment whose range divided by the current m is
 //! not within [1 − tol, 1 + tol], then recomputes m. The refinement is adaptive: cells already within

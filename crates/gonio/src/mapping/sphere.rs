@@ -153,15 +153,6 @@ fn measured(d: &Diagram) -> (f64, f64) {
 }
 
 impl SphereMap {
-    /// This map's float32 map ([`super::Float32Map`]), built on the first call and kept (as
-    /// [`crate::HemisphereMap::float32`]); `None` for a grid beyond the float32 kernels' limits.
-    /// The float32 batch calls of [`Sampler`] run it.
-    pub fn float32(&self) -> Option<&super::Float32Map> {
-        self.float32
-            .get_or_init(|| self.float32_map().ok())
-            .as_ref()
-    }
-
     /// Builds the map with the default [`SphereLayout::Split`] layout.
     ///
     /// Each hemisphere that the diagram reaches into is completed as in
@@ -385,38 +376,6 @@ impl SphereMap {
         a.into_iter().chain(b)
     }
 
-    /// What refinement to a tolerance asked, reached and cost; `None` for a map built without a
-    /// tolerance.
-    pub fn refinement(&self) -> Option<&Refinement> {
-        self.refinement.as_ref()
-    }
-
-    /// The map's own intensity at `direction`: `pdf(ω) ·` [`SphereMap::map_power`], the disk density
-    /// D of the map that serves ω, in the diagram's units (candela for a diagram in candela). Exact
-    /// at every node of the maps' grids, within the bound elsewhere, and `map_intensity / pdf` is the
-    /// same constant for every sample (see [`crate::HemisphereMap::map_intensity`]).
-    pub fn map_intensity(&self, direction: Vec3) -> f64 {
-        self.pdf(direction) * self.map_power()
-    }
-
-    /// The map's own flux ∫ [`SphereMap::map_intensity`] dω, in diagram units × sr; it differs from
-    /// [`SphereMap::target_power`] by a factor within the bound.
-    pub fn map_power(&self) -> f64 {
-        self.scale / self.inv_2t
-    }
-
-    /// The zones the data does not cover, completed with zero light (each is a warning for the
-    /// user), in θ order; empty when the diagram spans θ = 0° … 180°.
-    pub fn completions(&self) -> &[Completion] {
-        &self.completions
-    }
-
-    /// The data's largest value: the completed diagrams of the hemisphere maps hold the data divided
-    /// by it.
-    pub fn value_scale(&self) -> f64 {
-        self.scale
-    }
-
     /// [`SphereMap::target_power`] divided by [`SphereMap::value_scale`]: always finite.
     pub fn normalised_target_power(&self) -> f64 {
         1.0 / self.inv_target_total
@@ -497,11 +456,6 @@ impl SphereMap {
             },
             Layout::Lambert(c) => CoresOwned::Lambert(*c),
         }
-    }
-
-    /// 1/(2T): the pdf per unit of disk density.
-    pub(crate) fn inv_2t(&self) -> f64 {
-        self.inv_2t
     }
 
     /// The layout in use.
@@ -600,12 +554,6 @@ impl SphereMap {
             Layout::Lambert(c) => c.power_outside(lo, hi),
         };
         outside * 2.0 * self.inv_2t
-    }
-
-    /// The measured θ range [θ_0, θ_{N−1}] of the data, in radians: the support of the target; the
-    /// map puts at most ~2e-7 of its probability outside it.
-    pub fn measured_theta(&self) -> (f64, f64) {
-        self.measured
     }
 
     fn target_value(&self, d: Vec3) -> f64 {
@@ -713,3 +661,5 @@ impl Sampler for SphereMap {
     }
     super::batch::soa_sampler_methods!();
 }
+
+super::shared_accessors!(SphereMap);

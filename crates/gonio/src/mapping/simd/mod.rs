@@ -25,7 +25,7 @@
 //! end-to-end differences). **f32** calls on the f64 maps are widened to f64, run through the
 //! same kernels and rounded once (`dispatch.rs`). The **float32 map**
 //! ([`crate::mapping::Float32Map`]) runs the same kernel bodies over the f32 vocabularies, with
-//! the f32 values of the precision-dependent constants ([`math::Precision`]): its results, too,
+//! the f32 values of the precision-dependent constants (`math::Precision`): its results, too,
 //! are the same bits on every backend, block size and thread count.
 
 pub mod math;
