@@ -276,3 +276,106 @@ fn plot_draws_the_slice() {
     assert!(err.contains(".png or .svg"), "{err}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Issue 36: a BRDF file is one more input kind of the one command tree, so its options are
+/// ordinary options: refused (exit 2, by name) for another input, a BRDF method is refused for a
+/// diagram and a diagram's method for a BRDF, and the options every input has work on a BRDF
+/// (`--format f64` binary rows, `-o`, `--json`).
+#[test]
+fn brdf_options_are_ordinary_options() {
+    let dir = tmp("options");
+    let json = dir.join("ggx.json");
+    std::fs::write(
+        &json,
+        write_json(&Analytic::families()[1].table(7, 12).unwrap()),
+    )
+    .unwrap();
+    // BRDF options on a luminaire: a usage error naming the option.
+    for opt in [
+        vec!["--incident", "30,0"],
+        vec!["--theta-o", "7"],
+        vec!["--merl-phi", "12"],
+    ] {
+        let mut a = vec!["sample", "example", "-n", "3"];
+        a.extend(opt.iter().copied());
+        let (code, _, err) = gonio(&a);
+        assert_eq!(code, Some(2), "{opt:?}: {err}");
+        assert!(
+            err.contains(opt[0]) && err.contains("applies to BRDF files"),
+            "{opt:?}: {err}"
+        );
+    }
+    // A BRDF method on a diagram, a diagram's method on a BRDF.
+    let (code, _, err) = gonio(&["sample", "example", "-n", "3", "--method", "cosine"]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("--method cosine"), "{err}");
+    let (code, _, err) = gonio(&with_small(vec![
+        "sample",
+        s(&json),
+        "--incident",
+        "30,0",
+        "-n",
+        "3",
+        "--method",
+        "bilinear",
+    ]));
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("--method bilinear"), "{err}");
+    // Binary rows of nine f64 values, to a file; the same values as the CSV.
+    let bin = dir.join("rows.bin");
+    let (code, _, err) = gonio(&with_small(vec![
+        "sample",
+        s(&json),
+        "--incident",
+        "30,0",
+        "-n",
+        "17",
+        "--format",
+        "f64",
+        "-o",
+        s(&bin),
+    ]));
+    assert_eq!(code, Some(0), "{err}");
+    let bytes = std::fs::read(&bin).unwrap();
+    assert_eq!(bytes.len(), 17 * 9 * 8);
+    let (code, out, err) = gonio(&with_small(vec![
+        "sample",
+        s(&json),
+        "--incident",
+        "30,0",
+        "-n",
+        "17",
+    ]));
+    assert_eq!(code, Some(0), "{err}");
+    let csv: Vec<f64> = rows(&out).into_iter().flatten().collect();
+    let binv: Vec<f64> = bytes
+        .chunks_exact(8)
+        .map(|c| f64::from_le_bytes(c.try_into().unwrap()))
+        .collect();
+    assert_eq!(csv, binv);
+    // `info --json` and `check --json` on a BRDF.
+    let (code, out, err) = gonio(&with_small(vec![
+        "info",
+        s(&json),
+        "--incident",
+        "30,0",
+        "--json",
+    ]));
+    assert_eq!(code, Some(0), "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["format"], "gonio BRDF JSON");
+    assert!(v["albedo"].as_f64().unwrap() > 0.0);
+    let (code, out, err) = gonio(&with_small(vec![
+        "check",
+        s(&json),
+        "--incident",
+        "30,0",
+        "--quick",
+        "--json",
+    ]));
+    assert_eq!(code, Some(0), "{out}{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["incident_deg"][0], 30.0);
+    assert_eq!(v["passed"], true);
+    std::fs::remove_dir_all(&dir).ok();
+}

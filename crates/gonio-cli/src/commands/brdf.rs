@@ -92,6 +92,21 @@ pub struct Input {
 /// error when FILE is a BRDF file by its content and `--incident` is missing, or when a BRDF
 /// option is given for another input (it would be ignored); `None` otherwise.
 pub fn input(cmd: &str, file: &str, o: &BrdfOptions) -> Result<Option<Input>> {
+    // Inputs that are not BRDFs by their name (the built-in example, a photometric file, an
+    // image): a BRDF option is refused for them as for any other input.
+    let not_brdf = matches!(
+        crate::load::input_kind(file),
+        Ok(gonio::input::InputKind::Example
+            | gonio::input::InputKind::Ies
+            | gonio::input::InputKind::Eulumdat
+            | gonio::input::InputKind::EnvMap)
+    );
+    if let (Some(opt), true) = (o.given(), not_brdf) {
+        return Err(UsageError(format!(
+            "{opt} applies to BRDF files (MERL, UTIA, gonio BRDF JSON) only; {file} is not one"
+        ))
+        .into());
+    }
     if let Some(incident) = o.incident {
         let merl = MerlOptions::default();
         let opts = SamplerOptions::default();
