@@ -126,37 +126,26 @@ impl<'a, T> Soa<'a, T> {
     /// # Panics
     /// If its slices differ in length (a programming error of the caller, not an input error).
     pub fn len(&self) -> usize {
-        let (what, n, lens) = match self {
-            Soa::Sample { u, v, dir, pdf } => (
-                "sample",
-                u.len(),
-                [v.len(), dir[0].len(), dir[1].len(), dir[2].len(), pdf.len()],
-            ),
-            Soa::Pdf { dir, pdf } => (
-                "pdf",
-                pdf.len(),
-                [
-                    dir[0].len(),
-                    dir[1].len(),
-                    dir[2].len(),
+        match self {
+            Soa::Sample { u, v, dir, pdf } => {
+                let lens = [v.len(), dir[0].len(), dir[1].len(), dir[2].len(), pdf.len()];
+                check_len("sample", u.len(), &lens);
+                u.len()
+            }
+            Soa::Pdf { dir, pdf } => {
+                check_len(
+                    "pdf",
                     pdf.len(),
-                    pdf.len(),
-                ],
-            ),
-            Soa::Invert { dir, uv } => (
-                "invert",
-                uv[0].len(),
-                [
-                    uv[1].len(),
-                    dir[0].len(),
-                    dir[1].len(),
-                    dir[2].len(),
-                    uv[0].len(),
-                ],
-            ),
-        };
-        check_len(what, n, &lens);
-        n
+                    &[dir[0].len(), dir[1].len(), dir[2].len()],
+                );
+                pdf.len()
+            }
+            Soa::Invert { dir, uv } => {
+                let lens = [uv[1].len(), dir[0].len(), dir[1].len(), dir[2].len()];
+                check_len("invert", uv[0].len(), &lens);
+                uv[0].len()
+            }
+        }
     }
 
     /// Whether the call has no points.

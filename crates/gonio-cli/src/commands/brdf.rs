@@ -458,14 +458,6 @@ pub fn plot(b: &Input, a: &PlotArgs) -> Result<()> {
     let l = load(b)?;
     let s = sampler_of(b, l.brdf)?;
     let wi = incident(b);
-    let seq = Sequence::new(SequenceKind::Random, a.seed);
-    let n = a.samples.unwrap_or(2000);
-    let samples: Vec<Vec3> = with_method(method, &s, |m| {
-        (0..n as u64)
-            .map(|k| m.sample(wi, seq.point(k)).direction)
-            .filter(|d| d[2] >= 0.0)
-            .collect()
-    });
     let Some(diagram) = (0..s.slice_counts().0).find_map(|k| s.slice(k)) else {
         bail!(
             "{}: no slice holds reflectance above the horizon",
@@ -479,7 +471,15 @@ pub fn plot(b: &Input, a: &PlotArgs) -> Result<()> {
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_else(|| b.file.display().to_string());
+    let seq = Sequence::new(SequenceKind::Random, a.seed);
+    let n = a.samples.unwrap_or(2000);
+    // One method object for the samples and the picture (a fitted lobe or per-slice tables are
+    // built once).
     with_method(method, &s, |m| {
+        let samples: Vec<Vec3> = (0..n as u64)
+            .map(|k| m.sample(wi, seq.point(k)).direction)
+            .filter(|d| d[2] >= 0.0)
+            .collect();
         let at = IncidentSampler::of(m, t, wi);
         let title = format!(
             "{name} ({}) — slice at θ_i = {}°, φ_i = {}°, samples of `{}`",
