@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Dumps `gonio sample/pdf/invert/info` for every corpus file and `example` into a folder, so two
-# builds can be compared byte for byte (issue 24's invariant):
+# builds can be compared byte for byte (issue 24's invariant), with `gonio tables` in both precisions:
 #   scripts/dump-outputs.sh target/debug/gonio /tmp/before
 #   (change, rebuild)
 #   scripts/dump-outputs.sh target/debug/gonio /tmp/after && diff -r /tmp/before /tmp/after
@@ -27,6 +27,13 @@ dirs=dirs.csv
     done
   done
 } >"$dirs"
+# The map's tables in both precisions (docs/TABLES.md): the float32 blob holds every table the
+# float32 map reads, so equal blobs mean an equal float32 map.
+tables() {
+  for p in f32 f64; do
+    "$bin" tables "$1" -o "$out/$2.$p.tables" --precision "$p" 2>"$out/$2.$p.tables.err"; echo "rc=$?" >>"$out/$2.$p.tables.err"
+  done
+}
 inputs=(example)
 while IFS= read -r f; do inputs+=("$f"); done < <(find "$corpus" -type f \( -iname '*.ies' -o -iname '*.ldt' -o -iname '*.json' \) | sort)
 for f in "${inputs[@]}"; do
@@ -37,6 +44,7 @@ for f in "${inputs[@]}"; do
     "$bin" invert "$f" --directions "$dirs" --method "$m" >"$out/$tag.$m.invert" 2>"$out/$tag.$m.invert.err"; echo "rc=$?" >>"$out/$tag.$m.invert.err"
   done
   "$bin" info "$f" 2>&1 | sed -E 's/[0-9.]+ ?(ms|µs|s)\b/T\1/g' >"$out/$tag.info"; echo "rc=${PIPESTATUS[0]}" >>"$out/$tag.info"
+  tables "$f" "$tag"
 done
 # The environment maps beside the corpus (../shared/data/envmaps): the HDS sphere map of each.
 for f in ${envmaps:+"$envmaps"/*.hdr}; do
@@ -45,5 +53,6 @@ for f in ${envmaps:+"$envmaps"/*.hdr}; do
   "$bin" pdf "$f" --directions "$dirs" >"$out/$tag.pdf" 2>"$out/$tag.pdf.err"; echo "rc=$?" >>"$out/$tag.pdf.err"
   "$bin" invert "$f" --directions "$dirs" >"$out/$tag.invert" 2>"$out/$tag.invert.err"; echo "rc=$?" >>"$out/$tag.invert.err"
   "$bin" info "$f" 2>&1 | sed -E 's/[0-9.]+ ?(ms|µs|s)\b/T\1/g' >"$out/$tag.info"; echo "rc=${PIPESTATUS[0]}" >>"$out/$tag.info"
+  tables "$f" "$tag"
 done
 echo "$(ls | wc -l) files in $(pwd)"

@@ -2,26 +2,9 @@
 //! UTIA): formats recognised from the content, the CSV columns, sample → pdf → invert agreeing.
 
 use gonio::brdf::{write_json, write_merl, write_utia_dirs, Analytic};
-use std::process::Command;
 
-fn gonio(args: &[&str]) -> (bool, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_gonio"))
-        .args(args)
-        .output()
-        .expect("runs");
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
-
-fn rows(text: &str) -> Vec<Vec<f64>> {
-    text.lines()
-        .skip(1)
-        .map(|l| l.split(',').map(|f| f.parse().unwrap()).collect())
-        .collect()
-}
+mod common;
+use common::*;
 
 #[test]
 fn brdf_commands_on_every_format() {
@@ -53,13 +36,13 @@ fn brdf_commands_on_every_format() {
         let f = file.to_str().unwrap();
         let mut a = vec!["brdf", "info", f, "--incident", "40,10"];
         a.extend(small);
-        let (ok, out, err) = gonio(&a);
-        assert!(ok, "{err}");
+        let (status, out, err) = gonio(&a);
+        assert_eq!(status, Some(0), "{err}");
         assert!(out.contains(&format!("format: {format}")), "{out}");
         let mut a = vec!["brdf", "sample", f, "--incident", "40,10", "-n", "20"];
         a.extend(small);
-        let (ok, out, err) = gonio(&a);
-        assert!(ok, "{err}");
+        let (status, out, err) = gonio(&a);
+        assert_eq!(status, Some(0), "{err}");
         assert!(out.starts_with("u,v,x,y,z,pdf,w_r,w_g,w_b\n"));
         let samples = rows(&out);
         assert_eq!(samples.len(), 20);
@@ -78,8 +61,8 @@ fn brdf_commands_on_every_format() {
         for cmd in ["pdf", "invert"] {
             let mut a = vec!["brdf", cmd, f, "--incident", "40,10", "--directions", c];
             a.extend(small);
-            let (ok, out, err) = gonio(&a);
-            assert!(ok, "{err}");
+            let (status, out, err) = gonio(&a);
+            assert_eq!(status, Some(0), "{err}");
             let got = rows(&out);
             let want: Vec<&Vec<f64>> = samples.iter().filter(|r| r[5] > 1e-6).collect();
             assert_eq!(got.len(), want.len());
@@ -104,9 +87,9 @@ fn brdf_commands_on_every_format() {
     let bytes = std::fs::read(&merl).unwrap();
     let cut = dir.join("cut.binary");
     std::fs::write(&cut, &bytes[..bytes.len() - 5]).unwrap();
-    let (ok, _, err) = gonio(&["brdf", "info", cut.to_str().unwrap(), "--incident", "0,0"]);
+    let (status, _, err) = gonio(&["brdf", "info", cut.to_str().unwrap(), "--incident", "0,0"]);
     assert!(
-        !ok && err.contains("merl") && err.contains("bytes"),
+        status != Some(0) && err.contains("merl") && err.contains("bytes"),
         "{err}"
     );
     std::fs::remove_dir_all(&dir).ok();
@@ -129,8 +112,8 @@ fn bom_json_reads_and_huge_values_are_refused_located() {
         &["brdf", "info", b, "--incident", "30,0"][..],
         &["info", b, "--incident", "30,0"][..],
     ] {
-        let (ok, out, err) = gonio(args);
-        assert!(ok, "{args:?}: {err}");
+        let (status, out, err) = gonio(args);
+        assert_eq!(status, Some(0), "{args:?}: {err}");
         assert!(out.contains("gonio BRDF JSON"), "{args:?}: {out}");
         assert!(!out.contains("inf"), "{args:?}: {out}");
     }
@@ -140,8 +123,8 @@ fn bom_json_reads_and_huge_values_are_refused_located() {
     );
     let hp = dir.join("huge.json");
     std::fs::write(&hp, huge).unwrap();
-    let (ok, _, err) = gonio(&["brdf", "info", hp.to_str().unwrap(), "--incident", "30,0"]);
-    assert!(!ok);
+    let (status, _, err) = gonio(&["brdf", "info", hp.to_str().unwrap(), "--incident", "30,0"]);
+    assert_ne!(status, Some(0));
     assert!(
         err.contains("json 4:12") && err.contains("1.7e308"),
         "{err}"
@@ -168,8 +151,8 @@ fn broken_brdf_files_with_incident_get_the_reader_s_message() {
     let missing = dir.join("missing.binary");
     for f in [&empty, &lying, &missing] {
         let f = f.to_str().unwrap();
-        let (ok, _, top) = gonio(&["info", f, "--incident", "30,0"]);
-        assert!(!ok, "{f}");
+        let (status, _, top) = gonio(&["info", f, "--incident", "30,0"]);
+        assert_ne!(status, Some(0), "{f}");
         assert!(!top.contains("unexpected argument"), "{f}: {top}");
         let (_, _, sub) = gonio(&["brdf", "info", f, "--incident", "30,0"]);
         assert_eq!(top, sub, "{f}: the top level and `gonio brdf info` differ");

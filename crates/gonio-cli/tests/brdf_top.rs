@@ -4,28 +4,10 @@
 //! `--incident`, and the slice picture.
 
 use gonio::brdf::{write_json, write_merl, write_utia_dirs, Analytic};
-use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::path::PathBuf;
 
-fn gonio(args: &[&str]) -> (Option<i32>, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_gonio"))
-        .args(args)
-        .output()
-        .expect("runs");
-    (
-        out.status.code(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
-
-fn rows(text: &str) -> Vec<Vec<f64>> {
-    text.lines()
-        .skip(1)
-        .filter(|l| !l.starts_with('#'))
-        .map(|l| l.split(',').map(|f| f.parse().unwrap()).collect())
-        .collect()
-}
+mod common;
+use common::*;
 
 fn tmp(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("gonio-brdf-top-{}-{name}", std::process::id()));
@@ -48,10 +30,6 @@ const SMALL: [&str; 8] = [
 fn with_small(mut a: Vec<&str>) -> Vec<&str> {
     a.extend(SMALL);
     a
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
 }
 
 #[test]

@@ -2,35 +2,9 @@
 //! info, sample with radiance columns, pdf, check, convert --to pbrt-v4, and the black-map error.
 
 use gonio::image::{write_hdr, write_pfm, Image};
-use std::path::PathBuf;
-use std::process::{Command, Output};
 
-const BIN: &str = env!("CARGO_BIN_EXE_gonio");
-
-fn temp_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("gonio-envmap-cli-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn run(args: &[&str]) -> Output {
-    Command::new(BIN)
-        .args(args)
-        .arg("--quiet")
-        .output()
-        .expect("the gonio binary runs")
-}
-
-fn ok(args: &[&str]) -> String {
-    let o = run(args);
-    assert!(
-        o.status.success(),
-        "gonio {args:?} failed: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    String::from_utf8(o.stdout).unwrap()
-}
+mod common;
+use common::*;
 
 /// A 32 × 16 sky: 0.25 everywhere, a bright pixel at (7, 3).
 fn sky() -> Image {
@@ -193,14 +167,6 @@ fn a_black_map_is_a_clear_error() {
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("scanline"));
     let _ = std::fs::remove_dir_all(&dir);
-}
-
-/// The rows of `gonio sample`'s CSV (header skipped).
-fn rows(csv: &str) -> Vec<Vec<f64>> {
-    csv.lines()
-        .skip(1)
-        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
-        .collect()
 }
 
 #[test]

@@ -4,24 +4,9 @@ use gonio::mesh::generate::{banana, shape_mesh, Shape};
 use gonio::mesh::ply::write_ply_binary;
 use gonio::mesh::VertexProperty;
 use std::path::PathBuf;
-use std::process::{Command, Output};
 
-const BIN: &str = env!("CARGO_BIN_EXE_gonio");
-
-fn temp_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("gonio-cli-uv-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn run(args: &[&str]) -> Output {
-    Command::new(BIN)
-        .args(args)
-        .arg("--quiet")
-        .output()
-        .expect("the gonio binary runs")
-}
+mod common;
+use common::*;
 
 fn names(dir: &PathBuf) -> Vec<String> {
     let mut v: Vec<String> = std::fs::read_dir(dir)

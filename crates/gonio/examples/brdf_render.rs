@@ -46,16 +46,13 @@ use gonio::brdf::{
 };
 use gonio::envmap::{luminance, EnvironmentMap};
 use gonio::image::Image;
+use gonio::vector::dot;
 use gonio::{Point2, Vec3};
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use std::time::Instant;
 
 const SIZE: usize = 96;
-
-fn dot(a: Vec3, b: Vec3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
 
 /// A pixel on the sphere: the shading frame (t, b, n) and ω_i = the view direction in it.
 #[derive(Clone, Copy)]

@@ -7,22 +7,10 @@
 //! first use, not by the build): the difference of the two counts is the bound's cost. Then the
 //! same for the float32 environment map (`EnvironmentMap::into_float32`).
 
-use gonio::envmap::EnvironmentMap;
-use gonio::image::Image;
-use std::time::Instant;
+mod common;
 
-/// The random 2048 × 1024 image of the `envmaps` example (xorshift, values in [0, 4)).
-fn random_image(w: usize, h: usize) -> Image {
-    let mut rgb = Vec::with_capacity(w * h * 3);
-    let mut x = 0x9e3779b97f4a7c15u64;
-    for _ in 0..w * h * 3 {
-        x ^= x << 13;
-        x ^= x >> 7;
-        x ^= x << 17;
-        rgb.push((x >> 40) as f32 / (1u64 << 24) as f32 * 4.0);
-    }
-    Image::new(w, h, rgb).unwrap()
-}
+use gonio::envmap::EnvironmentMap;
+use std::time::Instant;
 
 fn main() {
     let builds: usize = std::env::args()
@@ -36,7 +24,7 @@ fn main() {
         .build()
         .unwrap();
     let (w, h) = (2048usize, 1024usize);
-    let big = random_image(w, h);
+    let big = common::random_sky(w, h);
     let mut times = Vec::new();
     let mut mem = 0;
     for _ in 0..builds {

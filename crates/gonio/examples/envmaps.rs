@@ -11,29 +11,17 @@
 //! Each sampler runs its fastest path: the batch calls (the HDS map's SIMD kernels; the peers'
 //! scalar loops) and the batch radiance lookup `EnvironmentMap::eval_batch_with`.
 
-#[path = "../tests/common/corpus.rs"]
-mod corpus;
+mod common;
 
 use gonio::envmap::{luminance, EnvironmentMap, Lookup};
 use gonio::image::Image;
 use gonio::sampler::normalize;
 use gonio::sequence::{Random, Sobol};
+use gonio::vector::{cross, dot};
 use gonio::Batches;
 use gonio::{Point2, Sampler, Vec3};
 use std::f64::consts::PI;
 use std::time::Instant;
-
-fn dot(a: Vec3, b: Vec3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn cross(a: Vec3, b: Vec3) -> Vec3 {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
 
 fn frame(n: Vec3) -> (Vec3, Vec3) {
     let a = if n[0].abs() > 0.9 {
@@ -248,18 +236,7 @@ fn main() {
         .num_threads(1)
         .build()
         .unwrap();
-    let big = {
-        let (w, h) = (2048usize, 1024usize);
-        let mut rgb = Vec::with_capacity(w * h * 3);
-        let mut x = 0x9e3779b97f4a7c15u64;
-        for _ in 0..w * h * 3 {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            rgb.push((x >> 40) as f32 / (1u64 << 24) as f32 * 4.0);
-        }
-        Image::new(w, h, rgb).unwrap()
-    };
+    let big = common::random_sky(2048, 1024);
     let mut times = Vec::new();
     let mut mem = 0;
     for _ in 0..5 {
@@ -274,7 +251,7 @@ fn main() {
         "build 2048x1024 on one thread: median {:.1} ms (min {:.1}, max {:.1}); memory beyond the image {} bytes = {:.2} bytes/pixel",
         times[2], times[0], times[4], mem, mem as f64 / (2048.0 * 1024.0)
     );
-    let Some(dir) = corpus::envmaps_dir() else {
+    let Some(dir) = common::envmaps_dir() else {
         return;
     };
     let mut files: Vec<_> = std::fs::read_dir(&dir)

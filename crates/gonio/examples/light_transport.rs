@@ -25,6 +25,7 @@
 
 mod common;
 
+use common::room::{patch, reference, rel_rmse, FLOOR_Z, PATCHES};
 use common::{loglog_slope, loglog_svg, Series, Table};
 use gonio::photometry::{read, DirTiltResolver, FileFormat};
 use gonio::sampler::spherical;
@@ -32,15 +33,6 @@ use gonio::sequence::{Halton, Random};
 use gonio::{Diagram, Domain, Method, Point2, Sampler, Vec3};
 use rayon::prelude::*;
 
-const FLOOR_Z: f64 = -3.0;
-const WALL_Y: f64 = 3.0;
-const X_RANGE: (f64, f64) = (-4.0, 8.0);
-const FLOOR_Y: (f64, f64) = (-4.0, 3.0);
-const WALL_Z: (f64, f64) = (-3.0, 1.0);
-const NX: usize = 12;
-const NFY: usize = 7;
-const NWZ: usize = 4;
-const PATCHES: usize = NX * NFY + NX * NWZ;
 /// Radius of the smooth receivers' kernel, metres.
 const KERNEL_R: f64 = 1.0;
 /// Centres (x, y) of the smooth receivers on the floor.
@@ -103,78 +95,9 @@ fn reference_smooth(d: &Diagram, k: usize) -> Vec<f64> {
         .collect()
 }
 
-/// The patch a direction from the origin lands in (first plane hit), if any.
-#[inline]
-fn patch(d: Vec3) -> Option<usize> {
-    let t_floor = if d[2] < 0.0 {
-        FLOOR_Z / d[2]
-    } else {
-        f64::INFINITY
-    };
-    let t_wall = if d[1] > 0.0 {
-        WALL_Y / d[1]
-    } else {
-        f64::INFINITY
-    };
-    if t_floor < t_wall {
-        let (x, y) = (t_floor * d[0], t_floor * d[1]);
-        let ix = (x - X_RANGE.0).floor();
-        let iy = (y - FLOOR_Y.0).floor();
-        (ix >= 0.0 && ix < NX as f64 && iy >= 0.0 && iy < NFY as f64)
-            .then(|| iy as usize * NX + ix as usize)
-    } else if t_wall.is_finite() {
-        let (x, z) = (t_wall * d[0], t_wall * d[2]);
-        let ix = (x - X_RANGE.0).floor();
-        let iz = (z - WALL_Z.0).floor();
-        (ix >= 0.0 && ix < NX as f64 && iz >= 0.0 && iz < NWZ as f64)
-            .then(|| NX * NFY + iz as usize * NX + ix as usize)
-    } else {
-        None
-    }
-}
-
 fn intensity(d: &Diagram, w: Vec3) -> f64 {
     let (t, p) = spherical(w);
     d.interpolate(t, p)
-}
-
-/// Mean irradiance of every patch by the midpoint rule with k × k points.
-fn reference(d: &Diagram, k: usize) -> Vec<f64> {
-    (0..PATCHES)
-        .into_par_iter()
-        .map(|pi| {
-            let mut sum = 0.0;
-            for a in 0..k {
-                for b in 0..k {
-                    let (fa, fb) = ((a as f64 + 0.5) / k as f64, (b as f64 + 0.5) / k as f64);
-                    let (p, normal_comp) = if pi < NX * NFY {
-                        let (ix, iy) = (pi % NX, pi / NX);
-                        let p = [
-                            X_RANGE.0 + ix as f64 + fa,
-                            FLOOR_Y.0 + iy as f64 + fb,
-                            FLOOR_Z,
-                        ];
-                        (p, -FLOOR_Z)
-                    } else {
-                        let q = pi - NX * NFY;
-                        let (ix, iz) = (q % NX, q / NX);
-                        let p = [
-                            X_RANGE.0 + ix as f64 + fa,
-                            WALL_Y,
-                            WALL_Z.0 + iz as f64 + fb,
-                        ];
-                        (p, WALL_Y)
-                    };
-                    let d2 = p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
-                    let dist = d2.sqrt();
-                    let w = [p[0] / dist, p[1] / dist, p[2] / dist];
-                    // cos at the receiver = (distance along the normal) / d
-                    sum += intensity(d, w) * (normal_comp / dist) / d2;
-                }
-            }
-            sum / (k * k) as f64
-        })
-        .collect()
 }
 
 struct Run {
@@ -196,16 +119,6 @@ fn run(
     method: Method,
     seq: &'static str,
 ) -> Run {
-    let rel_rmse = |sums: &[f64], r: &[f64], n: f64| {
-        let mean = r.iter().sum::<f64>() / r.len() as f64;
-        let mse = sums
-            .iter()
-            .zip(r)
-            .map(|(s, r)| (s / n - r).powi(2))
-            .sum::<f64>()
-            / r.len() as f64;
-        mse.sqrt() / mean
-    };
     let mut sums = vec![0.0; PATCHES];
     let mut sums_smooth = vec![0.0; RECEIVERS.len()];
     let mut errors = Vec::new();
@@ -233,8 +146,8 @@ fn run(
         if k + 1 == next {
             let t = std::time::Instant::now();
             let n = next as f64;
-            errors.push((n, rel_rmse(&sums, reference, n)));
-            smooth.push((n, rel_rmse(&sums_smooth, reference_smooth, n)));
+            errors.push((n, rel_rmse(&sums, n, reference)));
+            smooth.push((n, rel_rmse(&sums_smooth, n, reference_smooth)));
             next *= 2;
             splat_ns += t.elapsed().as_nanos() as f64;
         }
@@ -254,7 +167,7 @@ fn run(
 
 fn study(name: &str, title: &str, d: &Diagram, log2_max: u32) {
     let n = 1usize << log2_max;
-    let reference = reference(d, 256);
+    let reference = reference(&|w| intensity(d, w), 256);
     let reference_smooth = reference_smooth(d, 512);
     let mut halton = vec![[0.0; 2]; n];
     Halton::with_skip(1).fill(0, &mut halton);

@@ -18,6 +18,7 @@
 
 mod common;
 
+use common::room::{patch, reference, rel_rmse, PATCHES};
 use common::{diagram_set, median, ns_per_item, Table};
 use gonio::photometry::{read, DirTiltResolver, FileFormat};
 use gonio::sampler::spherical;
@@ -160,13 +161,7 @@ fn corpus() -> Vec<(String, Diagram)> {
         println!("corpus not found (set GONIO_CORPUS): skipping the corpus rows");
         return Vec::new();
     };
-    let mut files: Vec<_> = ["ies", "ldt"]
-        .iter()
-        .filter_map(|s| std::fs::read_dir(dir.join(s)).ok())
-        .flatten()
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .collect();
-    files.sort();
+    let files = common::corpus_files(&dir);
     files
         .into_iter()
         .filter_map(|path| {
@@ -181,83 +176,6 @@ fn corpus() -> Vec<(String, Diagram)> {
 
 // ---- light transport (the scene of examples/light_transport.rs, patches only) ----
 
-const FLOOR_Z: f64 = -3.0;
-const WALL_Y: f64 = 3.0;
-const X_RANGE: (f64, f64) = (-4.0, 8.0);
-const FLOOR_Y: (f64, f64) = (-4.0, 3.0);
-const WALL_Z: (f64, f64) = (-3.0, 1.0);
-const NX: usize = 12;
-const NFY: usize = 7;
-const NWZ: usize = 4;
-const PATCHES: usize = NX * NFY + NX * NWZ;
-
-fn patch(d: Vec3) -> Option<usize> {
-    let t_floor = if d[2] < 0.0 {
-        FLOOR_Z / d[2]
-    } else {
-        f64::INFINITY
-    };
-    let t_wall = if d[1] > 0.0 {
-        WALL_Y / d[1]
-    } else {
-        f64::INFINITY
-    };
-    if t_floor < t_wall {
-        let (x, y) = (t_floor * d[0], t_floor * d[1]);
-        let (ix, iy) = ((x - X_RANGE.0).floor(), (y - FLOOR_Y.0).floor());
-        (ix >= 0.0 && ix < NX as f64 && iy >= 0.0 && iy < NFY as f64)
-            .then(|| iy as usize * NX + ix as usize)
-    } else if t_wall.is_finite() {
-        let (x, z) = (t_wall * d[0], t_wall * d[2]);
-        let (ix, iz) = ((x - X_RANGE.0).floor(), (z - WALL_Z.0).floor());
-        (ix >= 0.0 && ix < NX as f64 && iz >= 0.0 && iz < NWZ as f64)
-            .then(|| NX * NFY + iz as usize * NX + ix as usize)
-    } else {
-        None
-    }
-}
-
-/// Mean irradiance of every patch by the midpoint rule with k × k points, for intensity `i`.
-fn reference(i: &(dyn Fn(Vec3) -> f64 + Sync), k: usize) -> Vec<f64> {
-    (0..PATCHES)
-        .into_par_iter()
-        .map(|pi| {
-            let mut sum = 0.0;
-            for a in 0..k {
-                for b in 0..k {
-                    let (fa, fb) = ((a as f64 + 0.5) / k as f64, (b as f64 + 0.5) / k as f64);
-                    let (p, nc) = if pi < NX * NFY {
-                        let (ix, iy) = (pi % NX, pi / NX);
-                        (
-                            [
-                                X_RANGE.0 + ix as f64 + fa,
-                                FLOOR_Y.0 + iy as f64 + fb,
-                                FLOOR_Z,
-                            ],
-                            -FLOOR_Z,
-                        )
-                    } else {
-                        let q = pi - NX * NFY;
-                        let (ix, iz) = (q % NX, q / NX);
-                        (
-                            [
-                                X_RANGE.0 + ix as f64 + fa,
-                                WALL_Y,
-                                WALL_Z.0 + iz as f64 + fb,
-                            ],
-                            WALL_Y,
-                        )
-                    };
-                    let d2 = p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
-                    let dist = d2.sqrt();
-                    sum += i([p[0] / dist, p[1] / dist, p[2] / dist]) * (nc / dist) / d2;
-                }
-            }
-            sum / (k * k) as f64
-        })
-        .collect()
-}
-
 /// Relative RMSE over the patches at N = 2^4 … 2^log2max (first N points), and CPU ns per sample.
 fn transport(
     s: &dyn Sampler,
@@ -265,7 +183,6 @@ fn transport(
     pts: &[Point2],
     r: &[f64],
 ) -> (Vec<(f64, f64)>, f64) {
-    let mean = r.iter().sum::<f64>() / r.len() as f64;
     let mut sums = vec![0.0; PATCHES];
     let mut errors = Vec::new();
     let mut next = 16usize;
@@ -282,13 +199,7 @@ fn transport(
         if k + 1 == next {
             let t = Instant::now();
             let n = next as f64;
-            let mse = sums
-                .iter()
-                .zip(r)
-                .map(|(s, r)| (s / n - r).powi(2))
-                .sum::<f64>()
-                / r.len() as f64;
-            errors.push((n, mse.sqrt() / mean));
+            errors.push((n, rel_rmse(&sums, n, r)));
             next *= 2;
             bookkeeping += t.elapsed().as_nanos() as f64;
         }

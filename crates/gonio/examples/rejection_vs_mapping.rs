@@ -99,13 +99,7 @@ fn main() {
         println!("corpus not found (set GONIO_CORPUS): skipping the corpus table");
         return;
     };
-    let mut files: Vec<_> = ["ies", "ldt"]
-        .iter()
-        .filter_map(|s| std::fs::read_dir(dir.join(s)).ok())
-        .flatten()
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .collect();
-    files.sort();
+    let files = common::corpus_files(&dir);
     let mut t = Table::new(&[
         "file",
         "grid N×M",

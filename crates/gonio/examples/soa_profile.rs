@@ -20,9 +20,10 @@
 //! (for `perf record`); `GONIO_PROFILE_FAMILY=peaky` uses the side-by-side script's grid (values
 //! r⁴ + 10⁻³, r uniform, θ 0…90°, φ 0…360°) instead of the "lobes" diagram.
 
+mod common;
+
 use gonio::mapping::batch::SoaSampler;
 use gonio::mapping::simd::Backend;
-use gonio::sequence::Halton;
 use gonio::synthetic::{random_hemisphere, Family};
 use gonio::Batches;
 use gonio::{HemisphereMap, Sampler};
@@ -52,23 +53,15 @@ fn main() {
         random_hemisphere(Family::Lobes, n, m, false, 7)
     };
     let map = HemisphereMap::new(&diagram).unwrap();
-    let mut pts = vec![[0.0; 2]; count];
-    Halton::with_skip(1).fill(0, &mut pts);
     // Inputs of every operation, prepared in the setup (scalar reference directions).
-    let u: Vec<f64> = pts.iter().map(|p| p[0]).collect();
-    let v: Vec<f64> = pts.iter().map(|p| p[1]).collect();
-    let dirs: Vec<[f64; 3]> = pts.iter().map(|&p| map.sample(p).direction).collect();
-    let d: Vec<Vec<f64>> = (0..3)
-        .map(|c| dirs.iter().map(|x| x[c]).collect())
-        .collect();
-    let d32: Vec<Vec<f32>> = d
-        .iter()
-        .map(|c| c.iter().map(|&x| x as f32).collect())
-        .collect();
-    let (u32s, v32s): (Vec<f32>, Vec<f32>) = (
-        u.iter().map(|&x| x as f32).collect(),
-        v.iter().map(|&x| x as f32).collect(),
-    );
+    let common::profile::Inputs {
+        pts,
+        dirs,
+        uv: [u, v],
+        uv32: [u32s, v32s],
+        d,
+        d32,
+    } = common::profile::inputs(&map, count);
     let mut o = vec![vec![0.0f64; count]; 4];
     let mut o32 = vec![vec![0.0f32; count]; 4];
     // Outputs of the AoS batch paths (`Sampler::{sample,pdf,invert}_batch`).

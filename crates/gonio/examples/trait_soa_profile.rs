@@ -14,7 +14,8 @@
 //! done; done
 //! ```
 
-use gonio::sequence::Halton;
+mod common;
+
 use gonio::synthetic::{random_hemisphere, Family};
 use gonio::{Batches, Diagram, HemisphereMap, Sampler, SphereMap};
 use std::hint::black_box;
@@ -51,22 +52,13 @@ fn main() {
         }
         _ => Box::new(HemisphereMap::new(&hemi).unwrap()),
     };
-    let mut pts = vec![[0.0; 2]; count];
-    Halton::with_skip(1).fill(0, &mut pts);
-    let u: Vec<f64> = pts.iter().map(|p| p[0]).collect();
-    let v: Vec<f64> = pts.iter().map(|p| p[1]).collect();
-    let dirs: Vec<[f64; 3]> = pts.iter().map(|&p| s.sample(p).direction).collect();
-    let d: Vec<Vec<f64>> = (0..3)
-        .map(|c| dirs.iter().map(|x| x[c]).collect())
-        .collect();
-    let d32: Vec<Vec<f32>> = d
-        .iter()
-        .map(|c| c.iter().map(|&x| x as f32).collect())
-        .collect();
-    let (u32s, v32s): (Vec<f32>, Vec<f32>) = (
-        u.iter().map(|&x| x as f32).collect(),
-        v.iter().map(|&x| x as f32).collect(),
-    );
+    let common::profile::Inputs {
+        uv: [u, v],
+        uv32: [u32s, v32s],
+        d,
+        d32,
+        ..
+    } = common::profile::inputs(s.as_ref(), count);
     let mut o = vec![vec![0.0f64; count]; 4];
     let mut o32 = vec![vec![0.0f32; count]; 4];
     // The float32 map is built on the first f32 call: make it in the setup of every op.

@@ -48,6 +48,7 @@ pub mod photometry;
 pub mod sampler;
 pub mod sequence;
 pub mod synthetic;
+pub mod vector;
 
 /// The crate's README example, compiled and run as a doctest (`cargo test --doc`).
 #[cfg(doctest)]

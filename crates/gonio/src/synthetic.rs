@@ -149,22 +149,35 @@ pub fn grid_values(m: usize, n: usize, mut cell: impl FnMut(usize, usize) -> f64
 pub fn example_luminaire() -> Diagram {
     let theta: Vec<f64> = (0..=36).map(|k| 5.0 * k as f64).collect();
     let phi: Vec<f64> = (0..24).map(|k| 15.0 * k as f64).collect();
-    let values: Vec<Vec<f64>> = phi
-        .iter()
-        .map(|&p| {
-            theta
-                .iter()
-                .map(|&t| {
-                    let d = crate::sampler::direction(t.to_radians(), p.to_radians());
-                    // main beam 60° off nadir toward +x, a wide down-light and a weak up-light
-                    let a = [60f64.to_radians().sin(), 0.0, -60f64.to_radians().cos()];
-                    let beam = (d[0] * a[0] + d[2] * a[2]).max(0.0).powi(12);
-                    let down = (-d[2]).max(0.0).powi(2);
-                    let up = 0.05 * d[2].max(0.0);
-                    (1200.0 * beam + 400.0 * down + 300.0 * up).round()
-                })
-                .collect()
-        })
-        .collect();
-    Diagram::from_degrees(&theta, &phi, &values).expect("the example diagram is valid")
+    // main beam 60° off nadir toward +x, a wide down-light and a weak up-light
+    let a = [60f64.to_radians().sin(), 0.0, -60f64.to_radians().cos()];
+    tabulate(&theta, &phi, |d| {
+        let beam = (d[0] * a[0] + d[2] * a[2]).max(0.0).powi(12);
+        let down = (-d[2]).max(0.0).powi(2);
+        let up = 0.05 * d[2].max(0.0);
+        (1200.0 * beam + 400.0 * down + 300.0 * up).round()
+    })
+    .expect("the example diagram is valid")
+}
+
+/// The diagram of `f`, a function of direction (gonio's frame), on the grid of parallels
+/// `theta_deg` and meridians `phi_deg` (degrees): value (i, j) = f(direction(θ_j, φ_i)).
+///
+/// ```
+/// let d = gonio::synthetic::tabulate(&[0.0, 45.0, 90.0], &[0.0, 180.0], |w| w[2].max(0.0))
+///     .unwrap();
+/// assert_eq!(d.value(1, 0), 1.0);
+/// ```
+pub fn tabulate(
+    theta_deg: &[f64],
+    phi_deg: &[f64],
+    f: impl Fn(crate::Vec3) -> f64,
+) -> Result<Diagram, crate::diagram::DiagramError> {
+    let values = grid_values(phi_deg.len(), theta_deg.len(), |i, j| {
+        f(crate::sampler::direction(
+            theta_deg[j].to_radians(),
+            phi_deg[i].to_radians(),
+        ))
+    });
+    Diagram::from_degrees(theta_deg, phi_deg, &values)
 }

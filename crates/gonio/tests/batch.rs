@@ -5,6 +5,8 @@
 // Columns of the structure-of-arrays outputs are indexed by component on purpose.
 #![allow(clippy::needless_range_loop)]
 
+mod common;
+
 use gonio::mapping::batch::{invert_soa_par, pdf_soa_par, sample_soa_par, SoaSampler};
 use gonio::mapping::simd::{Backend, BatchFloat};
 use gonio::synthetic::{example_luminaire, random_hemisphere, Family};
@@ -20,13 +22,7 @@ type MakeMap = Box<dyn Fn() -> Box<dyn Probe>>;
 /// split sphere (both halves), the Lambert sphere.
 fn maps() -> Vec<(String, MakeMap)> {
     let mut v: Vec<(String, MakeMap)> = Vec::new();
-    for (fam, n, m, irr, seed) in [
-        (Family::Lobes, 19, 36, false, 1),
-        (Family::Lobes, 181, 361, false, 2),
-        (Family::Spiky, 13, 17, true, 3),
-        (Family::ZeroHeavy, 9, 12, true, 4),
-        (Family::Rotational, 30, 1, false, 5),
-    ] {
+    for (fam, n, m, irr, seed) in common::MAP_CASES {
         v.push((
             format!("hemisphere {fam:?} {n}x{m} irregular={irr}"),
             Box::new(move || {

@@ -75,14 +75,10 @@ fn cases() -> Vec<Case> {
             SphereMap::with_layout(&example_luminaire(), SphereLayout::Lambert).unwrap(),
         ),
     ];
-    for (fam, n, m, irr, seed) in [
-        (Family::Lobes, 19, 36, false, 1),
-        (Family::Lobes, 181, 361, false, 2),
-        (Family::Spiky, 13, 17, true, 3),
-        (Family::ZeroHeavy, 9, 12, true, 4),
-        (Family::Rotational, 30, 1, false, 5),
-        (Family::UniformRandom, 25, 24, false, 6),
-    ] {
+    let cases = common::MAP_CASES
+        .into_iter()
+        .chain([(Family::UniformRandom, 25, 24, false, 6)]);
+    for (fam, n, m, irr, seed) in cases {
         let d = random_hemisphere(fam, n, m, irr, seed);
         v.push(hemisphere_case(
             &format!("{fam:?} {n}x{m} irregular={irr}"),

@@ -2,22 +2,13 @@
 //! docs/DERIVATION.md §12.2.
 
 use gonio::synthetic::{random_hemisphere, Family};
+use gonio::vector::{cross, norm};
 use gonio::Batches;
 use gonio::{Diagram, HemisphereMap, Sampler, SphereMap};
 use proptest::prelude::*;
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-fn norm(a: [f64; 3]) -> f64 {
-    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
-}
 fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
     norm([a[0] - b[0], a[1] - b[1], a[2] - b[2]])
 }
@@ -49,25 +40,11 @@ fn toy_diagrams() -> Vec<(&'static str, Diagram)> {
         let theta: Vec<f64> = (0..10).map(|k| 10.0 * k as f64).collect();
         let phi: Vec<f64> = (0..12).map(|k| 30.0 * k as f64).collect();
         let axis = gonio::sampler::direction(30f64.to_radians(), 40f64.to_radians());
-        let values: Vec<Vec<f64>> = phi
-            .iter()
-            .map(|&p| {
-                theta
-                    .iter()
-                    .map(|&t| {
-                        let d = gonio::sampler::direction(t.to_radians(), p.to_radians());
-                        (d[0] * axis[0] + d[1] * axis[1] + d[2] * axis[2])
-                            .max(0.0)
-                            .powi(8)
-                    })
-                    .collect()
-            })
-            .collect();
-        Diagram::from_degrees(
-            &theta.iter().map(|t| t * 90.0 / 90.0).collect::<Vec<_>>(),
-            &phi,
-            &values,
-        )
+        gonio::synthetic::tabulate(&theta, &phi, |d| {
+            (d[0] * axis[0] + d[1] * axis[1] + d[2] * axis[2])
+                .max(0.0)
+                .powi(8)
+        })
         .unwrap()
     };
     vec![

@@ -5,6 +5,7 @@ use gonio::mesh::generate::{banana, named_shapes, shape_mesh, Shape};
 use gonio::mesh::metrics::{measure, surface_target};
 use gonio::mesh::param::{area3, signed_area};
 use gonio::mesh::{obj, parameterise, Density, Layout, MeshError, UvOptions};
+use gonio::vector::{cross, dot, sub};
 
 fn opts(layout: Layout) -> UvOptions {
     UvOptions {
@@ -400,18 +401,4 @@ fn texel_area_per_surface_area_is_within_ten_percent_on_a_smooth_shape() {
         "{:?}",
         m.ratio_range
     );
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
 }

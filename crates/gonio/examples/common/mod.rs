@@ -2,6 +2,9 @@
 //! tiny dependency-free SVG writer for log–log line plots.
 #![allow(dead_code)]
 
+pub mod profile;
+pub mod room;
+
 use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -21,7 +24,20 @@ pub fn quick() -> bool {
 #[path = "../../tests/common/corpus.rs"]
 mod corpus;
 #[allow(unused_imports)]
-pub use corpus::corpus_dir;
+pub use corpus::{corpus_dir, corpus_files, envmaps_dir};
+
+/// The random `w` × `h` sky of the environment-map experiments (xorshift, values in [0, 4)).
+pub fn random_sky(w: usize, h: usize) -> gonio::image::Image {
+    let mut rgb = Vec::with_capacity(w * h * 3);
+    let mut x = 0x9e3779b97f4a7c15u64;
+    for _ in 0..w * h * 3 {
+        x ^= x << 13;
+        x ^= x >> 7;
+        x ^= x << 17;
+        rgb.push((x >> 40) as f32 / (1u64 << 24) as f32 * 4.0);
+    }
+    gonio::image::Image::new(w, h, rgb).unwrap()
+}
 
 /// A simple table: a header and rows of already formatted cells.
 pub struct Table {

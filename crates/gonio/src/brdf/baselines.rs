@@ -14,6 +14,7 @@ use super::sampler::{cosine_invert, cosine_sample, scalar_albedo, BrdfSample, Br
 use super::{clamped, periodic, scalar_albedo_grid, Symmetry, TabulatedBrdf};
 use crate::baselines::PiecewiseConstant;
 use crate::sampler::{normalize, spherical, Domain, InvertError, Point2, Sample, Sampler, Vec3};
+use crate::vector::dot;
 use std::f64::consts::{PI, TAU};
 
 /// A BRDF sampling method: samples ω_o for an incident direction, with exact pdf and inverse.
@@ -111,10 +112,6 @@ fn vndf_basis(wi: Vec3, ax: f64, ay: f64) -> (Vec3, Vec3, Vec3) {
         vh[0] * t1[1] - vh[1] * t1[0],
     ];
     (vh, t1, t2)
-}
-
-fn dot(a: Vec3, b: Vec3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 impl<'a> GgxFit<'a> {

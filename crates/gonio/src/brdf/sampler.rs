@@ -169,7 +169,7 @@ impl BrdfSampler {
         let parts = slices
             .iter()
             .map(|m| match m {
-                Some(m) => [m.core().total(), m.core().tables().0.view().kappa],
+                Some(m) => [m.core().total(), m.core().view().angular.kappa],
                 None => [0.0; 2],
             })
             .collect();

@@ -21,30 +21,32 @@ use std::f64::consts::TAU;
 /// Area factor of the angular stage: dA_C = 1 · dA_B.
 pub const ANGULAR_AREA: f64 = 1.0;
 
-/// The tables of M_C for one map (docs/DERIVATION.md §4.4): the meridians, the squared star radii
-/// and the cumulative wedge angles, with the forward map (B-disk azimuth → sector and fraction),
-/// its inverse and the sector lookup of a D-disk azimuth.
-#[derive(Debug, Clone)]
-pub(crate) struct Angular {
-    m: usize,
+/// The tables of M_C for one map (docs/DERIVATION.md §4.4), in element type `T` (f64: the map's
+/// own; f32: a float32 map's, [`super::float32`]): the meridians, the squared star radii and the
+/// cumulative wedge angles, with (for f64) the forward map (B-disk azimuth → sector and
+/// fraction), its inverse and the sector lookup of a D-disk azimuth. The fields are the blob's
+/// tables (`mapping::blob` writes and reads them by name).
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Angular<T = f64> {
+    pub(super) m: usize,
     /// Meridian azimuths, M + 1 entries with φ_M = 2π.
-    phi: Vec<f64>,
+    pub(super) phi: Vec<T>,
     /// Sector widths β_i, M entries.
-    beta: Vec<f64>,
+    pub(super) beta: Vec<T>,
     /// 1/β when the meridians are uniform (O(1) sector lookup), else 0.
-    inv_uniform_beta: f64,
+    pub(super) inv_uniform_beta: T,
     /// Squared star radii R_i² = U(i, N−1)/s, M + 1 entries (R_M = R_0).
-    r2: Vec<f64>,
+    pub(super) r2: Vec<T>,
     /// Cumulative wedge angles Γ_i, M + 1 entries, Γ_0 = 0, Γ_M = 2π exactly.
-    cum: Vec<f64>,
+    pub(super) cum: Vec<T>,
     /// Γ_M / Σγ^i (1 up to round-off): keeps Γ exactly cumulative.
-    kappa: f64,
+    pub(super) kappa: T,
     /// Guide table of the wedge search: entry k is the wedge that holds φ_B = 2πk/K (K = the
     /// table's length, 2M), so the search starts at most a step or two below its answer (O(1)
     /// for all but pathological Γ).
-    wedge_guide: Vec<u32>,
+    pub(super) wedge_guide: Vec<u32>,
     /// K / 2π for [`Angular::wedge_guide`].
-    guide_scale: f64,
+    pub(super) guide_scale: T,
 }
 
 /// The read-only view of [`Angular`]'s tables, the one door through which code outside this file
@@ -72,10 +74,23 @@ pub(crate) struct AngularView<'a, T = f64> {
     pub(crate) guide_scale: T,
 }
 
-impl Angular {
+/// The guide table of the wedge search over the cumulative wedge angles `cum` (M + 1 entries):
+/// `len` entries, entry k the wedge that holds φ_B = `level(k)` (see [`Angular`]'s field
+/// `wedge_guide`).
+pub(crate) fn wedge_guides(cum: &[f64], len: usize, level: impl Fn(usize) -> f64) -> Vec<u32> {
+    let m = cum.len() - 1;
+    (0..len)
+        .map(|k| {
+            let p = level(k);
+            (cum.partition_point(|&g| g <= p).clamp(1, m) - 1) as u32
+        })
+        .collect()
+}
+
+impl<T: Copy> Angular<T> {
     /// The read-only view of the tables ([`AngularView`]).
     #[inline]
-    pub(crate) fn view(&self) -> AngularView<'_> {
+    pub(crate) fn view(&self) -> AngularView<'_, T> {
         AngularView {
             m: self.m,
             phi: &self.phi,
@@ -87,6 +102,29 @@ impl Angular {
             wedge_guide: &self.wedge_guide,
             guide_scale: self.guide_scale,
         }
+    }
+
+    /// The same tables with every float converted by `f`.
+    pub(super) fn map<U>(&self, f: impl Fn(T) -> U + Copy) -> Angular<U> {
+        let v = |a: &[T]| a.iter().map(|&x| f(x)).collect::<Vec<U>>();
+        Angular {
+            m: self.m,
+            phi: v(&self.phi),
+            beta: v(&self.beta),
+            inv_uniform_beta: f(self.inv_uniform_beta),
+            r2: v(&self.r2),
+            cum: v(&self.cum),
+            kappa: f(self.kappa),
+            wedge_guide: self.wedge_guide.clone(),
+            guide_scale: f(self.guide_scale),
+        }
+    }
+
+    /// Bytes of the tables' contents (`T` and u32 entries).
+    pub(crate) fn table_bytes(&self) -> usize {
+        std::mem::size_of::<T>()
+            * (self.phi.len() + self.beta.len() + self.r2.len() + self.cum.len())
+            + 4 * self.wedge_guide.len()
     }
 }
 
@@ -117,12 +155,7 @@ impl Angular {
         }
         cum[m] = TAU;
         let guide_len = 2 * m;
-        let wedge_guide: Vec<u32> = (0..guide_len)
-            .map(|k| {
-                let p = k as f64 * TAU / guide_len as f64;
-                (cum.partition_point(|&g| g <= p).clamp(1, m) - 1) as u32
-            })
-            .collect();
+        let wedge_guide = wedge_guides(&cum, guide_len, |k| k as f64 * TAU / guide_len as f64);
         let angular = Angular {
             m,
             phi,
@@ -203,12 +236,6 @@ impl Angular {
     #[inline]
     pub(crate) fn star_radius2(&self, i: usize, eps: f64) -> f64 {
         star_radius2(self.r2[i], self.r2[i + 1], eps)
-    }
-
-    /// Bytes of the tables' contents (f64 and u32 entries).
-    pub(crate) fn table_bytes(&self) -> usize {
-        8 * (self.phi.len() + self.beta.len() + self.r2.len() + self.cum.len())
-            + 4 * self.wedge_guide.len()
     }
 
     /// Γ_i, M + 1 entries.

@@ -113,7 +113,7 @@ impl<'a> BlendedMap<'a> {
         let mut kappas = [0.0; MAX_PARTS];
         for k in 0..len {
             totals[k] = cores[k].total();
-            kappas[k] = cores[k].tables().0.view().kappa;
+            kappas[k] = cores[k].tables().angular.kappa;
         }
         Self::from_parts(cores, w, totals, kappas, len)
     }
@@ -148,11 +148,11 @@ impl<'a> BlendedMap<'a> {
 
     #[inline]
     fn angular(&self, k: usize) -> &'a Angular {
-        self.cores[k].tables().0
+        &self.cores[k].tables().angular
     }
     #[inline]
     fn radial(&self, k: usize) -> &'a Radial {
-        self.cores[k].tables().1
+        &self.cores[k].tables().radial
     }
 
     /// The coefficients of the rows (k, meridian) that the radial stage of sector (i, i1) at

@@ -21,7 +21,10 @@
 // The two map slots are indexed in step across several arrays.
 #![allow(clippy::needless_range_loop)]
 
-use super::float32::{Layout, Maps, Tables};
+use super::angular::Angular;
+use super::float32::{Layout, Maps};
+use super::hds::Tables;
+use super::radial::Radial;
 use super::split::SplitRule;
 use super::MapRef;
 use super::{Float32Map, Float32MapError, Float64Map, FLOAT32_MAX_NODES};
@@ -374,31 +377,32 @@ fn slot_tables<T: BlobFloat>(
     t: &Tables<T>,
     elem: u32,
 ) -> ([u8; SLOT_BYTES], Vec<Pending>) {
+    let (a, r) = (&t.angular, &t.radial);
     let mut d = [0u8; SLOT_BYTES];
-    put_u32(&mut d, 0, t.m as u32);
-    put_u32(&mut d, 4, t.n as u32);
-    put_u32(&mut d, 8, t.radial_k as u32);
-    put_u32(&mut d, 12, t.wedge_guide.len() as u32);
-    put_u32(&mut d, 16, t.radius_guide.len() as u32);
-    put_f64(&mut d, 32, t.inv_uniform_beta.as_f64());
-    put_f64(&mut d, 40, t.kappa.as_f64());
-    put_f64(&mut d, 48, t.guide_scale.as_f64());
-    put_f64(&mut d, 56, t.radius_scale.as_f64());
-    put_f64(&mut d, 64, t.edge.as_f64());
+    put_u32(&mut d, 0, a.m as u32);
+    put_u32(&mut d, 4, r.n as u32);
+    put_u32(&mut d, 8, r.radial_k as u32);
+    put_u32(&mut d, 12, a.wedge_guide.len() as u32);
+    put_u32(&mut d, 16, r.radius_guide.len() as u32);
+    put_f64(&mut d, 32, a.inv_uniform_beta.as_f64());
+    put_f64(&mut d, 40, a.kappa.as_f64());
+    put_f64(&mut d, 48, a.guide_scale.as_f64());
+    put_f64(&mut d, 56, r.radius_scale.as_f64());
+    put_f64(&mut d, 64, r.edge.as_f64());
     let id = |k| map_table_id(slot, k);
     let p = vec![
-        floats(id(0), elem, &t.phi),
-        floats(id(1), elem, &t.beta),
-        floats(id(2), elem, &t.r2),
-        floats(id(3), elem, &t.cum),
-        guides(id(4), &t.wedge_guide),
-        floats(id(5), elem, &t.x),
-        floats(id(6), elem, &t.d),
-        floats(id(7), elem, &t.u),
-        floats(id(8), elem, &t.total),
-        guides(id(9), &t.radius_guide),
-        floats(id(10), elem, &t.inv_dx),
-        guides(id(11), &t.radial_guide),
+        floats(id(0), elem, &a.phi),
+        floats(id(1), elem, &a.beta),
+        floats(id(2), elem, &a.r2),
+        floats(id(3), elem, &a.cum),
+        guides(id(4), &a.wedge_guide),
+        floats(id(5), elem, &r.x),
+        floats(id(6), elem, &r.d),
+        floats(id(7), elem, &r.u),
+        floats(id(8), elem, &r.total),
+        guides(id(9), &r.radius_guide),
+        floats(id(10), elem, &r.inv_dx),
+        guides(id(11), &r.radial_guide),
     ];
     (d, p)
 }
@@ -965,26 +969,30 @@ fn read_tables<T: ReadFloat>(
     non_negative(&inv_dx, &nm(10))?;
     let radial_guide = read_guides(&placed[11], &nm(11), s.n - 2)?;
     Ok(Tables {
-        m,
-        n,
-        phi,
-        beta,
-        inv_uniform_beta,
-        r2,
-        cum,
-        kappa,
-        wedge_guide,
-        guide_scale,
-        x,
-        d,
-        u,
-        total,
-        radius_guide,
-        radius_scale,
-        inv_dx,
-        radial_guide,
-        radial_k: s.k as usize,
-        edge,
+        angular: Angular {
+            m,
+            phi,
+            beta,
+            inv_uniform_beta,
+            r2,
+            cum,
+            kappa,
+            wedge_guide,
+            guide_scale,
+        },
+        radial: Radial {
+            n,
+            x,
+            d,
+            u,
+            total,
+            radius_guide,
+            radius_scale,
+            inv_dx,
+            radial_guide,
+            radial_k: s.k as usize,
+            edge,
+        },
     })
 }
 

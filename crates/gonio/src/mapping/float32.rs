@@ -35,9 +35,9 @@
 //! float32 map does not renormalise them; its edge test has an f32-sized slack
 //! (`Precision::EDGE`).
 
-use super::angular::AngularView as AngularTablesView;
-use super::hds::{HdsCore, TablesView};
-use super::radial::RadialView as RadialTablesView;
+use super::angular::wedge_guides;
+use super::hds::{HdsCore, Tables};
+use super::radial::{inverse_widths, radius_guides, Radial};
 use super::simd::dispatch::TablesElem;
 use super::simd::math::Precision;
 use super::simd::Backend;
@@ -46,7 +46,6 @@ use super::sphere::CoresRef;
 use super::split::SplitRule;
 use super::{HemisphereMap, SphereMap};
 use crate::batch::Soa;
-use crate::diagram::segment;
 
 // Points per chunk of the split sphere's partition into hemispheres, and per rayon task in the
 // parallel calls: the crate's batch sizes.
@@ -71,33 +70,6 @@ pub enum Float32MapError {
     },
 }
 
-/// One map's tables owned in element type `T` (f32: the float32 map; f64: the same values
-/// widened, its exact reference).
-// The fields are the blob's tables (`mapping::blob` writes and reads them by name).
-#[derive(Debug, Clone, PartialEq)]
-pub(super) struct Tables<T> {
-    pub(super) m: usize,
-    pub(super) n: usize,
-    pub(super) phi: Vec<T>,
-    pub(super) beta: Vec<T>,
-    pub(super) inv_uniform_beta: T,
-    pub(super) r2: Vec<T>,
-    pub(super) cum: Vec<T>,
-    pub(super) kappa: T,
-    pub(super) wedge_guide: Vec<u32>,
-    pub(super) guide_scale: T,
-    pub(super) x: Vec<T>,
-    pub(super) d: Vec<T>,
-    pub(super) u: Vec<T>,
-    pub(super) total: Vec<T>,
-    pub(super) radius_guide: Vec<u32>,
-    pub(super) radius_scale: T,
-    pub(super) inv_dx: Vec<T>,
-    pub(super) radial_guide: Vec<u32>,
-    pub(super) radial_k: usize,
-    pub(super) edge: T,
-}
-
 /// An M × N table in f32 (its values are f32 values already: the conversion is exact).
 fn to_f32(s: &[f64]) -> Vec<f32> {
     s.iter().map(|&x| x as f32).collect()
@@ -107,110 +79,6 @@ fn to_f32(s: &[f64]) -> Vec<f32> {
 #[inline]
 fn r32(x: f64) -> f64 {
     x as f32 as f64
-}
-
-impl<T: Copy> Tables<T> {
-    /// The read-only view the kernels read.
-    pub(super) fn view(&self) -> TablesView<'_, T> {
-        TablesView {
-            angular: AngularTablesView {
-                m: self.m,
-                phi: &self.phi,
-                beta: &self.beta,
-                inv_uniform_beta: self.inv_uniform_beta,
-                r2: &self.r2,
-                cum: &self.cum,
-                kappa: self.kappa,
-                wedge_guide: &self.wedge_guide,
-                guide_scale: self.guide_scale,
-            },
-            radial: RadialTablesView {
-                n: self.n,
-                x: &self.x,
-                d: &self.d,
-                u: &self.u,
-                total: &self.total,
-                radius_guide: &self.radius_guide,
-                radius_scale: self.radius_scale,
-                inv_dx: &self.inv_dx,
-                radial_guide: &self.radial_guide,
-                radial_k: self.radial_k,
-                edge: self.edge,
-            },
-        }
-    }
-
-    /// The same tables with every float converted by `f`.
-    fn map<U>(&self, f: impl Fn(T) -> U + Copy) -> Tables<U> {
-        let v = |a: &[T]| a.iter().map(|&x| f(x)).collect::<Vec<U>>();
-        Tables {
-            m: self.m,
-            n: self.n,
-            phi: v(&self.phi),
-            beta: v(&self.beta),
-            inv_uniform_beta: f(self.inv_uniform_beta),
-            r2: v(&self.r2),
-            cum: v(&self.cum),
-            kappa: f(self.kappa),
-            wedge_guide: self.wedge_guide.clone(),
-            guide_scale: f(self.guide_scale),
-            x: v(&self.x),
-            d: v(&self.d),
-            u: v(&self.u),
-            total: v(&self.total),
-            radius_guide: self.radius_guide.clone(),
-            radius_scale: f(self.radius_scale),
-            inv_dx: v(&self.inv_dx),
-            radial_guide: self.radial_guide.clone(),
-            radial_k: self.radial_k,
-            edge: f(self.edge),
-        }
-    }
-
-    /// Bytes of the tables' contents.
-    fn table_bytes(&self) -> usize {
-        let floats = self.phi.len()
-            + self.beta.len()
-            + self.r2.len()
-            + self.cum.len()
-            + self.x.len()
-            + self.d.len()
-            + self.u.len()
-            + self.total.len()
-            + self.inv_dx.len();
-        let guides = self.wedge_guide.len() + self.radius_guide.len() + self.radial_guide.len();
-        floats * std::mem::size_of::<T>() + guides * 4
-    }
-}
-
-impl Tables<f64> {
-    /// The f64 map's own tables of `core`, copied (the f64 blob's tables).
-    pub(super) fn exact_of(core: &HdsCore) -> Self {
-        let v = core.view();
-        let (a, r) = (v.angular, v.radial);
-        Tables {
-            m: a.m,
-            n: r.n,
-            phi: a.phi.to_vec(),
-            beta: a.beta.to_vec(),
-            inv_uniform_beta: a.inv_uniform_beta,
-            r2: a.r2.to_vec(),
-            cum: a.cum.to_vec(),
-            kappa: a.kappa,
-            wedge_guide: a.wedge_guide.to_vec(),
-            guide_scale: a.guide_scale,
-            x: r.x.to_vec(),
-            d: r.d.to_vec(),
-            u: r.u.to_vec(),
-            total: r.total.to_vec(),
-            radius_guide: r.radius_guide.to_vec(),
-            radius_scale: r.radius_scale,
-            inv_dx: r.inv_dx.to_vec(),
-            radial_guide: r.radial_guide.to_vec(),
-            radial_k: r.radial_k,
-            edge: r.edge,
-        }
-    }
 }
 
 impl Tables<f32> {
@@ -279,67 +147,41 @@ impl Tables<f32> {
     /// `radial_guide`), which [`Tables::finish`] adds.
     fn small_of(core: &HdsCore) -> Result<Self, Float32MapError> {
         Self::check_size(core)?;
-        let v = core.view();
-        let (a, r) = (v.angular, v.radial);
-        let (m, n) = (a.m, r.n);
-        let round = |s: &[f64]| s.iter().map(|&x| r32(x)).collect::<Vec<f64>>();
-        // M_C.
-        let phi = round(a.phi);
-        let beta: Vec<f64> = phi.windows(2).map(|w| r32(w[1] - w[0])).collect();
-        let inv_uniform_beta = r32(a.inv_uniform_beta);
-        let r2 = round(a.r2);
-        let cum = round(a.cum);
-        let guide_len = a.wedge_guide.len();
-        let guide_scale = r32(a.guide_scale);
-        let wedge_guide = (0..guide_len)
-            .map(|k| {
-                let p = k as f64 / guide_scale;
-                (cum.partition_point(|&g| g <= p).clamp(1, m) - 1) as u32
-            })
-            .collect();
-        // M_D.
-        let x = round(r.x);
-        // The M × N tables (one value a pixel of an environment map) go to f32 directly, in
+        let Tables {
+            angular: a,
+            radial: r,
+        } = core.tables();
+        // M_C: every table rounded, the sector widths and the guide table made again from the
+        // rounded meridians and wedge angles.
+        let mut angular = a.map(r32);
+        angular.beta = angular.phi.windows(2).map(|w| r32(w[1] - w[0])).collect();
+        let guide_scale = angular.guide_scale;
+        angular.wedge_guide = wedge_guides(&angular.cum, a.wedge_guide.len(), |k| {
+            k as f64 / guide_scale
+        });
+        // M_D. The M × N tables (one value a pixel of an environment map) go to f32 directly, in
         // `of` and `of_owned`: a rounded f64 copy of them beside the f64 map cost 19 bytes a
         // pixel at the peak of `into_float32` (issue 40). Every value is an f32 value, so this is
         // the same conversion.
+        let n = r.n;
+        let x: Vec<f64> = r.x.iter().map(|&v| r32(v)).collect();
         let radius_len = r.radius_guide.len();
         let radius_scale = r32(radius_len as f64 / x[n - 1]);
-        let radius_guide = (0..radius_len)
-            .map(|k| segment(&x, k as f64 / radius_scale) as u32)
-            .collect();
-        let inv_dx = x
-            .windows(2)
-            .map(|w| {
-                if w[1] > w[0] {
-                    r32(1.0 / (w[1] - w[0]))
-                } else {
-                    0.0
-                }
-            })
-            .collect();
-        let edge = r32(x[n - 1] * <f32 as Precision>::EDGE);
         let t = Tables {
-            m,
-            n,
-            phi,
-            beta,
-            inv_uniform_beta,
-            r2,
-            cum,
-            kappa: r32(a.kappa),
-            wedge_guide,
-            guide_scale,
-            x,
-            d: Vec::new(),
-            u: Vec::new(),
-            total: Vec::new(),
-            radius_guide,
-            radius_scale,
-            inv_dx,
-            radial_guide: Vec::new(),
-            radial_k: r.radial_k,
-            edge,
+            angular,
+            radial: Radial {
+                n,
+                radius_guide: radius_guides(&x, radius_len, |k| k as f64 / radius_scale),
+                radius_scale,
+                inv_dx: inverse_widths(&x, r32),
+                edge: r32(x[n - 1] * <f32 as Precision>::EDGE),
+                x,
+                d: Vec::new(),
+                u: Vec::new(),
+                total: Vec::new(),
+                radial_guide: Vec::new(),
+                radial_k: r.radial_k,
+            },
         };
         // Every entry is an f32 value already: the conversion is exact.
         Ok(t.map(|x| x as f32))
@@ -347,11 +189,12 @@ impl Tables<f32> {
 
     /// `small` with the M × N tables and those made from `u`.
     fn finish(mut small: Self, d32: Vec<f32>, u32_: Vec<f32>) -> Self {
-        let (m, n) = (small.m, small.n);
-        small.total = (0..m).map(|i| u32_[i * n + n - 1]).collect();
-        small.radial_guide = super::radial::radial_guides(&u32_, n, small.radial_k);
-        small.d = d32;
-        small.u = u32_;
+        let (m, r) = (small.angular.m, &mut small.radial);
+        let n = r.n;
+        r.total = (0..m).map(|i| u32_[i * n + n - 1]).collect();
+        r.radial_guide = super::radial::radial_guides(&u32_, n, r.radial_k);
+        r.d = d32;
+        r.u = u32_;
         small
     }
 }
@@ -522,7 +365,7 @@ impl HemisphereMap {
     pub fn float64_map(&self) -> Float64Map {
         Float64Map {
             maps: Maps {
-                layout: Layout::Hemisphere(Tables::exact_of(self.core())),
+                layout: Layout::Hemisphere(self.core().tables().clone()),
                 inv_2t: self.inv_2t(),
             },
         }
@@ -546,10 +389,10 @@ impl SphereMap {
     /// This map's tables alone in f64 ([`Float64Map`]).
     pub fn float64_map(&self) -> Float64Map {
         let layout = match self.cores() {
-            CoresRef::Lambert(c) => Layout::Lambert(Tables::exact_of(c)),
+            CoresRef::Lambert(c) => Layout::Lambert(c.tables().clone()),
             CoresRef::Split { upper, lower, rule } => Layout::Split {
-                upper: upper.map(Tables::exact_of),
-                lower: lower.map(Tables::exact_of),
+                upper: upper.map(|c| c.tables().clone()),
+                lower: lower.map(|c| c.tables().clone()),
                 rule,
             },
         };

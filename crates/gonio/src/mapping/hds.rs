@@ -25,15 +25,48 @@ pub(crate) struct TablesView<'a, T = f64> {
     pub(crate) radial: RadialView<'a, T>,
 }
 
-/// One HDS map (docs/DERIVATION.md §4): the tables of its two table-driven stages, M_C
-/// ([`Angular`]) and M_D ([`Radial`]), plus the completed diagram it was built from. M_B and M_E
-/// need no tables.
+/// One HDS map's tables in element type `T`: those of its two table-driven stages, M_C
+/// ([`Angular`]) and M_D ([`Radial`]); M_B and M_E need no tables. The one table type of every
+/// map: an f64 map's own ([`HdsCore`]), a float32 map's (`T = f32`) and its exact twin (the f32
+/// values widened), and the blob's (`mapping::blob` writes and reads them field by field).
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Tables<T = f64> {
+    /// M_C: meridians, star radii, wedge angles.
+    pub(crate) angular: Angular<T>,
+    /// M_D: parallel radii, nodal densities, radial masses.
+    pub(crate) radial: Radial<T>,
+}
+
+impl<T: Copy> Tables<T> {
+    /// The read-only view that the vector kernels read.
+    #[inline]
+    pub(crate) fn view(&self) -> TablesView<'_, T> {
+        TablesView {
+            angular: self.angular.view(),
+            radial: self.radial.view(),
+        }
+    }
+
+    /// The same tables with every float converted by `f`.
+    pub(crate) fn map<U>(&self, f: impl Fn(T) -> U + Copy) -> Tables<U> {
+        Tables {
+            angular: self.angular.map(f),
+            radial: self.radial.map(f),
+        }
+    }
+
+    /// Bytes of the tables' contents.
+    pub(crate) fn table_bytes(&self) -> usize {
+        self.angular.table_bytes() + self.radial.table_bytes()
+    }
+}
+
+/// One HDS map (docs/DERIVATION.md §4): its [`Tables`] plus the completed diagram it was built
+/// from.
 #[derive(Debug, Clone)]
 pub(crate) struct HdsCore {
-    /// M_C: meridians, star radii, wedge angles.
-    angular: Angular,
-    /// M_D: parallel radii, nodal densities, radial masses.
-    radial: Radial,
+    /// M_C's and M_D's tables.
+    tables: Tables,
     /// T = ∫_disk D dA (docs/DERIVATION.md §4.3), in diagram units × disk area.
     total: f64,
     /// The completed diagram, kept by the maps that hand it out ([`crate::HemisphereMap::diagram`]);
@@ -76,13 +109,13 @@ impl HdsCore {
     /// The radial tables' nodal densities and cumulative masses, taken out (see
     /// [`Radial::take_d_u`]): the core is consumed by the caller's conversion.
     pub(super) fn take_d_u(&mut self) -> (Vec<f64>, Vec<f64>) {
-        self.radial.take_d_u()
+        self.tables.radial.take_d_u()
     }
 
     /// Drops the radial guide tables of a core about to be converted to float32 (which makes its
     /// own): see [`Radial::drop_radial_guide`].
     pub(super) fn drop_radial_guide(&mut self) {
-        self.radial.drop_radial_guide()
+        self.tables.radial.drop_radial_guide()
     }
 
     /// Whether the explicit kernels can index this map's tables (indices below 2³¹; every map
@@ -90,7 +123,7 @@ impl HdsCore {
     #[cfg(target_arch = "x86_64")]
     pub(crate) fn explicit_indexable(&self) -> bool {
         let lim = 1usize << 31;
-        let (a, r) = (self.angular.view(), self.radial.view());
+        let (a, r) = (self.tables.angular.view(), self.tables.radial.view());
         r.u.len() < lim
             && r.radial_guide.len() < lim
             && a.wedge_guide.len() < lim
@@ -159,8 +192,7 @@ impl HdsCore {
             return Err(DiagramError::UnresolvedLight);
         }
         Ok(HdsCore {
-            angular,
-            radial,
+            tables: Tables { angular, radial },
             total,
             diagram: kept,
             target_total,
@@ -176,33 +208,31 @@ impl HdsCore {
     /// exactly, in the units of [`HdsCore::total`].
     pub(crate) fn power_outside(&self, lo: f64, hi: f64) -> f64 {
         let theta = self.diagram.theta();
-        let beta = self.angular.beta();
+        let beta = self.tables.angular.beta();
         let mut p = 0.0;
         for j in 0..theta.len() - 1 {
             if theta[j] >= lo && theta[j + 1] <= hi {
                 continue;
             }
             for (i, b) in beta.iter().enumerate() {
-                let i1 = self.angular.next(i);
-                let du = |r: usize| self.radial.segment_mass_of(r, j);
+                let i1 = self.tables.angular.next(i);
+                let du = |r: usize| self.tables.radial.segment_mass_of(r, j);
                 p += b * (du(i) + du(i1)) / 4.0;
             }
         }
         p
     }
 
-    /// The tables of M_C and M_D (for the blended maps of [`super::blend`]).
-    pub(crate) fn tables(&self) -> (&Angular, &Radial) {
-        (&self.angular, &self.radial)
+    /// The tables of M_C and M_D (for the blended maps of [`super::blend`], the float32
+    /// conversion and the blob).
+    pub(crate) fn tables(&self) -> &Tables {
+        &self.tables
     }
 
     /// The read-only view of the tables that the vector kernels read.
     #[inline]
     pub(crate) fn view(&self) -> TablesView<'_> {
-        TablesView {
-            angular: self.angular.view(),
-            radial: self.radial.view(),
-        }
+        self.tables.view()
     }
 
     /// T = ∫_disk D dA.
@@ -229,7 +259,7 @@ impl HdsCore {
     /// the same values): the target density, in the completed diagram's units.
     pub(crate) fn target_value(&self, theta: f64, phi: f64) -> f64 {
         let (t, p) = (self.diagram.theta(), self.diagram.phi());
-        crate::diagram::interpolate_grid(t, p, self.radial.view().d, theta, phi)
+        crate::diagram::interpolate_grid(t, p, self.tables.radial.view().d, theta, phi)
     }
     /// Number of parallels N of the completed grid.
     pub(crate) fn n_parallels(&self) -> usize {
@@ -250,7 +280,7 @@ impl HdsCore {
     /// parallel radii and the nodal densities are its own (`radial.x`, `radial.d`).
     pub(crate) fn db_range(&self) -> (f64, f64) {
         *self.db_range.get_or_init(|| {
-            let r = self.radial.view();
+            let r = self.tables.radial.view();
             density_ratio_range_grid(self.diagram.theta(), r.d, r.x)
         })
     }
@@ -260,7 +290,7 @@ impl HdsCore {
     #[cfg(test)]
     pub(crate) fn db_range_eager(&self) -> (f64, f64) {
         let x = parallel_radii(self.diagram.theta());
-        density_ratio_range_grid(self.diagram.theta(), self.radial.view().d, &x)
+        density_ratio_range_grid(self.diagram.theta(), self.tables.radial.view().d, &x)
     }
 
     /// Whether the range of D/B is known (set at build time or computed already).
@@ -272,7 +302,7 @@ impl HdsCore {
     /// Bytes of the precomputed tables (the vectors' lengths, not their capacities), including the
     /// nodal densities and angles that the run time needs, excluding the diagram kept for the target.
     pub(crate) fn memory_bytes(&self) -> usize {
-        self.angular.table_bytes() + self.radial.table_bytes() + std::mem::size_of::<Self>()
+        self.tables.table_bytes() + std::mem::size_of::<Self>()
     }
 
     /// [`HdsCore::memory_bytes`] of the core that [`HdsCore::build`] would make from `diagram`.
@@ -288,8 +318,8 @@ impl HdsCore {
     /// The intermediate points of the forward map (for pictures and tests).
     pub(crate) fn stages(&self, uv: [f64; 2]) -> super::Stages {
         let (rb, phib) = square_to_disk(uv);
-        let (i, eps, phi) = self.angular.forward(phib);
-        let rho2 = self.angular.star_radius2(i, eps);
+        let (i, eps, phi) = self.tables.angular.forward(phib);
+        let rho2 = self.tables.angular.star_radius2(i, eps);
         let (direction, _) = self.sample(uv);
         super::Stages {
             square: uv,
@@ -306,14 +336,17 @@ impl HdsCore {
     #[inline]
     pub(crate) fn sample(&self, uv: [f64; 2]) -> (Vec3, f64) {
         let (rb, phib) = square_to_disk(uv); // M_B
-        let (i, eps, phi) = self.angular.forward(phib); // M_C
-        let i1 = self.angular.next(i);
-        let (xr, seg) = self.radial.forward(rb, i, i1, eps); // M_D
+        let (i, eps, phi) = self.tables.angular.forward(phib); // M_C
+        let i1 = self.tables.angular.next(i);
+        let (xr, seg) = self.tables.radial.forward(rb, i, i1, eps); // M_D
         let dir = disk_to_sphere(xr, phi); // M_E
                                            // The density at the radius the returned direction has (what `density` reads), not at xr:
                                            // they differ by the lift's round-off, which a steep segment (a zero guard band) would
                                            // turn into a visible disagreement between sample() and pdf().
-        let dens = self.radial.density_on(seg, sphere_to_disk_radius(dir));
+        let dens = self
+            .tables
+            .radial
+            .density_on(seg, sphere_to_disk_radius(dir));
         if dir[0] == 0.0 && dir[1] == 0.0 {
             // The pole: every meridian meets there, and `density` reads meridian 0 (φ = 0);
             // the sample carries that same value, so sample() and pdf() agree at (±0, ±0, 1).
@@ -326,8 +359,10 @@ impl HdsCore {
     #[inline]
     pub(crate) fn density(&self, dir: Vec3) -> f64 {
         let xr = sphere_to_disk_radius(dir);
-        let (i, eps) = self.angular.sector(sphere_to_disk_azimuth(dir));
-        self.radial.density(xr, i, self.angular.next(i), eps)
+        let (i, eps) = self.tables.angular.sector(sphere_to_disk_azimuth(dir));
+        self.tables
+            .radial
+            .density(xr, i, self.tables.angular.next(i), eps)
     }
 
     /// The inverse map: a direction to its point of the unit square (closed form,
@@ -335,17 +370,20 @@ impl HdsCore {
     #[inline]
     pub(crate) fn invert(&self, dir: Vec3) -> [f64; 2] {
         let xr = sphere_to_disk_radius(dir); // M_E⁻¹ (radius)
-        let (i, eps) = self.angular.sector(sphere_to_disk_azimuth(dir)); // M_E⁻¹ (azimuth)
-        let rb = self.radial.inverse(xr, i, self.angular.next(i), eps); // M_D⁻¹
-        let phib = self.angular.inverse(i, eps); // M_C⁻¹
+        let (i, eps) = self.tables.angular.sector(sphere_to_disk_azimuth(dir)); // M_E⁻¹ (azimuth)
+        let rb = self
+            .tables
+            .radial
+            .inverse(xr, i, self.tables.angular.next(i), eps); // M_D⁻¹
+        let phib = self.tables.angular.inverse(i, eps); // M_C⁻¹
         disk_to_square(rb, phib) // M_B⁻¹
     }
 
     /// ρ² of the star domain at azimuth `p` (for tests of the angular stage).
     #[cfg(test)]
     pub(crate) fn star_radius2_at(&self, p: f64) -> f64 {
-        let (i, eps) = self.angular.sector(p);
-        self.angular.star_radius2(i, eps)
+        let (i, eps) = self.tables.angular.sector(p);
+        self.tables.angular.star_radius2(i, eps)
     }
 }
 
@@ -411,7 +449,7 @@ mod tests {
                 1 + seed as usize % 40,
                 seed % 2 == 0,
             );
-            let a = &c.angular;
+            let a = &c.tables.angular;
             let cum = a.wedge_cumulative();
             assert_eq!(cum[0], 0.0);
             assert_eq!(*cum.last().unwrap(), TAU);
@@ -429,7 +467,7 @@ mod tests {
     #[test]
     fn angular_stage_preserves_area() {
         let c = random_core(3, 8, 9, false);
-        let a = &c.angular;
+        let a = &c.tables.angular;
         let (cum, beta, r2, phi) = (a.wedge_cumulative(), a.beta(), a.r2(), a.phi());
         // M_C written out from its tables, independently of `Angular::forward`.
         let phi_c = |phib: f64| {

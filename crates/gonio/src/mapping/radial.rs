@@ -289,36 +289,41 @@ pub fn radial_area(s: f64, d: f64) -> f64 {
     s / d
 }
 
-/// The tables of M_D for one map (docs/DERIVATION.md §4.1–§4.2): the parallel radii, the nodal disk
-/// densities and the cumulative radial masses of every meridian, with the forward map (B-disk
-/// radius → D-disk radius on the meridian pair of an angular fraction), its inverse and the disk
-/// density D that the map's pdf is made of.
-#[derive(Debug, Clone)]
-pub(crate) struct Radial {
-    n: usize,
+/// The tables of M_D for one map (docs/DERIVATION.md §4.1–§4.2), in element type `T` (f64: the
+/// map's own; f32: a float32 map's, [`super::float32`]): the parallel radii, the nodal disk
+/// densities and the cumulative radial masses of every meridian, with (for f64) the forward map
+/// (B-disk radius → D-disk radius on the meridian pair of an angular fraction), its inverse and
+/// the disk density D that the map's pdf is made of. The fields are the blob's tables
+/// (`mapping::blob` writes and reads them by name).
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Radial<T = f64> {
+    pub(super) n: usize,
     /// Parallel radii x_j = √(1 − cos θ_j) on the disk, N entries.
-    x: Vec<f64>,
+    pub(super) x: Vec<T>,
     /// Nodal disk densities d_{i,j} = p_{i,j}, row-major M × N.
-    d: Vec<f64>,
+    pub(super) d: Vec<T>,
     /// Cumulative radial masses U(i, j) = 2∫₀^{x_j} d_i(x) x dx, row-major M × N.
-    u: Vec<f64>,
+    pub(super) u: Vec<T>,
     /// U(i, N−1), the total radial mass of each meridian (M entries): the last column of `u`,
     /// kept apart so that the batch kernels read it from 8·M contiguous bytes instead of one
     /// cache line per meridian (the inverse at 1024 × 1024: 54 → 47 ns per point).
-    total: Vec<f64>,
+    pub(super) total: Vec<T>,
     /// Guide table of the parallel search: entry k is the segment of x that holds radius
     /// k·x_{N−1}/K (K = the table's length, 2N), for `pdf` and `invert`.
-    radius_guide: Vec<u32>,
+    pub(super) radius_guide: Vec<u32>,
     /// K / x_{N−1} for [`Radial::radius_guide`].
-    radius_scale: f64,
+    pub(super) radius_scale: T,
     /// 1 / (x_{j+1} − x_j), N − 1 entries (0 for an empty segment).
-    inv_dx: Vec<f64>,
+    pub(super) inv_dx: Vec<T>,
     /// Radial guide tables, row-major M × (K + 1) with K = [`Radial::radial_k`]: entry (i, k) is
     /// the largest j ≤ N − 2 with U(i, j) ≤ (k/K)·U(i, N−1), the segment of meridian i's own radial
     /// CDF at r_B² = k/K. They bracket the forward map's radial search.
-    radial_guide: Vec<u32>,
+    pub(super) radial_guide: Vec<u32>,
     /// K = ⌈N/2⌉ cells per radial guide table.
-    radial_k: usize,
+    pub(super) radial_k: usize,
+    /// The radius beyond which the density is 0: x_{N−1} times the element type's
+    /// [`Precision::EDGE`] (slack for the round-off of a direction's disk radius).
+    pub(super) edge: T,
 }
 
 /// The radial guide tables of the cumulative masses `u` (row-major M × N, rows non-decreasing),
@@ -342,6 +347,25 @@ pub(crate) fn radial_guides<T: Copy + Into<f64>>(u: &[T], n: usize, radial_k: us
         }
     }
     radial_guide
+}
+
+/// The guide table of the parallel search over the parallel radii `x`: `len` entries, entry k
+/// the segment that holds radius `level(k)` (see [`Radial`]'s field `radius_guide`).
+pub(crate) fn radius_guides(x: &[f64], len: usize, level: impl Fn(usize) -> f64) -> Vec<u32> {
+    (0..len).map(|k| segment(x, level(k)) as u32).collect()
+}
+
+/// `round`(1 / (x_{j+1} − x_j)) of each segment of the parallel radii `x`, 0 for an empty one.
+pub(crate) fn inverse_widths(x: &[f64], round: impl Fn(f64) -> f64) -> Vec<f64> {
+    x.windows(2)
+        .map(|w| {
+            if w[1] > w[0] {
+                round(1.0 / (w[1] - w[0]))
+            } else {
+                0.0
+            }
+        })
+        .collect()
 }
 
 /// The read-only view of [`Radial`]'s tables, the one door through which code outside this file
@@ -389,10 +413,10 @@ impl Radial {
     }
 }
 
-impl Radial {
+impl<T: Copy> Radial<T> {
     /// The read-only view of the tables ([`RadialView`]).
     #[inline]
-    pub(crate) fn view(&self) -> RadialView<'_> {
+    pub(crate) fn view(&self) -> RadialView<'_, T> {
         RadialView {
             n: self.n,
             x: &self.x,
@@ -404,8 +428,33 @@ impl Radial {
             inv_dx: &self.inv_dx,
             radial_guide: &self.radial_guide,
             radial_k: self.radial_k,
-            edge: self.x[self.n - 1] * <f64 as Precision>::EDGE,
+            edge: self.edge,
         }
+    }
+
+    /// The same tables with every float converted by `f`.
+    pub(super) fn map<U>(&self, f: impl Fn(T) -> U + Copy) -> Radial<U> {
+        let v = |a: &[T]| a.iter().map(|&x| f(x)).collect::<Vec<U>>();
+        Radial {
+            n: self.n,
+            x: v(&self.x),
+            d: v(&self.d),
+            u: v(&self.u),
+            total: v(&self.total),
+            radius_guide: self.radius_guide.clone(),
+            radius_scale: f(self.radius_scale),
+            inv_dx: v(&self.inv_dx),
+            radial_guide: self.radial_guide.clone(),
+            radial_k: self.radial_k,
+            edge: f(self.edge),
+        }
+    }
+
+    /// Bytes of the tables' contents (`T` and u32 entries).
+    pub(crate) fn table_bytes(&self) -> usize {
+        std::mem::size_of::<T>()
+            * (self.x.len() + self.d.len() + self.u.len() + self.total.len() + self.inv_dx.len())
+            + 4 * (self.radius_guide.len() + self.radial_guide.len())
     }
 }
 
@@ -424,19 +473,8 @@ impl Radial {
         }
         let radius_len = 2 * n;
         let x_max = x[n - 1];
-        let radius_guide: Vec<u32> = (0..radius_len)
-            .map(|k| segment(&x, k as f64 * x_max / radius_len as f64) as u32)
-            .collect();
-        let inv_dx: Vec<f64> = x
-            .windows(2)
-            .map(|w| {
-                if w[1] > w[0] {
-                    1.0 / (w[1] - w[0])
-                } else {
-                    0.0
-                }
-            })
-            .collect();
+        let radius_guide = radius_guides(&x, radius_len, |k| k as f64 * x_max / radius_len as f64);
+        let inv_dx = inverse_widths(&x, |w| w);
         let radial_k = n.div_ceil(2).max(1);
         let radial_guide = radial_guides(&u, n, radial_k);
         let total = (0..m).map(|i| u[i * n + n - 1]).collect();
@@ -444,6 +482,7 @@ impl Radial {
             n,
             total,
             radius_scale: radius_len as f64 / x_max,
+            edge: x_max * <f64 as Precision>::EDGE,
             x,
             d,
             u,
@@ -464,12 +503,6 @@ impl Radial {
     #[inline]
     pub(crate) fn segment_mass_of(&self, i: usize, j: usize) -> f64 {
         self.u[i * self.n + j + 1] - self.u[i * self.n + j]
-    }
-
-    /// Bytes of the tables' contents (f64 and u32 entries).
-    pub(crate) fn table_bytes(&self) -> usize {
-        8 * (self.x.len() + self.d.len() + self.u.len() + self.total.len() + self.inv_dx.len())
-            + 4 * (self.radius_guide.len() + self.radial_guide.len())
     }
 
     /// The segment of the parallel radii that holds disk radius `xr` (as `diagram::segment`: the

@@ -12,6 +12,7 @@
 use super::param::TextureMap;
 use super::UvMesh;
 use crate::sampler::{spherical, Vec3};
+use crate::vector::{cross, dot, sub};
 use std::f64::consts::{PI, TAU};
 
 /// An RGB float image, row 0 at the top.
@@ -133,8 +134,8 @@ pub fn render_preview(mesh: &UvMesh, width: usize, shade: &dyn Fn([f64; 2]) -> [
         // Camera looking along −dir; right and up vectors.
         let s = if view == 0 { 1.0 } else { -1.0 };
         let dir = norm3([0.8 * s, 0.5 * s, 0.35]);
-        let right = norm3(cross3([0.0, 0.0, 1.0], dir));
-        let up = cross3(dir, right);
+        let right = norm3(cross([0.0, 0.0, 1.0], dir));
+        let up = cross(dir, right);
         let light = norm3([
             dir[0] + 0.3 * up[0],
             dir[1] + 0.3 * up[1],
@@ -142,15 +143,15 @@ pub fn render_preview(mesh: &UvMesh, width: usize, shade: &dyn Fn([f64; 2]) -> [
         ]);
         let project = |p: Vec3| {
             let q = [p[0] - c[0], p[1] - c[1], p[2] - c[2]];
-            let x = (dot3(q, right) / r * 0.48 + 0.5) * half as f64;
-            let y = (0.5 - dot3(q, up) / r * 0.48) * half as f64;
-            (x, y, dot3(q, dir))
+            let x = (dot(q, right) / r * 0.48 + 0.5) * half as f64;
+            let y = (0.5 - dot(q, up) / r * 0.48) * half as f64;
+            (x, y, dot(q, dir))
         };
         for t in &mesh.triangles {
             let p = t.map(|k| mesh.positions[k.position as usize]);
             let uv = t.map(|k| mesh.uvs[k.uv as usize]);
-            let nrm = norm3(cross3(sub3(p[1], p[0]), sub3(p[2], p[0])));
-            let lambert = dot3(nrm, light).abs() as f32 * 0.8 + 0.2;
+            let nrm = norm3(cross(sub(p[1], p[0]), sub(p[2], p[0])));
+            let lambert = dot(nrm, light).abs() as f32 * 0.8 + 0.2;
             let q = p.map(project);
             let area =
                 (q[1].0 - q[0].0) * (q[2].1 - q[0].1) - (q[2].0 - q[0].0) * (q[1].1 - q[0].1);
@@ -213,21 +214,8 @@ pub fn render_preview(mesh: &UvMesh, width: usize, shade: &dyn Fn([f64; 2]) -> [
     }
 }
 
-fn sub3(a: Vec3, b: Vec3) -> Vec3 {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-fn dot3(a: Vec3, b: Vec3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-fn cross3(a: Vec3, b: Vec3) -> Vec3 {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
 fn norm3(a: Vec3) -> Vec3 {
-    let l = dot3(a, a).sqrt();
+    let l = dot(a, a).sqrt();
     [a[0] / l, a[1] / l, a[2] / l]
 }
 

@@ -32,6 +32,7 @@ use crate::baselines::equal_area::equal_area_sphere_to_square;
 use crate::diagram::Diagram;
 use crate::mapping::SphereMap;
 use crate::sampler::{spherical, Point2, Sampler, Vec3};
+use crate::vector::{add, cross, dot, scale, sub};
 use std::collections::HashMap;
 use std::f64::consts::{PI, TAU};
 
@@ -348,25 +349,6 @@ pub struct UvResult {
     pub seconds: [f64; 4],
 }
 
-fn sub(a: Vec3, b: Vec3) -> Vec3 {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-fn add(a: Vec3, b: Vec3) -> Vec3 {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
-}
-fn scale(a: Vec3, s: f64) -> Vec3 {
-    [a[0] * s, a[1] * s, a[2] * s]
-}
-fn dot(a: Vec3, b: Vec3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-fn cross(a: Vec3, b: Vec3) -> Vec3 {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
 fn normalize(a: Vec3) -> Vec3 {
     let l = dot(a, a).sqrt();
     if l > 0.0 {

@@ -7,6 +7,7 @@
 //! surface is the graph r(ω) of a function on the sphere and a map of directions is a map of it.
 
 use super::{Mesh, MeshError};
+use crate::vector::{cross, dot, norm, sub};
 use std::f64::consts::PI;
 
 /// `x`·2^k, exact while the result is normal (in two steps, so 2^k itself never overflows).
@@ -53,23 +54,6 @@ pub struct StarCheck {
     pub solid_angle_sum: f64,
     /// How the centre was found: `"given"`, `"centroid"` or `"search"`.
     pub how: &'static str,
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-fn norm(a: [f64; 3]) -> f64 {
-    dot(a, a).sqrt()
 }
 
 /// The signed solid angle of the triangle (a, b, c) seen from the origin (Van Oosterom and

@@ -14,22 +14,22 @@
 
 use std::path::{Path, PathBuf};
 
-/// The places the corpus is looked for, in order.
-pub fn corpus_candidates() -> Vec<PathBuf> {
+/// The places a shared data folder is looked for, in order: the variable `var`, else
+/// `shared/data/NAME` beside the workspace (in it, beside it, or one level further up).
+fn candidates(var: &str, name: &str) -> Vec<PathBuf> {
     let ws = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..");
-    std::env::var_os("GONIO_CORPUS")
+    let beside = ["", "../", "../../"].map(|up| ws.join(format!("{up}shared/data/{name}")));
+    std::env::var_os(var)
         .map(PathBuf::from)
         .into_iter()
-        .chain(
-            [
-                "shared/data/photometry",
-                "../shared/data/photometry",
-                "../../shared/data/photometry",
-            ]
-            .iter()
-            .map(|rel| ws.join(rel)),
-        )
+        .chain(beside)
         .collect()
+}
+
+/// The places the corpus is looked for, in order: `$GONIO_CORPUS`, else
+/// `shared/data/photometry` beside the workspace.
+pub fn corpus_candidates() -> Vec<PathBuf> {
+    candidates("GONIO_CORPUS", "photometry")
 }
 
 /// The first of [`corpus_candidates`] that holds an `ies/` or `ldt/` folder.
@@ -99,20 +99,7 @@ pub fn corpus_files(dir: &Path) -> Vec<PathBuf> {
 /// The places the shared environment maps are looked for, in order: `$GONIO_ENVMAPS`, else
 /// `shared/data/envmaps` beside the workspace (as for the photometric corpus).
 pub fn envmap_candidates() -> Vec<PathBuf> {
-    let ws = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..");
-    std::env::var_os("GONIO_ENVMAPS")
-        .map(PathBuf::from)
-        .into_iter()
-        .chain(
-            [
-                "shared/data/envmaps",
-                "../shared/data/envmaps",
-                "../../shared/data/envmaps",
-            ]
-            .iter()
-            .map(|rel| ws.join(rel)),
-        )
-        .collect()
+    candidates("GONIO_ENVMAPS", "envmaps")
 }
 
 /// The first of [`envmap_candidates`] that holds a `.hdr` file.

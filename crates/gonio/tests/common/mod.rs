@@ -21,3 +21,17 @@ pub fn images(sym: gonio::photometry::Symmetry, c: f64) -> Vec<f64> {
         _ => vec![c],
     }
 }
+
+/// The hemisphere diagrams every batch test runs (`synthetic::random_hemisphere`'s arguments:
+/// family, parallels, meridians, irregular meridians, seed): uniform and irregular meridians,
+/// zero-heavy values, one meridian.
+pub const MAP_CASES: [(gonio::synthetic::Family, usize, usize, bool, u64); 5] = {
+    use gonio::synthetic::Family;
+    [
+        (Family::Lobes, 19, 36, false, 1),
+        (Family::Lobes, 181, 361, false, 2),
+        (Family::Spiky, 13, 17, true, 3),
+        (Family::ZeroHeavy, 9, 12, true, 4),
+        (Family::Rotational, 30, 1, false, 5),
+    ]
+};

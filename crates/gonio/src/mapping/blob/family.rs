@@ -96,10 +96,11 @@ fn tables_of<T: BlobFloat>(
     };
     for (s, t) in slices.iter().enumerate() {
         if let Some((t, _)) = t {
-            if t.m != t0.m || t.n != t0.n || t.radial_k != t0.radial_k {
+            let (a, r, a0, r0) = (&t.angular, &t.radial, &t0.angular, &t0.radial);
+            if a.m != a0.m || r.n != r0.n || r.radial_k != r0.radial_k {
                 return Err(grid_err(s, "counts"));
             }
-            if t.wedge_guide.len() != t0.wedge_guide.len() {
+            if a.wedge_guide.len() != a0.wedge_guide.len() {
                 return Err(grid_err(s, "wedge guide length"));
             }
             let same = |a: &[T], b: &[T]| {
@@ -108,25 +109,25 @@ fn tables_of<T: BlobFloat>(
                         .zip(b)
                         .all(|(x, y)| x.as_f64().to_bits() == y.as_f64().to_bits())
             };
-            if !same(&t.phi, &t0.phi)
-                || !same(&t.beta, &t0.beta)
-                || !same(&t.x, &t0.x)
-                || !same(&t.inv_dx, &t0.inv_dx)
-                || t.radius_guide != t0.radius_guide
-                || t.inv_uniform_beta.as_f64() != t0.inv_uniform_beta.as_f64()
-                || t.guide_scale.as_f64() != t0.guide_scale.as_f64()
-                || t.radius_scale.as_f64() != t0.radius_scale.as_f64()
+            if !same(&a.phi, &a0.phi)
+                || !same(&a.beta, &a0.beta)
+                || !same(&r.x, &r0.x)
+                || !same(&r.inv_dx, &r0.inv_dx)
+                || r.radius_guide != r0.radius_guide
+                || a.inv_uniform_beta.as_f64() != a0.inv_uniform_beta.as_f64()
+                || a.guide_scale.as_f64() != a0.guide_scale.as_f64()
+                || r.radius_scale.as_f64() != r0.radius_scale.as_f64()
             {
                 return Err(grid_err(s, "meridians, parallels or guides"));
             }
         }
     }
     let slot = Slot {
-        m: t0.m as u64,
-        n: t0.n as u64,
-        k: t0.radial_k as u64,
-        g: t0.wedge_guide.len() as u64,
-        rg: t0.radius_guide.len() as u64,
+        m: t0.angular.m as u64,
+        n: t0.radial.n as u64,
+        k: t0.radial.radial_k as u64,
+        g: t0.angular.wedge_guide.len() as u64,
+        rg: t0.radial.radius_guide.len() as u64,
     };
     let counts = map_counts(slot.m, slot.n, slot.k, slot.g, slot.rg);
     // Stack the per-slice tables (zero for a slice without a map).
@@ -136,11 +137,11 @@ fn tables_of<T: BlobFloat>(
         if !stacked(k) {
             let t = t0;
             p.push(match k {
-                0 => floats(id, elem, &t.phi),
-                1 => floats(id, elem, &t.beta),
-                5 => floats(id, elem, &t.x),
-                9 => guides(id, &t.radius_guide),
-                _ => floats(id, elem, &t.inv_dx),
+                0 => floats(id, elem, &t.angular.phi),
+                1 => floats(id, elem, &t.angular.beta),
+                5 => floats(id, elem, &t.radial.x),
+                9 => guides(id, &t.radial.radius_guide),
+                _ => floats(id, elem, &t.radial.inv_dx),
             });
             continue;
         }
@@ -150,9 +151,9 @@ fn tables_of<T: BlobFloat>(
             for s in slices {
                 match s {
                     Some((t, _)) => v.extend_from_slice(if k == 4 {
-                        &t.wedge_guide
+                        &t.angular.wedge_guide
                     } else {
-                        &t.radial_guide
+                        &t.radial.radial_guide
                     }),
                     None => v.resize(v.len() + c, 0),
                 }
@@ -163,11 +164,11 @@ fn tables_of<T: BlobFloat>(
             for s in slices {
                 match s {
                     Some((t, _)) => v.extend_from_slice(match k {
-                        2 => &t.r2,
-                        3 => &t.cum,
-                        6 => &t.d,
-                        7 => &t.u,
-                        _ => &t.total,
+                        2 => &t.angular.r2,
+                        3 => &t.angular.cum,
+                        6 => &t.radial.d,
+                        7 => &t.radial.u,
+                        _ => &t.radial.total,
                     }),
                     None => v.resize(v.len() + c, zero_of(t0)),
                 }
@@ -178,22 +179,24 @@ fn tables_of<T: BlobFloat>(
     let mut rows: Vec<T> = Vec::with_capacity(SLICE_ROW * slices.len());
     for s in slices {
         match s {
-            Some((t, inv_2t)) => rows.extend([*inv_2t, t.kappa, t.edge, zero_of(t0)]),
+            Some((t, inv_2t)) => {
+                rows.extend([*inv_2t, t.angular.kappa, t.radial.edge, zero_of(t0)])
+            }
             None => rows.resize(rows.len() + SLICE_ROW, zero_of(t0)),
         }
     }
     p.push(floats(ID_SLICE, elem, &rows));
     let scalars = [
-        t0.inv_uniform_beta.as_f64(),
-        t0.guide_scale.as_f64(),
-        t0.radius_scale.as_f64(),
+        t0.angular.inv_uniform_beta.as_f64(),
+        t0.angular.guide_scale.as_f64(),
+        t0.radial.radius_scale.as_f64(),
     ];
     Ok((slot, scalars, p))
 }
 
 /// The zero of the tables' element type (read from a table known to start at 0: Γ_0).
 fn zero_of<T: BlobFloat>(t: &Tables<T>) -> T {
-    t.cum[0]
+    t.angular.cum[0]
 }
 
 /// The family blob of `slices` (one per incident node, a·(number of φ_i) + b; `None` for a slice
