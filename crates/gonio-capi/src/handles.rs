@@ -326,10 +326,7 @@ pub(crate) fn kind_of_path(name: &str) -> Result<InputKind, Failure> {
     if let Some(kind) = InputKind::from_extension(name) {
         return Ok(kind);
     }
-    let ext = Path::new(name)
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
+    let ext = gonio::input::lowercase_extension(name);
     match ext {
         Some(e) => Err(Failure::invalid(format!(
             "{name}: unknown input format `.{e}`; expected .json, .ies or .ldt"

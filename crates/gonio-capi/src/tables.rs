@@ -110,21 +110,8 @@ pub unsafe extern "C" fn gonio_envmap_tables(
         let m = r(map, "map")?;
         check_out(size, "size")?;
         let p = self::precision(precision)?;
-        let env = m.inner();
-        let img = env.image();
-        let t = Target::Image {
-            width: img.width(),
-            height: img.height(),
-            rgb: img.rgb(),
-            lookup: env.options().lookup,
-        };
-        let bytes = blob::write(
-            gonio::MapRef::Sphere(env.map()),
-            p,
-            Frame::EnvironmentMap,
-            &t,
-        )
-        .map_err(|e| Failure::invalid(e.to_string()))?;
+        let bytes =
+            blob::write_envmap(m.inner(), p).map_err(|e| Failure::invalid(e.to_string()))?;
         deliver(&bytes, buffer, capacity, size)
     })
 }

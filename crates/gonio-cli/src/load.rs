@@ -81,10 +81,7 @@ pub fn input_kind(name: &str) -> anyhow::Result<InputKind> {
     if let Some(kind) = InputKind::from_extension(name) {
         return Ok(kind);
     }
-    let ext = Path::new(name)
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
+    let ext = gonio::input::lowercase_extension(name);
     match ext.as_deref() {
         Some("hdr" | "pic" | "exr" | "pfm") => Ok(InputKind::EnvMap),
         Some(e) => anyhow::bail!(

@@ -18,16 +18,7 @@ fn brdf_commands_on_every_format() {
     let utia = dir.join("aniso.bin");
     let g = Analytic::families()[2];
     std::fs::write(&utia, write_utia_dirs(|wi, wo| g.eval(wi, wo))).unwrap();
-    let small = [
-        "--merl-theta",
-        "7",
-        "--merl-phi",
-        "12",
-        "--theta-o",
-        "7",
-        "--phi-o",
-        "12",
-    ];
+    let small = SMALL_BRDF;
     for (file, format) in [
         (&json, "gonio BRDF JSON"),
         (&merl, "MERL binary"),

@@ -15,20 +15,8 @@ fn tmp(name: &str) -> PathBuf {
     d
 }
 
-/// The small grids that keep the MERL resampling and the slices quick.
-const SMALL: [&str; 8] = [
-    "--merl-theta",
-    "7",
-    "--merl-phi",
-    "12",
-    "--theta-o",
-    "7",
-    "--phi-o",
-    "12",
-];
-
 fn with_small(mut a: Vec<&str>) -> Vec<&str> {
-    a.extend(SMALL);
+    a.extend(SMALL_BRDF);
     a
 }
 

@@ -71,27 +71,11 @@ impl PyEnvMap {
         py: Python<'py>,
         precision: &str,
     ) -> PyResult<Bound<'py, pyo3::types::PyBytes>> {
-        use gonio::mapping::blob::{self, Frame, Precision, Target};
+        use gonio::mapping::blob::{write_envmap, write_envmap_float32, Precision};
         let p = crate::sampler::parse_precision(precision)?;
-        let img = self.image();
-        let target = Target::Image {
-            width: img.width(),
-            height: img.height(),
-            rgb: img.rgb(),
-            lookup: self.options().lookup,
-        };
         let bytes = py.detach(|| match (&self.inner, p) {
-            (Inner::F64(e), _) => blob::write(
-                gonio::MapRef::Sphere(e.map()),
-                p,
-                Frame::EnvironmentMap,
-                &target,
-            )
-            .map_err(|e| e.to_string()),
-            (Inner::F32(e), Precision::F32) => {
-                blob::write_float32(e.map(), Frame::EnvironmentMap, &target)
-                    .map_err(|e| e.to_string())
-            }
+            (Inner::F64(e), _) => write_envmap(e, p).map_err(|e| e.to_string()),
+            (Inner::F32(e), Precision::F32) => write_envmap_float32(e).map_err(|e| e.to_string()),
             (Inner::F32(_), Precision::F64) => Err(
                 "needs the float64 map (EnvMap(..., precision=\"float64\"), the default)".into(),
             ),

@@ -37,6 +37,7 @@ import pytest
 
 import gonio
 from conftest import SUMMARY, corpus_dir
+from test_mitsuba_chi2 import converged_chi2
 
 ROOT = Path(__file__).resolve().parents[3]
 ENVMAPS = Path(os.environ.get("GONIO_ENVMAPS") or ROOT.parent / "shared" / "data" / "envmaps")
@@ -332,39 +333,6 @@ def dr_zeros_si(mi, n):
 CHI2_CASES = ["gonio:" + FILES[0], "gonio:" + FILES[1], "gonio:random1"] + [
     "gonio_envmap:" + n for n in ("studio.hdr", "sunset.hdr", "night.hdr")]
 CHI2_SAMPLES = 1_000_000
-RES, IRES_START, IRES_MAX = 101, 8, 64
-
-
-def _harness(mi, chi2, sample_func, pdf_func, seed):
-    """ChiSquareTest with the resolution chosen by convergence as in test_mitsuba_chi2.py."""
-
-    def make(ires):
-        t = chi2.ChiSquareTest(domain=chi2.SphericalDomain(), sample_func=sample_func, pdf_func=pdf_func,
-                               sample_dim=2, sample_count=CHI2_SAMPLES, res=RES, ires=ires, seed=seed)
-        t.tabulate_pdf()
-        return t
-
-    first = make(IRES_START)
-    first.tabulate_histogram()
-    hits = np.asarray(first.histogram, dtype=np.float64) > 0
-    coarse = first
-    while True:
-        fine = make(2 * coarse.ires)
-        e_c, e_f = np.asarray(coarse.pdf, np.float64), np.asarray(fine.pdf, np.float64)
-        pos = e_f > 0
-        dist = float(np.sum((e_c[pos] - e_f[pos]) ** 2 / e_f[pos]))
-        sd = np.sqrt(2.0 * np.count_nonzero(e_f >= 5))
-        missed = int(np.count_nonzero(hits & ~pos))
-        if (dist / 10 <= 0.1 * sd and missed == 0) or fine.ires >= IRES_MAX:
-            break
-        coarse = fine
-    for attr in ("histogram", "histogram_sum", "pdf_start", "pdf_end"):
-        setattr(fine, attr, getattr(first, attr))
-    fine.fail = fine.fail or first.fail
-    fine.messages = first.messages + fine.messages
-    ok = fine.run(significance_level=0.01, test_count=len(CHI2_CASES), quiet=True)
-    p = fine.p_value
-    return ok, fine.ires, float(p[0]) if hasattr(p, "__len__") else float(p), fine.messages
 
 
 @pytest.mark.parametrize("case", CHI2_CASES)
@@ -409,7 +377,8 @@ def test_mitsuba_chi2_on_the_emitters(mi_llvm, case):
         def pdf_func(wo):
             return em.tables.pdf(wo)  # identity to_world: world = local
 
-    ok, ires, p, messages = _harness(mi, chi2, sample_func, pdf_func, seed=41)
+    ok, ires, p, messages = converged_chi2(chi2, sample_func, pdf_func, seed=41,
+                                           test_count=len(CHI2_CASES), sample_count=CHI2_SAMPLES)
     SUMMARY.append(f"{'accepted' if ok else 'REJECTED'}  p = {p:.4f}  ires = {ires:2d}  {case} (Dr.Jit emitter, symbolic)")
     assert ok, messages
 

@@ -69,11 +69,7 @@ impl InputKind {
     /// The file format a name's extension stands for (`.json`, `.ies`, `.ldt`, any letter case);
     /// `None` for any other extension or none.
     pub fn from_extension(name: &str) -> Option<Self> {
-        let ext = Path::new(name)
-            .extension()
-            .and_then(|e| e.to_str())
-            .map(str::to_ascii_lowercase);
-        match ext.as_deref() {
+        match lowercase_extension(name).as_deref() {
             Some("json") => Some(InputKind::Json),
             Some("ies") => Some(InputKind::Ies),
             Some("ldt") => Some(InputKind::Eulumdat),
@@ -229,6 +225,14 @@ pub fn load(bytes: &[u8], kind: InputKind, tilt: &dyn TiltResolver) -> Result<Lo
         }
         other => Err(LoadError::NotAFileFormat(other)),
     }
+}
+
+/// The extension of the file name `name` in lower case (`"Sky.EXR"` → `"exr"`), if it has one.
+pub fn lowercase_extension(name: &str) -> Option<String> {
+    Path::new(name)
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
 }
 
 #[cfg(test)]

@@ -62,19 +62,7 @@ pub fn run(a: &TablesArgs, settings: &crate::settings::Settings) -> anyhow::Resu
     }
     let loaded = load(&a.input, settings)?;
     let bytes = if let Some(env) = &loaded.envmap {
-        let img = env.image();
-        let target = Target::Image {
-            width: img.width(),
-            height: img.height(),
-            rgb: img.rgb(),
-            lookup: env.options().lookup,
-        };
-        blob::write(
-            gonio::MapRef::Sphere(env.map()),
-            precision,
-            Frame::EnvironmentMap,
-            &target,
-        )
+        blob::write_envmap(env, precision)
     } else {
         let sampler = build_sampler(Method::Hds, &loaded)?;
         let map = sampler.hds_map().expect("the HDS method builds an HDS map");

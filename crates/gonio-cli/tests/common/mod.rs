@@ -141,3 +141,15 @@ pub fn rows(text: &str) -> Vec<Vec<f64>> {
         .map(|l| l.split(',').map(|f| f.parse().unwrap()).collect())
         .collect()
 }
+
+/// The small grids that keep the MERL resampling and the slices quick.
+pub const SMALL_BRDF: [&str; 8] = [
+    "--merl-theta",
+    "7",
+    "--merl-phi",
+    "12",
+    "--theta-o",
+    "7",
+    "--phi-o",
+    "12",
+];

@@ -229,12 +229,7 @@ fn solve_cell(theta_j: f64, delta: f64, a: f64, b: f64, mass: f64, target: f64) 
 }
 
 impl Sampler for Bilinear {
-    fn name(&self) -> &'static str {
-        "bilinear"
-    }
-    fn domain(&self) -> Domain {
-        self.target.domain
-    }
+    target_methods!("bilinear");
     fn sample(&self, u: Point2) -> Sample {
         let d = &self.target.diagram;
         let (m, n) = (d.n_meridians(), d.n_parallels());
@@ -332,12 +327,6 @@ impl Sampler for Bilinear {
         );
         let u1 = (c0 + f) / total;
         Ok([u0.clamp(0.0, 1.0), u1.clamp(0.0, 1.0)])
-    }
-    fn target_pdf(&self, direction: Vec3) -> f64 {
-        self.target.pdf(direction)
-    }
-    fn target_power(&self) -> f64 {
-        self.target.integral
     }
     fn memory_bytes(&self) -> usize {
         self.target.diagram_bytes()

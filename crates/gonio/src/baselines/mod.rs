@@ -19,6 +19,25 @@
 //!
 //! The formulas, costs and weaknesses of each method are collected in `docs/BASELINES.md`.
 
+/// The [`crate::Sampler`] methods every baseline answers from its `target` field ([`Target`]):
+/// the name given, the domain, the target density and its power.
+macro_rules! target_methods {
+    ($name:literal) => {
+        fn name(&self) -> &'static str {
+            $name
+        }
+        fn domain(&self) -> crate::sampler::Domain {
+            self.target.domain
+        }
+        fn target_pdf(&self, direction: crate::sampler::Vec3) -> f64 {
+            self.target.pdf(direction)
+        }
+        fn target_power(&self) -> f64 {
+            self.target.integral
+        }
+    };
+}
+
 mod bilinear;
 pub mod equal_area;
 mod piecewise_constant;
@@ -124,6 +143,54 @@ pub(crate) fn invert_cdf(cdf: &[f64], last_positive: usize, x: f64) -> (usize, f
         1.0
     };
     (k, t)
+}
+
+/// The CDFs of a piecewise-constant `w` × `h` image (row-major, non-negative): each row's
+/// conditional CDF over its columns and the marginal CDF over the rows' sums, as
+/// [`build_cdf`] makes them.
+#[derive(Debug, Clone)]
+pub(crate) struct ImageCdfs {
+    /// ∫ of the image: the sum of its pixels.
+    pub(crate) total: f64,
+    /// The rows' CDF, h + 1 entries.
+    pub(crate) marginal: Vec<f64>,
+    /// The last row of positive sum.
+    pub(crate) marginal_last: usize,
+    /// h rows of w + 1 CDF entries.
+    pub(crate) conditional: Vec<f64>,
+    /// Each row's last column of positive value.
+    pub(crate) conditional_last: Vec<u32>,
+}
+
+impl ImageCdfs {
+    /// The CDFs of `image` (`w` × `h`, row-major).
+    pub(crate) fn build(image: &[f64], w: usize, h: usize) -> Self {
+        let mut conditional = vec![0.0; h * (w + 1)];
+        let mut conditional_last = vec![0u32; h];
+        let mut rows = vec![0.0; h];
+        for r in 0..h {
+            let (sum, last) = build_cdf(
+                &image[r * w..(r + 1) * w],
+                &mut conditional[r * (w + 1)..(r + 1) * (w + 1)],
+            );
+            rows[r] = sum;
+            conditional_last[r] = last as u32;
+        }
+        let mut marginal = vec![0.0; h + 1];
+        let (total, marginal_last) = build_cdf(&rows, &mut marginal);
+        ImageCdfs {
+            total,
+            marginal,
+            marginal_last,
+            conditional,
+            conditional_last,
+        }
+    }
+
+    /// Bytes of the CDFs' contents.
+    pub(crate) fn bytes(&self) -> usize {
+        8 * (self.marginal.len() + self.conditional.len()) + 4 * self.conditional_last.len()
+    }
 }
 
 /// Builds the normalised CDF of non-negative `weights` into `cdf` (length `weights.len() + 1`) and

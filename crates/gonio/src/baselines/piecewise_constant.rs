@@ -5,7 +5,7 @@ use super::equal_area::{
     equal_area_hemisphere_to_square, equal_area_sphere_to_square, equal_area_square_to_hemisphere,
     equal_area_square_to_sphere,
 };
-use super::{build_cdf, clamp_unit, invert_cdf, BuildError, Target};
+use super::{clamp_unit, invert_cdf, BuildError, ImageCdfs, Target};
 use crate::diagram::Diagram;
 use crate::sampler::{normalize, spherical, Domain, InvertError, Point2, Sample, Sampler, Vec3};
 use rayon::prelude::*;
@@ -69,11 +69,8 @@ pub struct PiecewiseConstant {
     /// Density per steradian of each pixel, row-major (`pdf[r * R + c]`).
     pdf: Vec<f64>,
     /// Normalised CDF of the row sums, R + 1 entries.
-    marginal: Vec<f64>,
-    marginal_last: usize,
-    /// Normalised CDF of each row, R rows of R + 1 entries.
-    conditional: Vec<f64>,
-    conditional_last: Vec<u32>,
+    /// The marginal and conditional CDFs of the pixels.
+    cdfs: ImageCdfs,
 }
 
 impl PiecewiseConstant {
@@ -125,19 +122,8 @@ impl PiecewiseConstant {
             }
         });
 
-        let mut conditional = vec![0.0; n * (n + 1)];
-        let mut conditional_last = vec![0u32; n];
-        let mut row_sums = vec![0.0; n];
-        for r in 0..n {
-            let (sum, last) = build_cdf(
-                &image[r * n..(r + 1) * n],
-                &mut conditional[r * (n + 1)..(r + 1) * (n + 1)],
-            );
-            row_sums[r] = sum;
-            conditional_last[r] = last as u32;
-        }
-        let mut marginal = vec![0.0; n + 1];
-        let (total, marginal_last) = build_cdf(&row_sums, &mut marginal);
+        let cdfs = ImageCdfs::build(&image, n, n);
+        let total = cdfs.total;
         if total <= 0.0 {
             return Err(BuildError::EmptyImage { resolution });
         }
@@ -150,10 +136,7 @@ impl PiecewiseConstant {
             target,
             resolution,
             pdf: image,
-            marginal,
-            marginal_last,
-            conditional,
-            conditional_last,
+            cdfs,
         })
     }
 
@@ -220,17 +203,20 @@ fn square_map(domain: Domain) -> fn(Point2) -> Vec3 {
 }
 
 impl Sampler for PiecewiseConstant {
-    fn name(&self) -> &'static str {
-        "piecewise-constant"
-    }
-    fn domain(&self) -> Domain {
-        self.target.domain
-    }
+    target_methods!("piecewise-constant");
     fn sample(&self, u: Point2) -> Sample {
         let n = self.resolution;
-        let (r, dv) = invert_cdf(&self.marginal, self.marginal_last, clamp_unit(u[1]));
-        let row = &self.conditional[r * (n + 1)..(r + 1) * (n + 1)];
-        let (c, du) = invert_cdf(row, self.conditional_last[r] as usize, clamp_unit(u[0]));
+        let (r, dv) = invert_cdf(
+            &self.cdfs.marginal,
+            self.cdfs.marginal_last,
+            clamp_unit(u[1]),
+        );
+        let row = &self.cdfs.conditional[r * (n + 1)..(r + 1) * (n + 1)];
+        let (c, du) = invert_cdf(
+            row,
+            self.cdfs.conditional_last[r] as usize,
+            clamp_unit(u[0]),
+        );
         let nf = n as f64;
         let mut p = [(c as f64 + du) / nf, (r as f64 + dv) / nf];
         let mut direction = self.to_direction(p);
@@ -284,20 +270,13 @@ impl Sampler for PiecewiseConstant {
         let (r, c) = self.pixel(p);
         let du = (p[0] * n as f64 - c as f64).clamp(0.0, 1.0);
         let dv = (p[1] * n as f64 - r as f64).clamp(0.0, 1.0);
-        let row = &self.conditional[r * (n + 1)..(r + 1) * (n + 1)];
+        let row = &self.cdfs.conditional[r * (n + 1)..(r + 1) * (n + 1)];
         let u0 = row[c] + du * (row[c + 1] - row[c]);
-        let u1 = self.marginal[r] + dv * (self.marginal[r + 1] - self.marginal[r]);
+        let u1 = self.cdfs.marginal[r] + dv * (self.cdfs.marginal[r + 1] - self.cdfs.marginal[r]);
         Ok([u0.clamp(0.0, 1.0), u1.clamp(0.0, 1.0)])
     }
-    fn target_pdf(&self, direction: Vec3) -> f64 {
-        self.target.pdf(direction)
-    }
-    fn target_power(&self) -> f64 {
-        self.target.integral
-    }
     fn memory_bytes(&self) -> usize {
-        std::mem::size_of::<f64>() * (self.pdf.len() + self.marginal.len() + self.conditional.len())
-            + std::mem::size_of::<u32>() * self.conditional_last.len()
+        8 * self.pdf.len() + self.cdfs.bytes()
     }
 }
 
@@ -359,9 +338,9 @@ mod tests {
         for r in 0..n {
             for c in 0..n {
                 if s.pdf[r * n + c] > 0.0 {
-                    let row = &s.conditional[r * (n + 1)..(r + 1) * (n + 1)];
+                    let row = &s.cdfs.conditional[r * (n + 1)..(r + 1) * (n + 1)];
                     for u0 in [row[c], row[c + 1]] {
-                        for u1 in [s.marginal[r], s.marginal[r + 1]] {
+                        for u1 in [s.cdfs.marginal[r], s.cdfs.marginal[r + 1]] {
                             points.push([u0, u1]);
                         }
                     }

@@ -131,12 +131,7 @@ fn splitmix64(mut z: u64) -> u64 {
 }
 
 impl Sampler for Rejection {
-    fn name(&self) -> &'static str {
-        "rejection"
-    }
-    fn domain(&self) -> Domain {
-        self.target.domain
-    }
+    target_methods!("rejection");
     fn sample(&self, u: Point2) -> Sample {
         let (a, b) = (clamp_unit(u[0]).to_bits(), clamp_unit(u[1]).to_bits());
         let seed = splitmix64(splitmix64(a ^ 0x9e37_79b9_7f4a_7c15 ^ self.seed) ^ b);
@@ -161,12 +156,6 @@ impl Sampler for Rejection {
     }
     fn invert(&self, _direction: Vec3) -> Result<Point2, InvertError> {
         Err(InvertError::Unsupported)
-    }
-    fn target_pdf(&self, direction: Vec3) -> f64 {
-        self.target.pdf(direction)
-    }
-    fn target_power(&self) -> f64 {
-        self.target.integral
     }
     fn memory_bytes(&self) -> usize {
         self.target.diagram_bytes()

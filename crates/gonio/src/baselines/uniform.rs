@@ -62,12 +62,7 @@ pub(crate) fn square_to_uniform(domain: Domain, p: Point2) -> Vec3 {
 }
 
 impl Sampler for Uniform {
-    fn name(&self) -> &'static str {
-        "uniform"
-    }
-    fn domain(&self) -> Domain {
-        self.target.domain
-    }
+    target_methods!("uniform");
     fn sample(&self, u: Point2) -> Sample {
         Sample {
             direction: square_to_uniform(self.target.domain, u),
@@ -97,12 +92,6 @@ impl Sampler for Uniform {
             v = 0.0;
         }
         Ok([u.clamp(0.0, 1.0), v])
-    }
-    fn target_pdf(&self, direction: Vec3) -> f64 {
-        self.target.pdf(direction)
-    }
-    fn target_power(&self) -> f64 {
-        self.target.integral
     }
     fn memory_bytes(&self) -> usize {
         0

@@ -12,7 +12,7 @@
 //!   [`crate::baselines::PiecewiseConstant`] on the map's diagram.
 
 use super::{image_direction, phi_to_s, EnvironmentMap};
-use crate::baselines::{build_cdf, clamp_unit, invert_cdf, PiecewiseConstant, Target};
+use crate::baselines::{clamp_unit, invert_cdf, ImageCdfs, PiecewiseConstant, Target};
 use crate::method::BuildError;
 use crate::sampler::{normalize, spherical, Domain, InvertError, Point2, Sample, Sampler, Vec3};
 use std::f64::consts::PI;
@@ -35,11 +35,8 @@ pub struct LatLongPiecewiseConstant {
     height: usize,
     /// Density on the image square of each pixel, row-major.
     q: Vec<f64>,
-    marginal: Vec<f64>,
-    marginal_last: usize,
-    /// H rows of W + 1 CDF entries.
-    conditional: Vec<f64>,
-    conditional_last: Vec<u32>,
+    /// The marginal and conditional CDFs of the pixels.
+    cdfs: ImageCdfs,
 }
 
 impl LatLongPiecewiseConstant {
@@ -62,19 +59,8 @@ impl LatLongPiecewiseConstant {
             }
         }
         let target = Target::new(&d, Domain::Sphere)?;
-        let mut conditional = vec![0.0; h * (w + 1)];
-        let mut conditional_last = vec![0u32; h];
-        let mut rows = vec![0.0; h];
-        for r in 0..h {
-            let (sum, last) = build_cdf(
-                &f[r * w..(r + 1) * w],
-                &mut conditional[r * (w + 1)..(r + 1) * (w + 1)],
-            );
-            rows[r] = sum;
-            conditional_last[r] = last as u32;
-        }
-        let mut marginal = vec![0.0; h + 1];
-        let (total, marginal_last) = build_cdf(&rows, &mut marginal);
+        let cdfs = ImageCdfs::build(&f, w, h);
+        let total = cdfs.total;
         if !(total > 0.0 && total.is_finite()) {
             return Err(BuildError::NoPower { integral: total });
         }
@@ -85,15 +71,12 @@ impl LatLongPiecewiseConstant {
             width: w,
             height: h,
             q,
-            marginal,
-            marginal_last,
-            conditional,
-            conditional_last,
+            cdfs,
         })
     }
 
     fn cond(&self, r: usize) -> &[f64] {
-        &self.conditional[r * (self.width + 1)..(r + 1) * (self.width + 1)]
+        &self.cdfs.conditional[r * (self.width + 1)..(r + 1) * (self.width + 1)]
     }
 
     /// The image coordinates (s, t) of a unit direction.
@@ -122,10 +105,14 @@ impl Sampler for LatLongPiecewiseConstant {
         Domain::Sphere
     }
     fn sample(&self, u: Point2) -> Sample {
-        let (r, a) = invert_cdf(&self.marginal, self.marginal_last, clamp_unit(u[1]));
+        let (r, a) = invert_cdf(
+            &self.cdfs.marginal,
+            self.cdfs.marginal_last,
+            clamp_unit(u[1]),
+        );
         let (c, b) = invert_cdf(
             self.cond(r),
-            self.conditional_last[r] as usize,
+            self.cdfs.conditional_last[r] as usize,
             clamp_unit(u[0]),
         );
         let s = (c as f64 + b) / self.width as f64;
@@ -153,7 +140,7 @@ impl Sampler for LatLongPiecewiseConstant {
         let c = (xs as usize).min(self.width - 1);
         let r = (ys as usize).min(self.height - 1);
         let (a, b) = (ys - r as f64, xs - c as f64);
-        let m = &self.marginal;
+        let m = &self.cdfs.marginal;
         let k = self.cond(r);
         Ok([
             (k[c] + b * (k[c + 1] - k[c])).clamp(0.0, 1.0),
@@ -164,8 +151,7 @@ impl Sampler for LatLongPiecewiseConstant {
         self.target.pdf(direction)
     }
     fn memory_bytes(&self) -> usize {
-        8 * (self.q.len() + self.marginal.len() + self.conditional.len())
-            + 4 * self.conditional_last.len()
+        8 * self.q.len() + self.cdfs.bytes()
     }
     fn target_power(&self) -> f64 {
         self.target.integral

@@ -40,12 +40,8 @@ pub const MIN_UNCHECKED_PIXELS: usize = 1 << 20;
 pub fn read_hdr(bytes: &[u8]) -> Result<Image, ImageError> {
     let mut pos = 0usize;
     let mut line_no = 0usize;
-    let header_err = |line: usize, offset: usize, message: String| ImageError::Header {
-        format: FORMAT,
-        line,
-        column: super::column_of(bytes, offset),
-        offset,
-        message,
+    let header_err = |line: usize, offset: usize, message: String| {
+        super::header_error(FORMAT, bytes, line, offset, message)
     };
     let next_line = |pos: &mut usize, line_no: &mut usize| -> Result<(usize, String), ImageError> {
         let start = *pos;

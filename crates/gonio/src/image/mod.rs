@@ -223,6 +223,24 @@ pub struct Image {
     warnings: Vec<String>,
 }
 
+/// The header error of `format` at 1-based `line` and byte `offset` of `bytes` (its column
+/// found there).
+pub(crate) fn header_error(
+    format: &'static str,
+    bytes: &[u8],
+    line: usize,
+    offset: usize,
+    message: String,
+) -> ImageError {
+    ImageError::Header {
+        format,
+        line,
+        column: column_of(bytes, offset),
+        offset,
+        message,
+    }
+}
+
 /// The 1-based column (in bytes) of `offset` in its line of `bytes` (a header's location).
 pub(crate) fn column_of(bytes: &[u8], offset: usize) -> usize {
     let offset = offset.min(bytes.len());

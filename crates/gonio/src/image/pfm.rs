@@ -19,12 +19,8 @@ const FORMAT: &str = "PFM";
 pub fn read_pfm(bytes: &[u8]) -> Result<Image, ImageError> {
     let mut pos = 0usize;
     let mut line = 1usize;
-    let header_err = |line: usize, offset: usize, message: String| ImageError::Header {
-        format: FORMAT,
-        line,
-        column: super::column_of(bytes, offset),
-        offset,
-        message,
+    let header_err = |line: usize, offset: usize, message: String| {
+        super::header_error(FORMAT, bytes, line, offset, message)
     };
     let token =
         |pos: &mut usize, line: &mut usize, what: &str| -> Result<(usize, String), ImageError> {

@@ -575,6 +575,52 @@ pub fn write_float32(
     write_maps(&map.maps, Precision::F32, frame, target)
 }
 
+/// The blob target of an environment map: its RGB image and radiance lookup.
+fn image_target<'a>(
+    image: &'a crate::image::Image,
+    options: &crate::envmap::EnvOptions,
+) -> Target<'a> {
+    Target::Image {
+        width: image.width(),
+        height: image.height(),
+        rgb: image.rgb(),
+        lookup: options.lookup,
+    }
+}
+
+/// An environment map's tables as one blob in `precision`, in its lat-long frame
+/// ([`Frame::EnvironmentMap`]), with its RGB image and radiance lookup as the target: what the
+/// CLI's `gonio tables`, Python's `EnvMap.tables` and the C ABI's `gonio_envmap_tables` write.
+///
+/// # Errors
+/// As [`write`].
+pub fn write_envmap(
+    env: &crate::envmap::EnvironmentMap,
+    precision: Precision,
+) -> Result<Vec<u8>, TablesError> {
+    write(
+        MapRef::Sphere(env.map()),
+        precision,
+        Frame::EnvironmentMap,
+        &image_target(env.image(), env.options()),
+    )
+}
+
+/// A float32 environment map's tables as one blob (precision f32), as [`write_envmap`] writes
+/// them for the f64 map's float32 twin.
+///
+/// # Errors
+/// As [`write_float32`].
+pub fn write_envmap_float32(
+    env: &crate::envmap::Float32EnvironmentMap,
+) -> Result<Vec<u8>, TablesError> {
+    write_float32(
+        env.map(),
+        Frame::EnvironmentMap,
+        &image_target(env.image(), env.options()),
+    )
+}
+
 // ------------------------------------------------------------------------------------------
 // Reading.
 // ------------------------------------------------------------------------------------------

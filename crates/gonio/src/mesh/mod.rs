@@ -320,6 +320,23 @@ pub enum MeshError {
 /// An empty vector with room for `n` elements, allocated fallibly: [`MeshError::OutOfMemory`]
 /// instead of an abort when the memory is not there (a `texture_uv` call with 10⁸ faces under a
 /// memory limit once aborted in [`star::check_closed`]).
+/// A syntax error of `format` at 1-based `line` and byte offset `byte` (its column filled in
+/// later by [`with_column`]).
+pub(crate) fn syntax_error(
+    format: &'static str,
+    line: usize,
+    byte: usize,
+    message: impl Into<String>,
+) -> MeshError {
+    MeshError::Syntax {
+        format,
+        line,
+        column: 0,
+        byte,
+        message: message.into(),
+    }
+}
+
 pub(crate) fn try_vec<T>(n: usize, what: &'static str) -> Result<Vec<T>, MeshError> {
     let mut v = Vec::new();
     v.try_reserve_exact(n).map_err(|_| MeshError::OutOfMemory {

@@ -22,13 +22,7 @@ pub struct ObjRead {
 }
 
 fn syntax(line: usize, byte: usize, message: impl Into<String>) -> MeshError {
-    MeshError::Syntax {
-        format: FMT,
-        line,
-        column: 0,
-        byte,
-        message: message.into(),
-    }
+    super::syntax_error(FMT, line, byte, message)
 }
 
 fn number(tok: &str, line: usize, byte: usize, what: &str) -> Result<f64, MeshError> {

@@ -80,13 +80,7 @@ enum Encoding {
 }
 
 fn syntax(line: usize, byte: usize, message: impl Into<String>) -> MeshError {
-    MeshError::Syntax {
-        format: FMT,
-        line,
-        column: 0,
-        byte,
-        message: message.into(),
-    }
+    super::syntax_error(FMT, line, byte, message)
 }
 
 /// The data cursor: binary or ASCII tokens.
