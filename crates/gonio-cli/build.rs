@@ -13,13 +13,8 @@ mod corpus;
 
 fn main() {
     println!("cargo::rustc-check-cfg=cfg(gonio_corpus)");
-    println!("cargo:rerun-if-env-changed=GONIO_CORPUS");
     println!("cargo:rerun-if-changed=build.rs");
     println!("cargo:rerun-if-changed=../gonio/tests/common/corpus.rs");
-    if let Some(c) = corpus::find_corpus() {
-        let c = c.canonicalize().unwrap_or(c);
-        println!("cargo:rerun-if-changed={}", c.display());
-        println!("cargo:rustc-cfg=gonio_corpus");
-        println!("cargo:rustc-env=GONIO_CORPUS_DIR={}", c.display());
-    }
+    let found = corpus::find_corpus();
+    corpus::announce("GONIO_CORPUS", "gonio_corpus", "GONIO_CORPUS_DIR", found);
 }

@@ -13,20 +13,10 @@ mod corpus;
 fn main() {
     println!("cargo::rustc-check-cfg=cfg(gonio_corpus)");
     println!("cargo::rustc-check-cfg=cfg(gonio_envmaps)");
-    println!("cargo:rerun-if-env-changed=GONIO_ENVMAPS");
-    if let Some(e) = corpus::find_envmaps() {
-        let e = e.canonicalize().unwrap_or(e);
-        println!("cargo:rerun-if-changed={}", e.display());
-        println!("cargo:rustc-cfg=gonio_envmaps");
-        println!("cargo:rustc-env=GONIO_ENVMAPS_DIR={}", e.display());
-    }
-    println!("cargo:rerun-if-env-changed=GONIO_CORPUS");
     println!("cargo:rerun-if-changed=build.rs");
     println!("cargo:rerun-if-changed=tests/common/corpus.rs");
-    if let Some(c) = corpus::find_corpus() {
-        let c = c.canonicalize().unwrap_or(c);
-        println!("cargo:rerun-if-changed={}", c.display());
-        println!("cargo:rustc-cfg=gonio_corpus");
-        println!("cargo:rustc-env=GONIO_CORPUS_DIR={}", c.display());
-    }
+    let found = corpus::find_envmaps();
+    corpus::announce("GONIO_ENVMAPS", "gonio_envmaps", "GONIO_ENVMAPS_DIR", found);
+    let found = corpus::find_corpus();
+    corpus::announce("GONIO_CORPUS", "gonio_corpus", "GONIO_CORPUS_DIR", found);
 }

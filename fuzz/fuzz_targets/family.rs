@@ -9,6 +9,9 @@
 use gonio::brdf::{self, BrdfSampler, SamplerOptions, Symmetry, TabulatedBrdf};
 use gonio::mapping::blob::{self, Precision, ReadMap};
 use libfuzzer_sys::fuzz_target;
+
+#[path = "../common/blob_case.rs"]
+mod blob_case;
 use std::sync::OnceLock;
 
 fn seeds() -> &'static Vec<Vec<u8>> {
@@ -21,7 +24,13 @@ fn seeds() -> &'static Vec<Vec<u8>> {
             vec![0.0],
             vec![0.0, 0.5, 1.0, 1.5707963267948966],
             vec![0.0, 2.0, 4.0],
-            |ti, _, to, po| [1.0 + ti.cos() * to.cos() + 0.5 * po.cos(), 0.5, if ti > 1.0 { 0.0 } else { 2.0 }],
+            |ti, _, to, po| {
+                [
+                    1.0 + ti.cos() * to.cos() + 0.5 * po.cos(),
+                    0.5,
+                    if ti > 1.0 { 0.0 } else { 2.0 },
+                ]
+            },
         )
         .unwrap();
         let aniso = TabulatedBrdf::from_fn(
@@ -31,7 +40,13 @@ fn seeds() -> &'static Vec<Vec<u8>> {
             vec![0.0, 3.0],
             vec![0.0, 0.8, 1.5707963267948966],
             vec![0.0, 2.0, 4.0],
-            |ti, pi, to, po| [if ti > 1.0 && pi > 1.0 { 0.0 } else { 1.0 + to.cos() + 0.3 * (po - pi).cos() }; 3],
+            |ti, pi, to, po| {
+                [if ti > 1.0 && pi > 1.0 {
+                    0.0
+                } else {
+                    1.0 + to.cos() + 0.3 * (po - pi).cos()
+                }; 3]
+            },
         )
         .unwrap();
         let mut v = Vec::new();
@@ -46,7 +61,9 @@ fn seeds() -> &'static Vec<Vec<u8>> {
 }
 
 fn exercise(bytes: &[u8], data: &[u8]) {
-    let Ok(fam) = blob::read_family(bytes) else { return };
+    let Ok(fam) = blob::read_family(bytes) else {
+        return;
+    };
     let _ = brdf::from_tables(bytes);
     let mut u: Vec<f64> = vec![0.0, 1.0, 0.5, 1.0, 0.0];
     let mut v: Vec<f64> = vec![0.0, 1.0, 0.5, 0.0, 1.0];
@@ -58,14 +75,26 @@ fn exercise(bytes: &[u8], data: &[u8]) {
     for s in fam.slices.iter().flatten() {
         let dirs: Vec<[f64; 4]> = match s {
             ReadMap::F32(f) => {
-                let (u, v): (Vec<f32>, Vec<f32>) = (u.iter().map(|&x| x as f32).collect(), v.iter().map(|&x| x as f32).collect());
+                let (u, v): (Vec<f32>, Vec<f32>) = (
+                    u.iter().map(|&x| x as f32).collect(),
+                    v.iter().map(|&x| x as f32).collect(),
+                );
                 let mut o = [vec![0f32; n], vec![0f32; n], vec![0f32; n], vec![0f32; n]];
                 let [x, y, z, p] = &mut o;
                 f.sample_soa(&u, &v, [x, y, z], p);
                 let mut q = vec![0f32; n];
                 f.pdf_soa([&o[0], &o[1], &o[2]], &mut q);
                 assert!(q.iter().all(|p| p.is_finite() && *p >= 0.0));
-                (0..n).map(|k| [o[0][k] as f64, o[1][k] as f64, o[2][k] as f64, o[3][k] as f64]).collect()
+                (0..n)
+                    .map(|k| {
+                        [
+                            o[0][k] as f64,
+                            o[1][k] as f64,
+                            o[2][k] as f64,
+                            o[3][k] as f64,
+                        ]
+                    })
+                    .collect()
             }
             ReadMap::F64(f) => {
                 let mut o = [vec![0f64; n], vec![0f64; n], vec![0f64; n], vec![0f64; n]];
@@ -74,7 +103,9 @@ fn exercise(bytes: &[u8], data: &[u8]) {
                 let mut q = vec![0f64; n];
                 f.pdf_soa([&o[0], &o[1], &o[2]], &mut q);
                 assert!(q.iter().all(|p| p.is_finite() && *p >= 0.0));
-                (0..n).map(|k| [o[0][k], o[1][k], o[2][k], o[3][k]]).collect()
+                (0..n)
+                    .map(|k| [o[0][k], o[1][k], o[2][k], o[3][k]])
+                    .collect()
             }
         };
         for d in dirs {
@@ -87,15 +118,7 @@ fn exercise(bytes: &[u8], data: &[u8]) {
 
 fuzz_target!(|data: &[u8]| {
     exercise(data, data);
-    if let Some((&pick, rest)) = data.split_first() {
-        let seeds = seeds();
-        let mut b = seeds[pick as usize % seeds.len()].clone();
-        for c in rest.chunks_exact(3) {
-            let at = (u16::from_le_bytes([c[0], c[1]]) as usize) % b.len();
-            b[at] ^= c[2];
-        }
-        let c = blob::checksum(&b);
-        b[blob::CHECKSUM_OFFSET..blob::CHECKSUM_OFFSET + 8].copy_from_slice(&c.to_le_bytes());
+    if let Some((b, rest)) = blob_case::mutated(&seeds(), data) {
         exercise(&b, rest);
     }
 });

@@ -9,6 +9,9 @@
 use gonio::mapping::blob::{self, Frame, Precision, ReadMap, Target};
 use gonio::{Diagram, HemisphereMap, MapRef, Sampler, SphereLayout, SphereMap};
 use libfuzzer_sys::fuzz_target;
+
+#[path = "../common/blob_case.rs"]
+mod blob_case;
 use std::sync::OnceLock;
 
 fn seeds() -> &'static Vec<Vec<u8>> {
@@ -17,7 +20,11 @@ fn seeds() -> &'static Vec<Vec<u8>> {
         let h = Diagram::from_degrees(
             &[0.0, 30.0, 60.0, 90.0],
             &[0.0, 120.0, 240.0],
-            &[vec![1.0, 2.0, 0.5, 0.0], vec![1.0, 0.1, 3.0, 1.0], vec![1.0, 1.0, 1.0, 1.0]],
+            &[
+                vec![1.0, 2.0, 0.5, 0.0],
+                vec![1.0, 0.1, 3.0, 1.0],
+                vec![1.0, 1.0, 1.0, 1.0],
+            ],
         )
         .unwrap();
         let s = Diagram::from_degrees(
@@ -31,10 +38,31 @@ fn seeds() -> &'static Vec<Vec<u8>> {
         let lambert = SphereMap::with_layout(&s, SphereLayout::Lambert).unwrap();
         let mut v = Vec::new();
         for p in [Precision::F32, Precision::F64] {
-            v.push(blob::write(MapRef::Hemisphere(&hm), p, Frame::Generic, &Target::Grid(&h)).unwrap());
-            v.push(blob::write(MapRef::Sphere(&split), p, Frame::Photometric, &Target::Grid(&s)).unwrap());
+            v.push(
+                blob::write(
+                    MapRef::Hemisphere(&hm),
+                    p,
+                    Frame::Generic,
+                    &Target::Grid(&h),
+                )
+                .unwrap(),
+            );
+            v.push(
+                blob::write(
+                    MapRef::Sphere(&split),
+                    p,
+                    Frame::Photometric,
+                    &Target::Grid(&s),
+                )
+                .unwrap(),
+            );
             let rgb = vec![0.5f32; 4 * 2 * 3];
-            let img = Target::Image { width: 4, height: 2, rgb: &rgb, lookup: Default::default() };
+            let img = Target::Image {
+                width: 4,
+                height: 2,
+                rgb: &rgb,
+                lookup: Default::default(),
+            };
             v.push(blob::write(MapRef::Sphere(&lambert), p, Frame::EnvironmentMap, &img).unwrap());
         }
         v
@@ -58,7 +86,13 @@ fn exercise(t: &blob::MapTables, data: &[u8]) {
         }
         let _ = t.target_pdf(s.direction);
     }
-    for d in [[0.0, 0.0, 1.0], [0.0, 0.0, -1.0], [1.0, 0.0, 0.0], [0.0, 0.0, 0.0], [f64::NAN, 0.0, 1.0]] {
+    for d in [
+        [0.0, 0.0, 1.0],
+        [0.0, 0.0, -1.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 0.0, 0.0],
+        [f64::NAN, 0.0, 1.0],
+    ] {
         let p = t.pdf(d);
         assert!(p.is_finite() && p >= 0.0);
         let _ = t.invert(d);
@@ -67,9 +101,17 @@ fn exercise(t: &blob::MapTables, data: &[u8]) {
         let target = match &t.target {
             blob::TargetTables::None => Target::None,
             blob::TargetTables::Grid(g) => Target::Grid(g),
-            blob::TargetTables::Image { width, height, rgb, lookup } => {
-                Target::Image { width: *width, height: *height, rgb, lookup: *lookup }
-            }
+            blob::TargetTables::Image {
+                width,
+                height,
+                rgb,
+                lookup,
+            } => Target::Image {
+                width: *width,
+                height: *height,
+                rgb,
+                lookup: *lookup,
+            },
         };
         let again = blob::write_float32(f, t.frame, &target).expect("an accepted blob writes back");
         let back = blob::read(&again).expect("a rewritten blob reads");
@@ -83,16 +125,7 @@ fuzz_target!(|data: &[u8]| {
         exercise(&t, data);
     }
     // The input as a mutation of a seed blob, resealed.
-    if let Some((&pick, rest)) = data.split_first() {
-        let seeds = seeds();
-        let mut b = seeds[pick as usize % seeds.len()].clone();
-        // Pairs (position, xor): sparse mutations anywhere in the blob.
-        for c in rest.chunks_exact(3) {
-            let at = (u16::from_le_bytes([c[0], c[1]]) as usize) % b.len();
-            b[at] ^= c[2];
-        }
-        let c = blob::checksum(&b);
-        b[blob::CHECKSUM_OFFSET..blob::CHECKSUM_OFFSET + 8].copy_from_slice(&c.to_le_bytes());
+    if let Some((b, rest)) = blob_case::mutated(&seeds(), data) {
         if let Ok(t) = blob::read(&b) {
             exercise(&t, rest);
         }

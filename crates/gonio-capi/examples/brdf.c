@@ -21,29 +21,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-static int failures = 0;
-
-#define CHECK(cond, ...)                                         \
-    do {                                                         \
-        if (!(cond)) {                                           \
-            fprintf(stderr, "FAIL %s:%d: ", __FILE__, __LINE__); \
-            fprintf(stderr, __VA_ARGS__);                        \
-            fprintf(stderr, "\n");                               \
-            failures++;                                          \
-        }                                                        \
-    } while (0)
+#include "check.h"
 
 static const double PI = 3.14159265358979323846;
 
-/* splitmix64: deterministic points of the unit square. */
 static uint64_t rng_state = 0x243f6a8885a308d3ull;
-static double next_unit(void) {
-    uint64_t z = (rng_state += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    z ^= z >> 31;
-    return (double)(z >> 11) * (1.0 / 9007199254740992.0);
-}
+static double next_unit(void) { return splitmix64_unit(&rng_state); }
 
 /* The analytic BRDF (1/sr) at incident polar angle ti (azimuth 0) and outgoing (to, dphi). */
 static double analytic(double ti, double to, double dphi) {

@@ -37,31 +37,13 @@
 #include <string.h>
 #include <time.h>
 
-static int failures = 0;
-#define FAIL_LIMIT 20
-#define CHECK(cond, ...)                                                    \
-  do {                                                                      \
-    if (!(cond)) {                                                          \
-      if (failures < FAIL_LIMIT) {                                          \
-        fprintf(stderr, "FAIL %s:%d: ", __FILE__, __LINE__);                \
-        fprintf(stderr, __VA_ARGS__);                                       \
-        fprintf(stderr, "\n");                                              \
-      }                                                                     \
-      failures++;                                                           \
-    }                                                                       \
-  } while (0)
+#define CHECK_PRINT_LIMIT 20
+#include "check.h"
 
 static const double PI_D = 3.14159265358979323846;
 
-/* splitmix64, fixed seed. */
 static uint64_t rng_state = 0x2545f4914f6cdd1dull;
-static double rnd(void) {
-  uint64_t z = (rng_state += 0x9e3779b97f4a7c15ull);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-  z ^= z >> 31;
-  return (double)(z >> 11) * (1.0 / 9007199254740992.0);
-}
+static double rnd(void) { return splitmix64_unit(&rng_state); }
 static double gauss(void) {
   double a = rnd(), b = rnd();
   if (a < 1e-300) a = 1e-300;

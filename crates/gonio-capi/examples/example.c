@@ -16,27 +16,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-static int failures = 0;
+#include "check.h"
 
-#define CHECK(cond, ...)                                     \
-    do {                                                     \
-        if (!(cond)) {                                       \
-            fprintf(stderr, "FAIL %s:%d: ", __FILE__, __LINE__); \
-            fprintf(stderr, __VA_ARGS__);                    \
-            fprintf(stderr, "\n");                           \
-            failures++;                                      \
-        }                                                    \
-    } while (0)
-
-/* A small deterministic generator (splitmix64) for points of the unit square. */
 static uint64_t rng_state = 0x9e3779b97f4a7c15ull;
-static double next_unit(void) {
-    uint64_t z = (rng_state += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    z ^= z >> 31;
-    return (double)(z >> 11) * (1.0 / 9007199254740992.0);
-}
+static double next_unit(void) { return splitmix64_unit(&rng_state); }
 
 #define N 2048
 /* Largest accepted |pdf(sample(u)) - pdf| / pdf and max |invert(sample(u)) - u| (the tolerance of

@@ -541,13 +541,7 @@ fn corpus_files_load_sample_and_report() {
 /// have been built to run, not ignored.
 #[test]
 fn corpus_tests_run_when_required() {
-    let built_with_corpus = cfg!(gonio_corpus);
-    if std::env::var_os("GONIO_REQUIRE_CORPUS").is_some_and(|v| v == "1") {
-        assert!(
-            built_with_corpus,
-            "GONIO_REQUIRE_CORPUS=1 but the build did not find the corpus: the corpus tests were ignored"
-        );
-    }
+    corpus::assert_corpus_when_required(cfg!(gonio_corpus));
 }
 
 /// Issue 16: a direction with no preimage (zero density) gets empty u,v fields, the count goes

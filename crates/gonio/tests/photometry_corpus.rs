@@ -385,13 +385,5 @@ fn type_b_and_a_resampling_preserves_flux_and_beam() {
 /// have been built to run, not ignored.
 #[test]
 fn corpus_tests_run_when_required() {
-    let built_with_corpus = cfg!(gonio_corpus);
-    if std::env::var_os("GONIO_REQUIRE_CORPUS").is_some_and(|v| v == "1") {
-        assert!(
-            built_with_corpus,
-            "GONIO_REQUIRE_CORPUS=1 but the build did not find the corpus: the corpus tests were \
-             ignored (GONIO_CORPUS = {:?})",
-            std::env::var_os("GONIO_CORPUS")
-        );
-    }
+    common::assert_corpus_when_required(cfg!(gonio_corpus));
 }

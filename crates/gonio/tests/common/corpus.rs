@@ -147,3 +147,30 @@ pub fn envmaps_dir() -> Option<PathBuf> {
     }
     found
 }
+
+/// For a build script: tells cargo to rerun when `var` changes, and, when `found` holds a
+/// folder, to rerun when it changes and to set `--cfg CFG` and the environment variable `env` to
+/// its path for the crate's tests.
+pub fn announce(var: &str, cfg: &str, env: &str, found: Option<PathBuf>) {
+    println!("cargo:rerun-if-env-changed={var}");
+    if let Some(d) = found {
+        let d = d.canonicalize().unwrap_or(d);
+        println!("cargo:rerun-if-changed={}", d.display());
+        println!("cargo:rustc-cfg={cfg}");
+        println!("cargo:rustc-env={env}={}", d.display());
+    }
+}
+
+/// For a test: with `GONIO_REQUIRE_CORPUS=1` (set by `.ci/run`), the crate must have been built
+/// with the corpus (`built_with_corpus`: `cfg!(gonio_corpus)` of the calling crate), so that its
+/// corpus tests ran instead of being ignored.
+pub fn assert_corpus_when_required(built_with_corpus: bool) {
+    if std::env::var_os("GONIO_REQUIRE_CORPUS").is_some_and(|v| v == "1") {
+        assert!(
+            built_with_corpus,
+            "GONIO_REQUIRE_CORPUS=1 but the corpus was not found at build time \
+             (looked at {:?}); the corpus tests would be ignored",
+            corpus_candidates()
+        );
+    }
+}

@@ -6,7 +6,7 @@ mod corpus;
 /// The corpus as the build found it (see `corpus.rs`): tests that call it are marked
 /// `#[cfg_attr(not(gonio_corpus), ignore = "…")]`.
 #[allow(unused_imports)]
-pub use corpus::{built_corpus_dir as corpus_dir, corpus_files};
+pub use corpus::{assert_corpus_when_required, built_corpus_dir as corpus_dir, corpus_files};
 
 /// The azimuths (C angles, degrees) at which a stored plane at `c` appears after the symmetry
 /// expansion: itself and its mirror images (for a rotationally symmetric file, a few arbitrary
