@@ -211,6 +211,21 @@ pub enum SampleFormat {
     F64,
 }
 
+/// The options `sample`, `pdf` and `invert` share: where the rows go and which sampler (of a
+/// luminaire, or of a BRDF at an incident direction) makes them.
+#[derive(Debug, Clone, Args)]
+pub struct RunOptions {
+    /// Output file (`-` or absent: standard output).
+    #[arg(short = 'o', long = "output", value_name = "OUT")]
+    pub output: Option<PathBuf>,
+    /// Sampling method: hds, piecewise-constant, bilinear, rejection, uniform; for a BRDF file
+    /// hds, cosine, ggx-fit, piecewise-constant.
+    #[arg(long, value_enum, default_value_t = MethodName::Hds)]
+    pub method: MethodName,
+    #[command(flatten)]
+    pub brdf: BrdfOptions,
+}
+
 /// `gonio sample FILE (-n N | --points UV.csv) [--sequence S] [--seed S] [--format F] [-o OUT]
 /// [--method M]`.
 #[derive(Debug, Clone, Args)]
@@ -239,15 +254,8 @@ pub struct SampleArgs {
     /// Output format.
     #[arg(long, value_enum, default_value_t = SampleFormat::Csv)]
     pub format: SampleFormat,
-    /// Output file (`-` or absent: standard output).
-    #[arg(short = 'o', long = "output", value_name = "OUT")]
-    pub output: Option<PathBuf>,
-    /// Sampling method: hds, piecewise-constant, bilinear, rejection, uniform; for a BRDF file
-    /// hds, cosine, ggx-fit, piecewise-constant.
-    #[arg(long, value_enum, default_value_t = MethodName::Hds)]
-    pub method: MethodName,
     #[command(flatten)]
-    pub brdf: BrdfOptions,
+    pub run: RunOptions,
 }
 
 /// `gonio pdf|invert FILE --directions DIRS.csv [-o OUT] [--method M]`.
@@ -259,15 +267,8 @@ pub struct DirectionsArgs {
     /// Directions: a CSV file with columns `x,y,z` (by header name; `-` reads standard input).
     #[arg(long, value_name = "DIRS.csv")]
     pub directions: String,
-    /// Output file (`-` or absent: standard output).
-    #[arg(short = 'o', long = "output", value_name = "OUT")]
-    pub output: Option<PathBuf>,
-    /// Sampling method: hds, piecewise-constant, bilinear, rejection, uniform; for a BRDF file
-    /// hds, cosine, ggx-fit, piecewise-constant.
-    #[arg(long, value_enum, default_value_t = MethodName::Hds)]
-    pub method: MethodName,
     #[command(flatten)]
-    pub brdf: BrdfOptions,
+    pub run: RunOptions,
 }
 
 /// `gonio info FILE [--json]`.

@@ -183,7 +183,7 @@ fn main() -> ExitCode {
         Command::Sample(a) => by_kind(
             "sample",
             &a.input,
-            &a.brdf,
+            &a.run.brdf,
             |b| brdf::sample(b, a, s),
             || commands::sample::run(a, s),
         )
@@ -191,7 +191,7 @@ fn main() -> ExitCode {
         Command::Pdf(a) => by_kind(
             "pdf",
             &a.input,
-            &a.brdf,
+            &a.run.brdf,
             |b| brdf::pdf(b, a),
             || commands::directions::run_pdf(a, s),
         )
@@ -199,7 +199,7 @@ fn main() -> ExitCode {
         Command::Invert(a) => by_kind(
             "invert",
             &a.input,
-            &a.brdf,
+            &a.run.brdf,
             |b| brdf::invert(b, a),
             || commands::directions::run_invert(a, s),
         )

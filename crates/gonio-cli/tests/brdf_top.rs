@@ -4,16 +4,9 @@
 //! `--incident`, and the slice picture.
 
 use gonio::brdf::{write_json, write_merl, write_utia_dirs, Analytic};
-use std::path::PathBuf;
 
 mod common;
 use common::*;
-
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("gonio-brdf-top-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
 
 fn with_small(mut a: Vec<&str>) -> Vec<&str> {
     a.extend(SMALL_BRDF);
@@ -22,7 +15,7 @@ fn with_small(mut a: Vec<&str>) -> Vec<&str> {
 
 #[test]
 fn top_level_commands_on_every_format() {
-    let dir = tmp("all");
+    let dir = temp_dir("all");
     let mix = Analytic::families()[4];
     let json = dir.join("mix.json");
     std::fs::write(&json, write_json(&mix.table(7, 12).unwrap())).unwrap();
@@ -151,7 +144,7 @@ fn top_level_commands_on_every_format() {
 
 #[test]
 fn usage_errors_and_diagram_json_untouched() {
-    let dir = tmp("usage");
+    let dir = temp_dir("usage");
     let lambert = Analytic::families()[0];
     // Named like a diagram: the content decides.
     let json = dir.join("diagram.json");
@@ -195,12 +188,11 @@ fn usage_errors_and_diagram_json_untouched() {
     assert_eq!(code, Some(1), "{err}");
     assert!(err.contains("json "), "{err}");
     // A garbage file that happens to start like a huge MERL header: an error, not a crash.
-    let junk = dir.join("junk.binary");
-    std::fs::write(
-        &junk,
+    let junk = file_in(
+        &dir,
+        "junk.binary",
         b"\xff\xff\xff\x7f\xff\xff\xff\x7f\xff\xff\xff\x7fxyz",
-    )
-    .unwrap();
+    );
     let (code, _, err) = gonio(&["brdf", "info", s(&junk), "--incident", "0,0"]);
     assert_eq!(code, Some(1), "{err}");
     assert!(err.contains("not a BRDF file"), "{err}");
@@ -209,7 +201,7 @@ fn usage_errors_and_diagram_json_untouched() {
 
 #[test]
 fn plot_draws_the_slice() {
-    let dir = tmp("plot");
+    let dir = temp_dir("plot");
     let ggx = Analytic::families()[1];
     let json = dir.join("ggx.json");
     std::fs::write(&json, write_json(&ggx.table(7, 12).unwrap())).unwrap();
@@ -249,13 +241,12 @@ fn plot_draws_the_slice() {
 /// (`--format f64` binary rows, `-o`, `--json`).
 #[test]
 fn brdf_options_are_ordinary_options() {
-    let dir = tmp("options");
-    let json = dir.join("ggx.json");
-    std::fs::write(
-        &json,
+    let dir = temp_dir("options");
+    let json = file_in(
+        &dir,
+        "ggx.json",
         write_json(&Analytic::families()[1].table(7, 12).unwrap()),
-    )
-    .unwrap();
+    );
     // BRDF options on a luminaire: a usage error naming the option.
     for opt in [
         vec!["--incident", "30,0"],

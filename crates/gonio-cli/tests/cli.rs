@@ -361,12 +361,11 @@ fn check_passes_on_a_good_diagram() {
 #[test]
 fn partial_ranges_are_warned_and_conserve_light() {
     let dir = temp_dir("partial");
-    let json = dir.join("cap.json");
-    std::fs::write(
-        &json,
+    let json = file_in(
+        &dir,
+        "cap.json",
         r#"{"theta_deg":[30,60,90],"phi_deg":[0,180],"values":[[3,2,1],[1,2,3]]}"#,
-    )
-    .unwrap();
+    );
     let o = run(&["sample", s(&json), "-n", "5"]);
     assert!(o.status.success());
     let err = String::from_utf8(o.stderr).unwrap();
@@ -550,12 +549,11 @@ fn corpus_tests_run_when_required() {
 fn invert_keeps_one_row_per_input_row() {
     let dir = temp_dir("invert-rows");
     // Light only in the upper hemisphere, on the sphere (θ up to 180°).
-    let json = dir.join("up.json");
-    std::fs::write(
-        &json,
+    let json = file_in(
+        &dir,
+        "up.json",
         r#"{"theta_deg": [0, 90, 180], "phi_deg": [0], "values": [[1, 0, 0]]}"#,
-    )
-    .unwrap();
+    );
     let dirs = dir.join("d.csv");
     std::fs::write(&dirs, "x,y,z\n0,0,1\n0,0,-1\n1,0,0.2\n0,0.1,-1\n").unwrap();
     let o = run(&["invert", s(&json), "--directions", s(&dirs)]);
@@ -578,12 +576,11 @@ fn invert_keeps_one_row_per_input_row() {
         "{err}"
     );
     // The mirror case (the issue's downlight): light only below, straight up has no preimage.
-    let down = dir.join("down.json");
-    std::fs::write(
-        &down,
+    let down = file_in(
+        &dir,
+        "down.json",
         r#"{"theta_deg": [0, 90, 180], "phi_deg": [0], "values": [[0, 0, 1]]}"#,
-    )
-    .unwrap();
+    );
     let o = run(&["invert", s(&down), "--directions", s(&dirs)]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let text = String::from_utf8(o.stdout).unwrap();
@@ -643,12 +640,11 @@ fn formats_from_content_and_located_errors() {
     std::fs::write(&bom, format!("\u{feff}{HEMI_JSON}")).unwrap();
     ok(&["info", s(&bom)]);
     // A JSON value error names line and column of the value.
-    let bad = dir.join("bad.json");
-    std::fs::write(
-        &bad,
+    let bad = file_in(
+        &dir,
+        "bad.json",
         "{\n  \"theta_deg\": [0, 45, 90],\n  \"phi_deg\": [0],\n  \"values\": [[1, -2, 0]]\n}\n",
-    )
-    .unwrap();
+    );
     let err = fails(&["info", s(&bad)]);
     assert!(
         err.starts_with(&format!("gonio: error: {}:4:18:", s(&bad))),
@@ -748,12 +744,11 @@ fn help_and_info_wording() {
     assert!(!help.contains("[`"), "{help}");
     let dir = temp_dir("wording");
     let (json, _) = hemi(&dir);
-    let one = dir.join("one.json");
-    std::fs::write(
-        &one,
+    let one = file_in(
+        &dir,
+        "one.json",
         r#"{"theta_deg": [0, 45, 90], "phi_deg": [0], "values": [[1, 0.7, 0]]}"#,
-    )
-    .unwrap();
+    );
     let info = ok(&["info", s(&one)]);
     assert!(info.contains("3 parallels × 1 meridian;"), "{info}");
     let info = ok(&["info", s(&json)]);

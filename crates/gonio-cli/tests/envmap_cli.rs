@@ -57,12 +57,11 @@ fn every_command_reads_an_envmap() {
 #[test]
 fn convert_writes_pbrt_v4s_equal_area_image() {
     let dir = temp_dir("convert");
-    let hdr = dir.join("const.hdr");
-    std::fs::write(
-        &hdr,
+    let hdr = file_in(
+        &dir,
+        "const.hdr",
         write_hdr(&Image::constant(16, 8, [0.5, 1.0, 2.0]).unwrap()),
-    )
-    .unwrap();
+    );
     let exr = dir.join("const.exr");
     let out = ok(&[
         "convert",

@@ -36,29 +36,31 @@ struct Case {
     split: bool,
 }
 
-fn hemisphere_case(name: &str, m: HemisphereMap) -> Case {
-    let f32map = m.float32_map().unwrap();
+fn case(name: &str, f32map: Float32Map, f64map: Box<dyn Sampler>, bound: (f64, f64)) -> Case {
     Case {
         name: name.into(),
         exact: f32map.exact(),
         f32map,
-        bound: m.ratio_bound(),
-        f64map: Box::new(m),
-        hemisphere: true,
+        f64map,
+        bound,
+        hemisphere: false,
         split: false,
     }
 }
 
-fn sphere_case(name: &str, m: SphereMap) -> Case {
-    let f32map = m.float32_map().unwrap();
+fn hemisphere_case(name: &str, m: HemisphereMap) -> Case {
+    let (f, bound) = (m.float32_map().unwrap(), m.ratio_bound());
     Case {
-        name: name.into(),
-        exact: f32map.exact(),
-        f32map,
-        bound: m.ratio_bound(),
+        hemisphere: true,
+        ..case(name, f, Box::new(m), bound)
+    }
+}
+
+fn sphere_case(name: &str, m: SphereMap) -> Case {
+    let (f, bound) = (m.float32_map().unwrap(), m.ratio_bound());
+    Case {
         split: m.layout() == SphereLayout::Split,
-        f64map: Box::new(m),
-        hemisphere: false,
+        ..case(name, f, Box::new(m), bound)
     }
 }
 

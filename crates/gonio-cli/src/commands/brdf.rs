@@ -67,9 +67,11 @@ pub fn run(a: &BrdfArgs, s: &Settings) -> Result<bool> {
     };
     match &a.command {
         BrdfCommand::Info(x) => info(&need("info", &x.input, &x.brdf)?, x).map(|()| true),
-        BrdfCommand::Sample(x) => sample(&need("sample", &x.input, &x.brdf)?, x, s).map(|()| true),
-        BrdfCommand::Pdf(x) => pdf(&need("pdf", &x.input, &x.brdf)?, x).map(|()| true),
-        BrdfCommand::Invert(x) => invert(&need("invert", &x.input, &x.brdf)?, x).map(|()| true),
+        BrdfCommand::Sample(x) => {
+            sample(&need("sample", &x.input, &x.run.brdf)?, x, s).map(|()| true)
+        }
+        BrdfCommand::Pdf(x) => pdf(&need("pdf", &x.input, &x.run.brdf)?, x).map(|()| true),
+        BrdfCommand::Invert(x) => invert(&need("invert", &x.input, &x.run.brdf)?, x).map(|()| true),
         BrdfCommand::Check(x) => check(&need("check", &x.input, &x.brdf)?, x, s),
         BrdfCommand::Plot(x) => plot(&need("plot", &x.input, &x.brdf)?, x).map(|()| true),
         BrdfCommand::Bench(x) => bench(&need("bench", &x.input, &x.brdf)?, x).map(|()| true),
@@ -386,7 +388,7 @@ pub fn info(b: &Input, a: &InfoArgs) -> Result<()> {
 /// each channel; 0 where the method has no density) through the same points and writer as every
 /// input ([`super::sample::emit`]).
 pub fn sample(b: &Input, a: &SampleArgs, settings: &Settings) -> Result<()> {
-    let method = brdf_method(a.method)?;
+    let method = brdf_method(a.run.method)?;
     let l = load(b)?;
     let s = sampler_of(b, l.brdf)?;
     let wi = incident(b);
@@ -409,7 +411,7 @@ pub fn sample(b: &Input, a: &SampleArgs, settings: &Settings) -> Result<()> {
 
 /// `gonio pdf BRDF --incident …`: the pdf of each outgoing direction, as for every input.
 pub fn pdf(b: &Input, a: &DirectionsArgs) -> Result<()> {
-    let method = brdf_method(a.method)?;
+    let method = brdf_method(a.run.method)?;
     let l = load(b)?;
     let s = sampler_of(b, l.brdf)?;
     with_method(method, &s, |m| {
@@ -420,7 +422,7 @@ pub fn pdf(b: &Input, a: &DirectionsArgs) -> Result<()> {
 /// `gonio invert BRDF --incident …`: the point of the square of each outgoing direction, as for
 /// every input (empty fields and a warning where there is none).
 pub fn invert(b: &Input, a: &DirectionsArgs) -> Result<()> {
-    let method = brdf_method(a.method)?;
+    let method = brdf_method(a.run.method)?;
     let l = load(b)?;
     let s = sampler_of(b, l.brdf)?;
     with_method(method, &s, |m| {

@@ -37,14 +37,14 @@ fn read_directions(path: &str) -> anyhow::Result<(Vec<Vec3>, Vec<LineRow>)> {
 /// Runs `gonio pdf`: output `x,y,z,pdf` with the normalised direction.
 pub fn run_pdf(a: &DirectionsArgs, settings: &crate::settings::Settings) -> anyhow::Result<()> {
     let loaded = load(&a.input, settings)?;
-    let sampler = build_sampler(a.method.diagram()?, &loaded)?;
+    let sampler = build_sampler(a.run.method.diagram()?, &loaded)?;
     write_pdf(&*sampler, a)
 }
 
 /// The pdf of every direction of `--directions` under `sampler`, as CSV `x,y,z,pdf`.
 pub fn write_pdf(sampler: &dyn Sampler, a: &DirectionsArgs) -> anyhow::Result<()> {
     let (dirs, _) = read_directions(&a.directions)?;
-    let mut out = Output::create(a.output.as_deref())?;
+    let mut out = Output::create(a.run.output.as_deref())?;
     out.write_all(b"x,y,z,pdf\n")?;
     let mut pdf = vec![0.0; BATCH.min(dirs.len())];
     for chunk in dirs.chunks(BATCH) {
@@ -65,7 +65,7 @@ pub fn write_pdf(sampler: &dyn Sampler, a: &DirectionsArgs) -> anyhow::Result<()
 /// Only a malformed input row (not a number, a zero or non-finite direction) stops the run.
 pub fn run_invert(a: &DirectionsArgs, settings: &crate::settings::Settings) -> anyhow::Result<()> {
     let loaded = load(&a.input, settings)?;
-    let sampler = build_sampler(a.method.diagram()?, &loaded)?;
+    let sampler = build_sampler(a.run.method.diagram()?, &loaded)?;
     write_invert(&*sampler, a)
 }
 
@@ -81,7 +81,7 @@ pub fn write_invert(sampler: &dyn Sampler, a: &DirectionsArgs) -> anyhow::Result
     let (dirs, locs) = read_directions(&a.directions)?;
     let mut uv: Vec<Result<[f64; 2], InvertError>> = vec![Ok([0.0; 2]); dirs.len()];
     invert_batch_par(sampler, &dirs, &mut uv);
-    let mut out = Output::create(a.output.as_deref())?;
+    let mut out = Output::create(a.run.output.as_deref())?;
     out.write_all(b"x,y,z,u,v\n")?;
     let (mut zero, mut outside) = (0usize, 0usize);
     for (dc, uc) in dirs.chunks(BATCH).zip(uv.chunks(BATCH)) {

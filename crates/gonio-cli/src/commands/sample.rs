@@ -22,7 +22,7 @@ const BATCH: usize = 1 << 16;
 
 pub fn run(a: &SampleArgs, settings: &Settings) -> anyhow::Result<()> {
     let loaded = load(&a.input, settings)?;
-    let sampler = build_sampler(a.method.diagram()?, &loaded)?;
+    let sampler = build_sampler(a.run.method.diagram()?, &loaded)?;
     // An environment map adds its radiance in each sampled direction (columns r, g, b).
     let env = loaded.envmap.as_deref();
     let (header, cols) = match env {
@@ -107,7 +107,7 @@ pub fn emit(
     rows_of: &RowsOf<'_>,
 ) -> anyhow::Result<()> {
     let points = points(a)?;
-    let mut out = Output::create(a.output.as_deref())?;
+    let mut out = Output::create(a.run.output.as_deref())?;
     if a.format == SampleFormat::Csv {
         writeln!(out, "{header}")?;
     }

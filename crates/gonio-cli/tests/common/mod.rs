@@ -28,6 +28,13 @@ pub fn temp_dir(name: &str) -> PathBuf {
     d
 }
 
+/// Writes `contents` to the file `name` in `dir` and gives its path.
+pub fn file_in(dir: &Path, name: &str, contents: impl AsRef<[u8]>) -> PathBuf {
+    let p = dir.join(name);
+    std::fs::write(&p, contents).unwrap();
+    p
+}
+
 /// The path as the `&str` argument the binary takes.
 pub fn s(p: &Path) -> &str {
     p.to_str().unwrap()

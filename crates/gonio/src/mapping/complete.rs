@@ -280,21 +280,17 @@ pub(crate) fn hemisphere_part(diagram: &Diagram, upper: bool) -> Option<Diagram>
     Diagram::new(new_theta, diagram.phi().to_vec(), values).ok()
 }
 
-/// [`hemisphere_part`] of [`with_horizon_node`]`(diagram)`, the same values bit for bit, without
-/// the copy of the whole diagram with the node (one value a pixel of an environment map: issue 40
-/// measured the peak memory of a sphere map's build).
-pub(crate) fn hemisphere_part_with_horizon(
-    diagram: &Diagram,
-    upper: bool,
-) -> Result<Option<Diagram>, DiagramError> {
+/// Where a node at the horizon θ = π/2 goes when the diagram crosses it without one: the index
+/// j of the first parallel above π/2 and the fraction t of π/2 between θ_{j−1} and θ_j; `None`
+/// when no node is needed. The size cap counts the added parallel (checked before allocating).
+fn horizon_node(diagram: &Diagram) -> Result<Option<(usize, f64)>, DiagramError> {
     let half = std::f64::consts::FRAC_PI_2;
     let theta = diagram.theta();
     let n = theta.len();
     if !(theta[0] < half && theta[n - 1] > half) || theta.contains(&half) {
-        return Ok(hemisphere_part(diagram, upper));
+        return Ok(None);
     }
     let m = diagram.n_meridians();
-    // The size cap counts the added parallel, as `with_horizon_node` does.
     if (n + 1).checked_mul(m).is_none_or(|c| c > MAX_NODES) {
         return Err(DiagramError::TooLarge {
             parallels: n + 1,
@@ -302,7 +298,25 @@ pub(crate) fn hemisphere_part_with_horizon(
         });
     }
     let j = theta.partition_point(|&t| t < half); // theta[j-1] < half < theta[j]
-    let t = (half - theta[j - 1]) / (theta[j] - theta[j - 1]);
+    Ok(Some((j, (half - theta[j - 1]) / (theta[j] - theta[j - 1]))))
+}
+
+/// [`hemisphere_part`] of [`with_horizon_node`]`(diagram)`, the same values bit for bit, without
+/// the copy of the whole diagram with the node (one value a pixel of an environment map: issue 40
+/// measured the peak memory of a sphere map's build).
+pub(crate) fn hemisphere_part_with_horizon(
+    diagram: &Diagram,
+    upper: bool,
+) -> Result<Option<Diagram>, DiagramError> {
+    let Some((j, t)) = horizon_node(diagram)? else {
+        return Ok(hemisphere_part(diagram, upper));
+    };
+    let (half, theta, n, m) = (
+        std::f64::consts::FRAC_PI_2,
+        diagram.theta(),
+        diagram.n_parallels(),
+        diagram.n_meridians(),
+    );
     let new_theta: Vec<f64> = if upper {
         theta[..j].iter().copied().chain([half]).collect()
     } else {
@@ -331,24 +345,16 @@ pub(crate) fn hemisphere_part_with_horizon(
 /// (The maps use [`hemisphere_part_with_horizon`]; this is its reference in the tests.)
 #[cfg(test)]
 pub(crate) fn with_horizon_node(diagram: &Diagram) -> Result<Diagram, DiagramError> {
-    let half = std::f64::consts::FRAC_PI_2;
-    let theta = diagram.theta();
-    let n = theta.len();
-    if !(theta[0] < half && theta[n - 1] > half) || theta.contains(&half) {
+    let Some((j, t)) = horizon_node(diagram)? else {
         return Ok(diagram.clone());
-    }
-    let m = diagram.n_meridians();
-    // The size cap counts the added parallel (checked before allocating).
-    if (n + 1).checked_mul(m).is_none_or(|c| c > MAX_NODES) {
-        return Err(DiagramError::TooLarge {
-            parallels: n + 1,
-            meridians: m,
-        });
-    }
-    let j = theta.partition_point(|&t| t < half); // theta[j-1] < half < theta[j]
-    let t = (half - theta[j - 1]) / (theta[j] - theta[j - 1]);
+    };
+    let (theta, n, m) = (
+        diagram.theta(),
+        diagram.n_parallels(),
+        diagram.n_meridians(),
+    );
     let mut new_theta = theta.to_vec();
-    new_theta.insert(j, half);
+    new_theta.insert(j, std::f64::consts::FRAC_PI_2);
     let mut values = Vec::with_capacity(m * (n + 1));
     for row in diagram.values().chunks_exact(n) {
         values.extend_from_slice(&row[..j]);
