@@ -24,10 +24,7 @@ import time
 
 import numpy as np
 
-
-def srgb(x: "np.typing.NDArray[np.floating]") -> "np.typing.NDArray[np.floating]":
-    x = np.clip(x, 0.0, 1.0)
-    return np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055)
+from _pictures import srgb
 
 
 def main() -> None:

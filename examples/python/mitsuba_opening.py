@@ -18,6 +18,8 @@ import pathlib
 
 import numpy as np
 
+from _pictures import save, srgb
+
 
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
@@ -85,7 +87,7 @@ def main() -> None:
 
     def tonemap(img: Any) -> Any:
         x = np.clip(img / (8.0 * road), 0.0, 1.0)
-        return np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055)
+        return srgb(x)
 
     fig, axes = plt.subplots(1, 2, figsize=(10, 4))
     for ax, (k, title) in zip(axes, [("point", "shape = \"point\": the luminaire is invisible"),
@@ -93,11 +95,7 @@ def main() -> None:
         ax.imshow(tonemap(imgs[k]))
         ax.set_title(title, fontsize=10)
         ax.axis("off")
-    fig.tight_layout()
-    out = pathlib.Path(a.out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(out, dpi=100, bbox_inches="tight")
-    print(f"wrote {out}")
+    save(fig, a.out)
 
 
 if __name__ == "__main__":

@@ -27,6 +27,8 @@ import time
 
 import numpy as np
 
+from _pictures import save, srgb
+
 
 def corpus_file() -> pathlib.Path:
     env = os.environ.get("GONIO_CORPUS")
@@ -161,7 +163,7 @@ def main() -> None:
 
     def tonemap(img: Any) -> Any:
         x = np.clip(img / (4.0 * mean), 0.0, 1.0)
-        return np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055)
+        return srgb(x)
 
     fig, axes = plt.subplots(1, 3, figsize=(15, 3.3))
     panels = [(ref, f"reference: path, {ref_spp} spp"),
@@ -171,11 +173,7 @@ def main() -> None:
         ax.imshow(tonemap(img))
         ax.set_title(title, fontsize=10)
         ax.axis("off")
-    fig.tight_layout()
-    out = pathlib.Path(a.out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(out, dpi=100, bbox_inches="tight")
-    print(f"wrote {out}")
+    save(fig, a.out)
 
 
 if __name__ == "__main__":

@@ -85,19 +85,6 @@ impl Real for f32 {
     }
 }
 
-/// K input components of n elements, array-of-structs (one pointer, stride K) or
-/// structure-of-arrays (K pointers, stride 1).
-struct In<T, const K: usize> {
-    ptr: [*const T; K],
-    stride: usize,
-}
-
-/// K output components of n elements, as [`In`].
-struct Out<T, const K: usize> {
-    ptr: [*mut T; K],
-    stride: usize,
-}
-
 /// The byte size of `n · k` values of `T` must fit in an `isize`.
 pub(crate) fn check_len<T>(n: usize, k: usize) -> Result<(), Failure> {
     match n
@@ -116,26 +103,71 @@ pub(crate) fn check_in<T>(p: *const T, what: &str) -> Result<(), Failure> {
     Ok(())
 }
 
-impl<T: Real, const K: usize> In<T, K> {
-    fn aos(p: *const T, n: usize, what: &str) -> Result<Self, Failure> {
-        check_in(p, what)?;
-        check_len::<T>(n, K)?;
+/// A caller's pointer to elements: `*const T` for inputs, `*mut T` for outputs.
+trait Ptr: Copy {
+    /// The element type.
+    type Elem;
+    /// Non-null and aligned, else [`Failure::null`] naming `what`.
+    fn check(self, what: &str) -> Result<(), Failure>;
+    /// The pointer `c` elements on (not dereferenced).
+    fn step(self, c: usize) -> Self;
+}
+
+impl<T> Ptr for *const T {
+    type Elem = T;
+    fn check(self, what: &str) -> Result<(), Failure> {
+        check_in(self, what)
+    }
+    fn step(self, c: usize) -> Self {
+        self.wrapping_add(c)
+    }
+}
+
+impl<T> Ptr for *mut T {
+    type Elem = T;
+    fn check(self, what: &str) -> Result<(), Failure> {
+        check_out(self, what)
+    }
+    fn step(self, c: usize) -> Self {
+        self.wrapping_add(c)
+    }
+}
+
+/// K components of n elements through the caller's pointers `P`, array-of-structs (one pointer,
+/// stride K) or structure-of-arrays (K pointers, stride 1).
+struct Strided<P, const K: usize> {
+    ptr: [P; K],
+    stride: usize,
+}
+
+/// K input components.
+type In<T, const K: usize> = Strided<*const T, K>;
+/// K output components.
+type Out<T, const K: usize> = Strided<*mut T, K>;
+
+impl<P: Ptr, const K: usize> Strided<P, K> {
+    fn aos(p: P, n: usize, what: &str) -> Result<Self, Failure> {
+        p.check(what)?;
+        check_len::<P::Elem>(n, K)?;
         let mut ptr = [p; K];
         for (c, q) in ptr.iter_mut().enumerate() {
-            *q = p.wrapping_add(c);
+            *q = p.step(c);
         }
         Ok(Self { ptr, stride: K })
     }
-    fn soa(ps: [(*const T, &str); K], n: usize) -> Result<Self, Failure> {
+    fn soa(ps: [(P, &str); K], n: usize) -> Result<Self, Failure> {
         for (p, what) in ps {
-            check_in(p, what)?;
+            p.check(what)?;
         }
-        check_len::<T>(n, 1)?;
+        check_len::<P::Elem>(n, 1)?;
         Ok(Self {
             ptr: ps.map(|(p, _)| p),
             stride: 1,
         })
     }
+}
+
+impl<T: Real, const K: usize> In<T, K> {
     /// Element i.
     ///
     /// # Safety
@@ -151,25 +183,6 @@ impl<T: Real, const K: usize> In<T, K> {
 }
 
 impl<T: Real, const K: usize> Out<T, K> {
-    fn aos(p: *mut T, n: usize, what: &str) -> Result<Self, Failure> {
-        check_out(p, what)?;
-        check_len::<T>(n, K)?;
-        let mut ptr = [p; K];
-        for (c, q) in ptr.iter_mut().enumerate() {
-            *q = p.wrapping_add(c);
-        }
-        Ok(Self { ptr, stride: K })
-    }
-    fn soa(ps: [(*mut T, &str); K], n: usize) -> Result<Self, Failure> {
-        for (p, what) in ps {
-            check_out(p, what)?;
-        }
-        check_len::<T>(n, 1)?;
-        Ok(Self {
-            ptr: ps.map(|(p, _)| p),
-            stride: 1,
-        })
-    }
     /// Writes elements `start..start + m` from the first m entries of K columns.
     ///
     /// # Safety

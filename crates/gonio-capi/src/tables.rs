@@ -40,6 +40,30 @@ unsafe fn deliver(
     Ok(())
 }
 
+/// The body of every `*_tables` function: checks `size`, reads `precision`, makes the blob with
+/// `make` and delivers it (or its size).
+///
+/// # Safety
+/// As [`gonio_sampler_tables`]'s `buffer`, `capacity` and `size`.
+unsafe fn tables_call(
+    precision: u32,
+    buffer: *mut u8,
+    capacity: usize,
+    size: *mut usize,
+    make: impl FnOnce(Precision) -> Result<Vec<u8>, Failure>,
+) -> GonioStatus {
+    guard(|| {
+        check_out(size, "size")?;
+        let bytes = make(self::precision(precision)?)?;
+        deliver(&bytes, buffer, capacity, size)
+    })
+}
+
+/// The blob writer's error as the C ABI's.
+fn invalid(e: blob::TablesError) -> Failure {
+    Failure::invalid(e.to_string())
+}
+
 /// The HDS map's tables of `sampler` as one blob (docs/TABLES.md, layout version 1), with the
 /// diagram `target` as its grid target (NULL: none; its frame is photometric for IES and
 /// EULUMDAT files, generic otherwise). `precision` is 4 (the float32 map, what
@@ -62,10 +86,8 @@ pub unsafe extern "C" fn gonio_sampler_tables(
     capacity: usize,
     size: *mut usize,
 ) -> GonioStatus {
-    guard(|| {
+    tables_call(precision, buffer, capacity, size, |p| {
         let s = r(sampler, "sampler")?;
-        check_out(size, "size")?;
-        let p = self::precision(precision)?;
         let map = s.inner.hds_map().ok_or_else(|| {
             Failure::new(
                 GONIO_ERR_UNSUPPORTED,
@@ -86,8 +108,7 @@ pub unsafe extern "C" fn gonio_sampler_tables(
             };
             (Target::Grid(&d.diagram), frame)
         };
-        let bytes = blob::write(map, p, frame, &t).map_err(|e| Failure::invalid(e.to_string()))?;
-        deliver(&bytes, buffer, capacity, size)
+        blob::write(map, p, frame, &t).map_err(invalid)
     })
 }
 
@@ -106,13 +127,8 @@ pub unsafe extern "C" fn gonio_envmap_tables(
     capacity: usize,
     size: *mut usize,
 ) -> GonioStatus {
-    guard(|| {
-        let m = r(map, "map")?;
-        check_out(size, "size")?;
-        let p = self::precision(precision)?;
-        let bytes =
-            blob::write_envmap(m.inner(), p).map_err(|e| Failure::invalid(e.to_string()))?;
-        deliver(&bytes, buffer, capacity, size)
+    tables_call(precision, buffer, capacity, size, |p| {
+        blob::write_envmap(r(map, "map")?.inner(), p).map_err(invalid)
     })
 }
 
@@ -132,17 +148,14 @@ pub unsafe extern "C" fn gonio_brdf_sampler_tables(
     capacity: usize,
     size: *mut usize,
 ) -> GonioStatus {
-    guard(|| {
+    tables_call(precision, buffer, capacity, size, |p| {
         let s = r(sampler, "sampler")?;
-        check_out(size, "size")?;
-        let p = self::precision(precision)?;
         let hds = s.hds().ok_or_else(|| {
             Failure::new(
                 GONIO_ERR_UNSUPPORTED,
                 "only the \"hds\" BRDF sampler has tables".to_string(),
             )
         })?;
-        let bytes = hds.tables(p).map_err(|e| Failure::invalid(e.to_string()))?;
-        deliver(&bytes, buffer, capacity, size)
+        hds.tables(p).map_err(invalid)
     })
 }
