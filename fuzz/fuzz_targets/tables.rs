@@ -38,24 +38,13 @@ fn seeds() -> &'static Vec<Vec<u8>> {
         let lambert = SphereMap::with_layout(&s, SphereLayout::Lambert).unwrap();
         let mut v = Vec::new();
         for p in [Precision::F32, Precision::F64] {
-            v.push(
-                blob::write(
-                    MapRef::Hemisphere(&hm),
-                    p,
-                    Frame::Generic,
-                    &Target::Grid(&h),
-                )
-                .unwrap(),
-            );
-            v.push(
-                blob::write(
-                    MapRef::Sphere(&split),
-                    p,
-                    Frame::Photometric,
-                    &Target::Grid(&s),
-                )
-                .unwrap(),
-            );
+            let cases = [
+                (MapRef::Hemisphere(&hm), Frame::Generic, Target::Grid(&h)),
+                (MapRef::Sphere(&split), Frame::Photometric, Target::Grid(&s)),
+            ];
+            for (map, frame, target) in cases {
+                v.push(blob::write(map, p, frame, &target).unwrap());
+            }
             let rgb = vec![0.5f32; 4 * 2 * 3];
             let img = Target::Image {
                 width: 4,

@@ -123,8 +123,7 @@ fn run(
     let mut sums_smooth = vec![0.0; RECEIVERS.len()];
     let mut errors = Vec::new();
     let mut smooth = Vec::new();
-    let c0 = common::thread_cpu_ns();
-    let t0 = std::time::Instant::now();
+    let clock = common::CpuClock::start();
     let mut next = 16usize;
     let mut splat_ns = 0.0;
     for (k, &u) in pts.iter().enumerate() {
@@ -152,10 +151,7 @@ fn run(
             splat_ns += t.elapsed().as_nanos() as f64;
         }
     }
-    let total = match (c0, common::thread_cpu_ns()) {
-        (Some(a), Some(b)) => (b - a) as f64,
-        _ => t0.elapsed().as_nanos() as f64,
-    };
+    let total = clock.ns();
     Run {
         method,
         seq,

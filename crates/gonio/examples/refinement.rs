@@ -186,8 +186,7 @@ fn transport(
     let mut sums = vec![0.0; PATCHES];
     let mut errors = Vec::new();
     let mut next = 16usize;
-    let c0 = common::thread_cpu_ns();
-    let t0 = Instant::now();
+    let clock = common::CpuClock::start();
     let mut bookkeeping = 0.0;
     for (k, &u) in pts.iter().enumerate() {
         let smp = s.sample(u);
@@ -204,10 +203,7 @@ fn transport(
             bookkeeping += t.elapsed().as_nanos() as f64;
         }
     }
-    let total = match (c0, common::thread_cpu_ns()) {
-        (Some(a), Some(b)) => (b - a) as f64,
-        _ => t0.elapsed().as_nanos() as f64,
-    };
+    let total = clock.ns();
     (errors, (total - bookkeeping).max(0.0) / pts.len() as f64)
 }
 

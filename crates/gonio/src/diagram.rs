@@ -334,27 +334,21 @@ impl Diagram {
         }
         // Angles are checked in degrees first so that 360° is refused even if rounding in the
         // conversion would bring it just below 2π.
-        let tol = ANGLE_TOLERANCE_DEG;
-        for (index, &p) in phi_deg.iter().enumerate() {
-            if p.is_finite() && p > 360.0 + tol {
-                return Err(DiagramError::AngleOutOfRange {
-                    axis: "phi",
+        let beyond =
+            |axis: &'static str, values: &[f64], max: f64, range: &'static str| match values
+                .iter()
+                .position(|&a| a.is_finite() && a > max + ANGLE_TOLERANCE_DEG)
+            {
+                Some(index) => Err(DiagramError::AngleOutOfRange {
+                    axis,
                     index,
-                    value_deg: p,
-                    range: "[0°, 360°)",
-                });
-            }
-        }
-        for (index, &t) in theta_deg.iter().enumerate() {
-            if t.is_finite() && t > 180.0 + tol {
-                return Err(DiagramError::AngleOutOfRange {
-                    axis: "theta",
-                    index,
-                    value_deg: t,
-                    range: "[0°, 180°]",
-                });
-            }
-        }
+                    value_deg: values[index],
+                    range,
+                }),
+                None => Ok(()),
+            };
+        beyond("phi", phi_deg, 360.0, "[0°, 360°)")?;
+        beyond("theta", theta_deg, 180.0, "[0°, 180°]")?;
         // φ ≈ 360° is 2π (the closing meridian, resolved by `new`).
         // θ is snapped by `new` (which keeps the order strict); 180° + round-off is π.
         // (`min` would turn NaN into π.)

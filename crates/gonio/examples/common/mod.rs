@@ -98,6 +98,30 @@ pub fn median(v: &[f64]) -> f64 {
 
 pub use gonio::clock::thread_cpu_ns;
 
+/// A stopwatch of the thread's CPU time where the OS reports it, else of wall time.
+pub struct CpuClock {
+    cpu: Option<u64>,
+    wall: Instant,
+}
+
+impl CpuClock {
+    /// Started now.
+    pub fn start() -> Self {
+        CpuClock {
+            cpu: thread_cpu_ns(),
+            wall: Instant::now(),
+        }
+    }
+
+    /// Nanoseconds since the start.
+    pub fn ns(&self) -> f64 {
+        match (self.cpu, thread_cpu_ns()) {
+            (Some(a), Some(b)) => (b - a) as f64,
+            _ => self.wall.elapsed().as_nanos() as f64,
+        }
+    }
+}
+
 /// Median over `repeats` runs of `f` of the nanoseconds per item (`items` per run), measured in
 /// the thread's CPU time where the OS reports it (so that time the thread spends descheduled on a
 /// shared machine does not count), else in wall time.
@@ -105,14 +129,9 @@ pub fn ns_per_item(repeats: usize, items: usize, mut f: impl FnMut()) -> f64 {
     f(); // warm-up
     let t: Vec<f64> = (0..repeats)
         .map(|_| {
-            let (c0, t0) = (thread_cpu_ns(), Instant::now());
+            let clock = CpuClock::start();
             f();
-            let wall = t0.elapsed().as_secs_f64() * 1e9;
-            let ns = match (c0, thread_cpu_ns()) {
-                (Some(a), Some(b)) => (b - a) as f64,
-                _ => wall,
-            };
-            ns / items as f64
+            clock.ns() / items as f64
         })
         .collect();
     median(&t)

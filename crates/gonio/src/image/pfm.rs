@@ -35,22 +35,18 @@ pub fn read_pfm(bytes: &[u8]) -> Result<Image, ImageError> {
                 *pos += 1;
             }
             if *pos < bytes.len() && !bytes[*pos].is_ascii_whitespace() {
-                return Err(ImageError::Header {
-                    format: FORMAT,
-                    line: *line,
-                    column: super::column_of(bytes, start),
-                    offset: start,
-                    message: format!("the {what} is longer than 64 characters"),
-                });
+                return Err(header_err(
+                    *line,
+                    start,
+                    format!("the {what} is longer than 64 characters"),
+                ));
             }
             if start == *pos || *pos >= bytes.len() {
-                return Err(ImageError::Header {
-                    format: FORMAT,
-                    line: *line,
-                    column: super::column_of(bytes, start),
-                    offset: start,
-                    message: format!("the file ends before the {what}"),
-                });
+                return Err(header_err(
+                    *line,
+                    start,
+                    format!("the file ends before the {what}"),
+                ));
             }
             Ok((
                 start,

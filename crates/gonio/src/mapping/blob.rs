@@ -664,6 +664,21 @@ fn f64_at(b: &[u8], at: usize) -> f64 {
     f64::from_le_bytes(b[at..at + 8].try_into().expect("8 bytes"))
 }
 
+/// The header's u32 at `offset` (the field `name`) must be `want`, else [`TablesError::Field`].
+fn expect_u32(
+    bytes: &[u8],
+    name: &'static str,
+    offset: usize,
+    want: u32,
+    why: &'static str,
+) -> Result<(), TablesError> {
+    let v = u32_at(bytes, offset);
+    if v != want {
+        return Err(field(name, offset, v, why));
+    }
+    Ok(())
+}
+
 fn field(
     field: &'static str,
     offset: usize,
@@ -1208,14 +1223,7 @@ pub fn read(bytes: &[u8]) -> Result<MapTables, TablesError> {
         ));
     }
     let table_count = u32_at(bytes, 48) as u64;
-    if u32_at(bytes, 52) != 0 {
-        return Err(field(
-            "reserved",
-            52,
-            u32_at(bytes, 52),
-            "reserved bytes must be 0",
-        ));
-    }
+    expect_u32(bytes, "reserved", 52, 0, "reserved bytes must be 0")?;
     let present = u32_at(bytes, 56);
     let lookup_code = u32_at(bytes, 60);
     let p_lower = f64_at(bytes, 64);

@@ -335,22 +335,20 @@ pub fn read_family(bytes: &[u8]) -> Result<FamilyTables, TablesError> {
             "a family blob has layout 3 (read the others with blob::read)",
         ));
     }
-    if u32_at(bytes, 40) != Frame::Generic as u32 {
-        return Err(field(
-            "frame",
-            40,
-            u32_at(bytes, 40),
-            "a family's frame is 0 (the local shading frame)",
-        ));
-    }
-    if u32_at(bytes, 44) != TARGET_BRDF {
-        return Err(field(
-            "target",
-            44,
-            u32_at(bytes, 44),
-            "a family carries its BRDF table (3)",
-        ));
-    }
+    expect_u32(
+        bytes,
+        "frame",
+        40,
+        Frame::Generic as u32,
+        "a family's frame is 0 (the local shading frame)",
+    )?;
+    expect_u32(
+        bytes,
+        "target",
+        44,
+        TARGET_BRDF,
+        "a family carries its BRDF table (3)",
+    )?;
     let table_count = u64::from(u32_at(bytes, 48));
     for (at, name) in [
         (52, "reserved"),
@@ -358,18 +356,15 @@ pub fn read_family(bytes: &[u8]) -> Result<FamilyTables, TablesError> {
         (88, "target_a"),
         (92, "target_b"),
     ] {
-        if u32_at(bytes, at) != 0 {
-            return Err(field(name, at, u32_at(bytes, at), "must be 0 in a family"));
-        }
+        expect_u32(bytes, name, at, 0, "must be 0 in a family")?;
     }
-    if u32_at(bytes, 56) != 1 {
-        return Err(field(
-            "maps_present",
-            56,
-            u32_at(bytes, 56),
-            "must be 1 (slot 0: the slices' grid)",
-        ));
-    }
+    expect_u32(
+        bytes,
+        "maps_present",
+        56,
+        1,
+        "must be 1 (slot 0: the slices' grid)",
+    )?;
     for (at, name, want) in [
         (64, "p_lower", 0.0),
         (72, "inv_2t", 0.5),
