@@ -252,29 +252,15 @@ impl PyBrdf {
     #[pyo3(signature = (path, format = "json"))]
     fn write(&self, py: Python<'_>, path: PathBuf, format: &str) -> PyResult<PathBuf> {
         let b = &self.brdf;
-        let bytes = match format {
-            "json" => gonio::brdf::write_json(b).into_bytes(),
-            "merl" => {
-                if b.symmetry() != Symmetry::Isotropic {
-                    return Err(InputError::new_err(
-                        "format \"merl\": the MERL layout holds isotropic tables only",
-                    ));
-                }
-                detached(py, "Brdf.write", || {
-                    gonio::brdf::write_merl(|wi, wo| b.eval(wi, wo))
-                })?
-            }
-            "utia" => detached(py, "Brdf.write", || {
-                gonio::brdf::write_utia_dirs(|wi, wo| b.eval(wi, wo))
-            })?,
-            other => {
-                return Err(InputError::new_err(format!(
-                    "format: {other:?} is not \"json\", \"merl\" or \"utia\""
-                )))
-            }
-        };
-        std::fs::write(&path, bytes)
-            .map_err(|e| GonioError::new_err(format!("{}: {e}", path.display())))?;
+        write_brdf(
+            py,
+            "Brdf.write",
+            &path,
+            format,
+            b.symmetry(),
+            |wi, wo| b.eval(wi, wo),
+            || Ok(gonio::brdf::write_json(b).into_bytes()),
+        )?;
         Ok(path)
     }
 
@@ -588,34 +574,52 @@ pub(crate) fn analytic_brdf(
             "albedo, f0: every value must be finite and >= 0",
         ));
     }
-    let bytes = match format {
-        "merl" => {
-            if a.symmetry() != Symmetry::Isotropic {
-                return Err(InputError::new_err(
-                    "format \"merl\": the MERL layout holds isotropic BRDFs only (alpha_y = alpha_x)",
-                ));
-            }
-            detached(py, "analytic_brdf", || {
-                gonio::brdf::write_merl(|wi, wo| a.eval(wi, wo))
-            })?
-        }
-        "utia" => detached(py, "analytic_brdf", || {
-            gonio::brdf::write_utia_dirs(|wi, wo| a.eval(wi, wo))
-        })?,
-        "json" => {
+    write_brdf(
+        py,
+        "analytic_brdf",
+        &path,
+        format,
+        a.symmetry(),
+        |wi, wo| a.eval(wi, wo),
+        || {
             let t = detached(py, "analytic_brdf", || a.table(n_theta, n_phi))?
                 .map_err(|e| InputError::new_err(format!("analytic_brdf: {e}")))?;
-            gonio::brdf::write_json(&t).into_bytes()
+            Ok(gonio::brdf::write_json(&t).into_bytes())
+        },
+    )?;
+    Ok(path)
+}
+
+/// Writes the BRDF `eval` (of symmetry `symmetry`) to `path` in `format`: "merl" (isotropic
+/// only) and "utia" by evaluating it at their nodes, "json" as `json` makes it; `what` names
+/// the call in errors.
+fn write_brdf(
+    py: Python<'_>,
+    what: &'static str,
+    path: &std::path::Path,
+    format: &str,
+    symmetry: Symmetry,
+    eval: impl Fn(gonio::Vec3, gonio::Vec3) -> [f64; 3] + Sync,
+    json: impl FnOnce() -> PyResult<Vec<u8>>,
+) -> PyResult<()> {
+    let bytes = match format {
+        "merl" => {
+            if symmetry != Symmetry::Isotropic {
+                return Err(InputError::new_err(
+                    "format \"merl\": the MERL layout holds isotropic BRDFs only",
+                ));
+            }
+            detached(py, what, || gonio::brdf::write_merl(&eval))?
         }
+        "utia" => detached(py, what, || gonio::brdf::write_utia_dirs(&eval))?,
+        "json" => json()?,
         other => {
             return Err(InputError::new_err(format!(
-                "format: {other:?} is not \"merl\", \"utia\" or \"json\""
+                "format: {other:?} is not \"json\", \"merl\" or \"utia\""
             )))
         }
     };
-    std::fs::write(&path, bytes)
-        .map_err(|e| GonioError::new_err(format!("{}: {e}", path.display())))?;
-    Ok(path)
+    std::fs::write(path, bytes).map_err(|e| GonioError::new_err(format!("{}: {e}", path.display())))
 }
 
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
