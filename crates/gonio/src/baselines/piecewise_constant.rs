@@ -261,13 +261,14 @@ impl Sampler for PiecewiseConstant {
         let p = self
             .square_point(direction)
             .ok_or(InvertError::OutsideDomain)?;
-        // The rule of every sampler: no point maps where the density is 0 (the pixel's
-        // preimage is empty; a point returned here would map elsewhere).
-        if Sampler::pdf(self, direction) == 0.0 {
-            return Err(InvertError::ZeroDensity);
-        }
         let n = self.resolution;
         let (r, c) = self.pixel(p);
+        // The rule of every sampler: no point maps where the density is 0 (the pixel's
+        // preimage is empty; a point returned here would map elsewhere). The pixel is the one
+        // `pdf` finds (`locate` of the same point), found once.
+        if self.pdf[r * n + c] == 0.0 {
+            return Err(InvertError::ZeroDensity);
+        }
         let du = (p[0] * n as f64 - c as f64).clamp(0.0, 1.0);
         let dv = (p[1] * n as f64 - r as f64).clamp(0.0, 1.0);
         let row = &self.cdfs.conditional[r * (n + 1)..(r + 1) * (n + 1)];
