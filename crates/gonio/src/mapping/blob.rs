@@ -593,7 +593,7 @@ fn image_target<'a>(
 /// CLI's `gonio tables`, Python's `EnvMap.tables` and the C ABI's `gonio_envmap_tables` write.
 ///
 /// # Errors
-/// As [`write`].
+/// As [`write()`].
 pub fn write_envmap(
     env: &crate::envmap::EnvironmentMap,
     precision: Precision,
