@@ -113,25 +113,20 @@ trait Ptr: Copy {
     fn step(self, c: usize) -> Self;
 }
 
-impl<T> Ptr for *const T {
-    type Elem = T;
-    fn check(self, what: &str) -> Result<(), Failure> {
-        check_in(self, what)
-    }
-    fn step(self, c: usize) -> Self {
-        self.wrapping_add(c)
-    }
+macro_rules! impl_ptr {
+    ($($ptr:ty => $check:ident),*) => {$(
+        impl<T> Ptr for $ptr {
+            type Elem = T;
+            fn check(self, what: &str) -> Result<(), Failure> {
+                $check(self, what)
+            }
+            fn step(self, c: usize) -> Self {
+                self.wrapping_add(c)
+            }
+        }
+    )*};
 }
-
-impl<T> Ptr for *mut T {
-    type Elem = T;
-    fn check(self, what: &str) -> Result<(), Failure> {
-        check_out(self, what)
-    }
-    fn step(self, c: usize) -> Self {
-        self.wrapping_add(c)
-    }
-}
+impl_ptr!(*const T => check_in, *mut T => check_out);
 
 /// K components of n elements through the caller's pointers `P`, array-of-structs (one pointer,
 /// stride K) or structure-of-arrays (K pointers, stride 1).
