@@ -560,11 +560,11 @@ class Tables:
                                         labels=("tau", "lo", "hi", "active", "it"), label="gonio_solve_radius")
         return dr.select(iterated, x0 + tau, res)
 
-    def _sample_map(self, c, u, v):
-        """`sample_block` of one map (per lane `c`): direction (x, y, z) and disk density D."""
+    # -- the stages of the forward map, shared by one map and a blend of slices ---------------
+
+    def _square_to_disk(self, u, v):
+        """M_B: Shirley–Chiu's concentric map of the square onto the B-disk: (r_B, φ_B)."""
         dr = self.dr
-        n = c.n
-        # Stage 1: M_B (concentric square → disk) and the wedge search.
         a = 2.0 * u - 1.0
         b = 2.0 * v - 1.0
         big = dr.abs(a) > dr.abs(b)
@@ -579,8 +579,52 @@ class Tables:
         phi = dr.select(phi < 0, phi + TAU, phi)
         phi = dr.select(phi >= TAU, 0.0, phi)
         origin = (a == 0) & (b == 0)
-        rb = dr.select(origin, 0.0, r)
-        pb = dr.select(origin, 0.0, phi)
+        return dr.select(origin, 0.0, r), dr.select(origin, 0.0, phi)
+
+    def _wedge_fraction(self, beta, ra, rbb, gamma):
+        """M_C's wedge equation: the fraction ε of a sector of width β between squared star
+        radii R_a², R_b² that holds the wedge angle γ."""
+        dr = self.dr
+        aa = (0.5 * beta) * (rbb - ra)
+        bb = beta * ra
+        cc = dr.maximum(gamma, 0.0)
+        dn = bb + dr.sqrt(dr.maximum(bb * bb + (4.0 * aa) * cc, 0.0))
+        return dr.select(dn > 0, self._clamp((2.0 * cc) / dn, 0.0, 1.0), 0.0)
+
+    def _settle(self, j, n, w, ut, label):
+        """`settle_radial`'s loops on the radial CDF `ut` at level `w` (each entered only where
+        its condition holds); the last one steps back over an unlit zone at the map's end."""
+        dr = self.dr
+        (j,) = dr.while_loop((j,), lambda j: (j > 0) & (ut(j) > w), lambda j: (j - 1,),
+                             labels=("j",), label=label + "_down")
+        (j,) = dr.while_loop((j,), lambda j: (j + 2 < n) & (ut(j + 1) <= w), lambda j: (j + 1,),
+                             labels=("j",), label=label + "_up")
+        (j,) = dr.while_loop((j,), lambda j: (j > 0) & (ut(j + 1) <= ut(j)), lambda j: (j - 1,),
+                             labels=("j",), label=label + "_edge")
+        return j
+
+    def _lift(self, xr, phic, x0, inv_dx, d0, d1):
+        """M_E (D-disk radius `xr`, azimuth φ_C → direction) and the disk density there, linear
+        on the segment from x0 with end densities d0, d1: (x, y, z, D)."""
+        dr = self.dr
+        r2 = xr * xr
+        s = xr * dr.sqrt(dr.maximum(2.0 - r2, 0.0))
+        sp, cp = dr.sincos(phic)
+        ox = s * cp
+        oy = s * sp
+        oz = 1.0 - r2
+        up = oz > 0
+        rd2 = dr.select(up, (ox * ox + oy * oy) / (1.0 + oz), 1.0 - oz)
+        xd = dr.sqrt(dr.minimum(dr.maximum(rd2, 0.0), 2.0))
+        t = dr.minimum(dr.maximum((xd - x0) * inv_dx, 0.0), 1.0)
+        return ox, oy, oz, dr.maximum(d0 + (d1 - d0) * t, 0.0)
+
+    def _sample_map(self, c, u, v):
+        """`sample_block` of one map (per lane `c`): direction (x, y, z) and disk density D."""
+        dr = self.dr
+        n = c.n
+        # Stage 1: M_B (concentric square → disk) and the wedge search.
+        rb, pb = self._square_to_disk(u, v)
         wi = self._guided(c, "cum", "wedge_guide", c.guide_scale, pb, c.m - 1, c.kmax_w, self.steps["steps_w"])
 
         # Stage 2: the wedge equation, then the radial search over the blended CDF.
@@ -589,12 +633,7 @@ class Tables:
         rbb = self._map_f(c, "r2", wi + 1)
         cum = self._map_f(c, "cum", wi)
         phi0 = self._map_f(c, "phi", wi)
-        gamma = (pb - cum) / c.kappa_div
-        aa = (0.5 * beta) * (rbb - ra)
-        bb = beta * ra
-        cc = dr.maximum(gamma, 0.0)
-        dn = bb + dr.sqrt(dr.maximum(bb * bb + (4.0 * aa) * cc, 0.0))
-        eps = dr.select(dn > 0, self._clamp((2.0 * cc) / dn, 0.0, 1.0), 0.0)
+        eps = self._wedge_fraction(beta, ra, rbb, (pb - cum) / c.kappa_div)
         phic = phi0 + eps * beta
         w1 = wi + 1
         wn = dr.select(w1 == c.m, 0, w1)
@@ -618,13 +657,7 @@ class Tables:
             return blend("u", j)
 
         # The settling loops of `settle_radial` (each entered only where its condition holds).
-        (j,) = dr.while_loop((j,), lambda j: (j > 0) & (ut(j) > w), lambda j: (j - 1,),
-                             labels=("j",), label="gonio_radial_down")
-        (j,) = dr.while_loop((j,), lambda j: (j + 2 < n) & (ut(j + 1) <= w), lambda j: (j + 1,),
-                             labels=("j",), label="gonio_radial_up")
-        # The square's edge before an unlit zone at the end of the map.
-        (j,) = dr.while_loop((j,), lambda j: (j > 0) & (ut(j + 1) <= ut(j)), lambda j: (j - 1,),
-                             labels=("j",), label="gonio_radial_edge")
+        j = self._settle(j, n, w, ut, "gonio_radial")
         uj = ut(j)
 
         # Stage 3: the radial solve on segment j.
@@ -636,17 +669,8 @@ class Tables:
         xr = dr.minimum(self._solve_radius(x0, x1, d0, d1, w - uj), x1)
 
         # Stage 4: the density at the radius and M_E (disk → sphere).
-        r2 = xr * xr
-        s = xr * dr.sqrt(dr.maximum(2.0 - r2, 0.0))
-        sp, cp = dr.sincos(phic)
-        ox = s * cp
-        oy = s * sp
-        oz = 1.0 - r2
+        ox, oy, oz, od = self._lift(xr, phic, x0, inv_dx, d0, d1)
         up = oz > 0
-        rd2 = dr.select(up, (ox * ox + oy * oy) / (1.0 + oz), 1.0 - oz)
-        xd = dr.sqrt(dr.minimum(dr.maximum(rd2, 0.0), 2.0))
-        t = dr.minimum(dr.maximum((xd - x0) * inv_dx, 0.0), 1.0)
-        od = dr.maximum(d0 + (d1 - d0) * t, 0.0)
         pole = (ox == 0) & (oy == 0)
         od = dr.select(pole, dr.select(up, c.north, c.south), od)
         return ox, oy, oz, od
@@ -1083,22 +1107,7 @@ class BrdfTables(Tables):
         density D (the pdf is D / 2)."""
         dr = self.dr
         m, n = self.m, self.n
-        a = 2.0 * u - 1.0
-        b = 2.0 * v - 1.0
-        big = dr.abs(a) > dr.abs(b)
-        r = dr.select(big, a, b)
-        num = dr.select(big, b, a)
-        den = dr.select(big, a, b)
-        q = num / den
-        phi = dr.select(big, FRAC_PI_4 * q, FRAC_PI_2 - FRAC_PI_4 * q)
-        negr = r < 0
-        r = dr.select(negr, -r, r)
-        phi = dr.select(negr, phi + PI, phi)
-        phi = dr.select(phi < 0, phi + TAU, phi)
-        phi = dr.select(phi >= TAU, 0.0, phi)
-        origin = (a == 0) & (b == 0)
-        rb = dr.select(origin, 0.0, r)
-        pb = dr.select(origin, 0.0, phi)
+        rb, pb = self._square_to_disk(u, v)
 
         def gamma(i):
             return self._sum(parts, "w", "cum", lambda s: s * (m + 1) + i)
@@ -1111,12 +1120,7 @@ class BrdfTables(Tables):
         beta = self._gf(self._t["beta"], wi)
         ra, rbb = r2(wi), r2(wi + 1)
         g0 = gamma(wi)
-        gam = (pb - g0) / kappa
-        aa = (0.5 * beta) * (rbb - ra)
-        bb = beta * ra
-        cc = dr.maximum(gam, 0.0)
-        dn = bb + dr.sqrt(dr.maximum(bb * bb + (4.0 * aa) * cc, 0.0))
-        eps = dr.select(dn > 0, self._clamp((2.0 * cc) / dn, 0.0, 1.0), 0.0)
+        eps = self._wedge_fraction(beta, ra, rbb, (pb - g0) / kappa)
         phic = self._gf(self._t["phi"], wi) + eps * beta
         w1 = wi + 1
         wn = dr.select(w1 == m, 0, w1)
@@ -1133,28 +1137,14 @@ class BrdfTables(Tables):
 
         w = (rb * rb) * ut(self.I(n - 1))
         j = self._descend(self.I(0), self.I(n - 2), w, ut, self.steps["steps_rad"])
-        (j,) = dr.while_loop((j,), lambda j: (j > 0) & (ut(j) > w), lambda j: (j - 1,),
-                             labels=("j",), label="gonio_brdf_radial_down")
-        (j,) = dr.while_loop((j,), lambda j: (j + 2 < n) & (ut(j + 1) <= w), lambda j: (j + 1,),
-                             labels=("j",), label="gonio_brdf_radial_up")
-        (j,) = dr.while_loop((j,), lambda j: (j > 0) & (ut(j + 1) <= ut(j)), lambda j: (j - 1,),
-                             labels=("j",), label="gonio_brdf_radial_edge")
+        j = self._settle(j, n, w, ut, "gonio_brdf_radial")
         uj = ut(j)
         d0, d1 = dt(j), dt(j + 1)
         x0 = self._gf(self._t["x"], j)
         x1 = self._gf(self._t["x"], j + 1)
         inv_dx = self._gf(self._t["inv_dx"], j)
         xr = dr.minimum(self._solve_radius(x0, x1, d0, d1, w - uj), x1)
-        r2x = xr * xr
-        sx = xr * dr.sqrt(dr.maximum(2.0 - r2x, 0.0))
-        sp, cp = dr.sincos(phic)
-        ox, oy, oz = sx * cp, sx * sp, 1.0 - r2x
-        up = oz > 0
-        rd2 = dr.select(up, (ox * ox + oy * oy) / (1.0 + oz), 1.0 - oz)
-        xd = dr.sqrt(dr.minimum(dr.maximum(rd2, 0.0), 2.0))
-        t = dr.minimum(dr.maximum((xd - x0) * inv_dx, 0.0), 1.0)
-        od = dr.maximum(d0 + (d1 - d0) * t, 0.0)
-        return ox, oy, oz, od
+        return self._lift(xr, phic, x0, inv_dx, d0, d1)
 
     def _density_blend(self, parts, x, y, z):
         """The blended disk density D at directions of the slice frame (upper hemisphere)."""
