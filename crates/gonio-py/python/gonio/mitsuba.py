@@ -497,23 +497,30 @@ _TABLES = {}
 _TABLES_MAX = 8
 
 
+def _cached(cache, key, make):
+    """`cache[key]`, made by `make()` on a miss; the oldest entry goes beyond _TABLES_MAX."""
+    hit = cache.get(key)
+    if hit is None:
+        hit = cache[key] = make()
+        while len(cache) > _TABLES_MAX:
+            cache.pop(next(iter(cache)))
+    return hit
+
+
 def _luminaire_tables(mi, path):
     """(diagram, sampler, gonio.drjit.Tables) of a photometric file for the current variant, cached
     by (variant, path, modification time); the least recently made entry goes beyond 8."""
     from . import drjit as gdr
 
-    key = (mi.variant(), path, os.path.getmtime(path))
-    hit = _TABLES.get(key)
-    if hit is None:
+    def make():
         diagram = _read(path)
         sampler = diagram.sampler("hds", "sphere")
         tables = gdr.Tables(gdr.blob_of(sampler, path), mi)
         if tables.target_kind != 1:
             raise ValueError(f"gonio emitter {path}: the table blob has no grid target")
-        hit = _TABLES[key] = (diagram, sampler, tables)
-        while len(_TABLES) > _TABLES_MAX:
-            _TABLES.pop(next(iter(_TABLES)))
-    return hit
+        return diagram, sampler, tables
+
+    return _cached(_TABLES, (mi.variant(), path, os.path.getmtime(path)), make)
 
 
 def _make_classes(mi, dr, scalar):
@@ -938,15 +945,13 @@ def _brdf_tables(mi, path, merl_theta, merl_phi, theta_o, phi_o, force_resample)
     from . import drjit as gdr
     from . import read_brdf
 
-    key = (mi.variant(), path, os.path.getmtime(path), merl_theta, merl_phi, theta_o, phi_o, force_resample)
-    hit = _BRDF_TABLES.get(key)
-    if hit is None:
+    def make():
         brdf = read_brdf(path, merl_theta=merl_theta, merl_phi=merl_phi)
         blob = brdf.tables("float32", theta_o=theta_o, phi_o=phi_o, force_resample=force_resample)
-        hit = _BRDF_TABLES[key] = gdr.BrdfTables(blob, mi)
-        while len(_BRDF_TABLES) > _TABLES_MAX:
-            _BRDF_TABLES.pop(next(iter(_BRDF_TABLES)))
-    return hit
+        return gdr.BrdfTables(blob, mi)
+
+    key = (mi.variant(), path, os.path.getmtime(path), merl_theta, merl_phi, theta_o, phi_o, force_resample)
+    return _cached(_BRDF_TABLES, key, make)
 
 
 def _make_bsdf(mi, dr, scalar):
