@@ -150,8 +150,6 @@ pub(crate) fn invert_cdf(cdf: &[f64], last_positive: usize, x: f64) -> (usize, f
 /// [`build_cdf`] makes them.
 #[derive(Debug, Clone)]
 pub(crate) struct ImageCdfs {
-    /// ∫ of the image: the sum of its pixels.
-    pub(crate) total: f64,
     /// The rows' CDF, h + 1 entries.
     pub(crate) marginal: Vec<f64>,
     /// The last row of positive sum.
@@ -163,8 +161,8 @@ pub(crate) struct ImageCdfs {
 }
 
 impl ImageCdfs {
-    /// The CDFs of `image` (`w` × `h`, row-major).
-    pub(crate) fn build(image: &[f64], w: usize, h: usize) -> Self {
+    /// The CDFs of `image` (`w` × `h`, row-major) and the sum of its pixels.
+    pub(crate) fn build(image: &[f64], w: usize, h: usize) -> (Self, f64) {
         let mut conditional = vec![0.0; h * (w + 1)];
         let mut conditional_last = vec![0u32; h];
         let mut rows = vec![0.0; h];
@@ -178,13 +176,13 @@ impl ImageCdfs {
         }
         let mut marginal = vec![0.0; h + 1];
         let (total, marginal_last) = build_cdf(&rows, &mut marginal);
-        ImageCdfs {
-            total,
+        let cdfs = ImageCdfs {
             marginal,
             marginal_last,
             conditional,
             conditional_last,
-        }
+        };
+        (cdfs, total)
     }
 
     /// Bytes of the CDFs' contents.

@@ -122,8 +122,7 @@ impl PiecewiseConstant {
             }
         });
 
-        let cdfs = ImageCdfs::build(&image, n, n);
-        let total = cdfs.total;
+        let (cdfs, total) = ImageCdfs::build(&image, n, n);
         if total <= 0.0 {
             return Err(BuildError::EmptyImage { resolution });
         }

@@ -59,8 +59,7 @@ impl LatLongPiecewiseConstant {
             }
         }
         let target = Target::new(&d, Domain::Sphere)?;
-        let cdfs = ImageCdfs::build(&f, w, h);
-        let total = cdfs.total;
+        let (cdfs, total) = ImageCdfs::build(&f, w, h);
         if !(total > 0.0 && total.is_finite()) {
             return Err(BuildError::NoPower { integral: total });
         }
@@ -85,15 +84,28 @@ impl LatLongPiecewiseConstant {
         (phi_to_s(phi), theta / PI)
     }
 
-    fn density(&self, d: Vec3) -> f64 {
+    /// The image position of a unit direction: (x, y) in pixels, and the pixel (row, column)
+    /// that holds it.
+    fn place(&self, d: Vec3) -> (f64, f64, usize, usize) {
         let (s, t) = Self::coords(d);
-        let c = ((s * self.width as f64) as usize).min(self.width - 1);
-        let r = ((t * self.height as f64) as usize).min(self.height - 1);
+        let (xs, ys) = (s * self.width as f64, t * self.height as f64);
+        let c = (xs as usize).min(self.width - 1);
+        let r = (ys as usize).min(self.height - 1);
+        (xs, ys, r, c)
+    }
+
+    /// The density at unit direction `d`, which lies in pixel (`r`, `c`).
+    fn density_in(&self, d: Vec3, r: usize, c: usize) -> f64 {
         let sin_theta = d[0].hypot(d[1]);
         if !(sin_theta > 0.0) {
             return 0.0;
         }
         self.q[r * self.width + c] / (2.0 * PI * PI * sin_theta)
+    }
+
+    fn density(&self, d: Vec3) -> f64 {
+        let (_, _, r, c) = self.place(d);
+        self.density_in(d, r, c)
     }
 }
 
@@ -131,14 +143,10 @@ impl Sampler for LatLongPiecewiseConstant {
     }
     fn invert(&self, direction: Vec3) -> Result<Point2, InvertError> {
         let d = normalize(direction).ok_or(InvertError::OutsideDomain)?;
-        if self.density(d) == 0.0 {
+        let (xs, ys, r, c) = self.place(d);
+        if self.density_in(d, r, c) == 0.0 {
             return Err(InvertError::ZeroDensity);
         }
-        let (s, t) = Self::coords(d);
-        let xs = s * self.width as f64;
-        let ys = t * self.height as f64;
-        let c = (xs as usize).min(self.width - 1);
-        let r = (ys as usize).min(self.height - 1);
         let (a, b) = (ys - r as f64, xs - c as f64);
         let m = &self.cdfs.marginal;
         let k = self.cond(r);
