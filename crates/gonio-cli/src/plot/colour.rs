@@ -12,38 +12,27 @@ pub const UNDEFINED: RGBColor = RGBColor(190, 190, 190);
 /// Cells that should be impossible (e.g. samples where the target is 0).
 pub const IMPOSSIBLE: RGBColor = RGBColor(0, 0, 0);
 
-/// Viridis (perceptually uniform, colour-blind safe), sampled at 9 points.
-const VIRIDIS: [(u8, u8, u8); 9] = [
-    (68, 1, 84),
-    (72, 40, 120),
-    (62, 74, 137),
-    (49, 104, 142),
-    (38, 130, 142),
-    (31, 158, 137),
-    (53, 183, 121),
-    (109, 205, 89),
-    (253, 231, 37),
+/// Viridis (perceptually uniform, colour-blind safe), sampled at 9 points (0xRRGGBB).
+const VIRIDIS: [u32; 9] = [
+    0x440154, 0x482878, 0x3e4a89, 0x31688e, 0x26828e, 0x1f9e89, 0x35b779, 0x6dcd59, 0xfde725,
 ];
 
-/// Blue – white – red, for signed quantities centred at the middle.
-const DIVERGING: [(u8, u8, u8); 7] = [
-    (33, 102, 172),
-    (103, 169, 207),
-    (209, 229, 240),
-    (247, 247, 247),
-    (253, 219, 199),
-    (239, 138, 98),
-    (178, 24, 43),
+/// Blue – white – red, for signed quantities centred at the middle (0xRRGGBB).
+const DIVERGING: [u32; 7] = [
+    0x2166ac, 0x67a9cf, 0xd1e5f0, 0xf7f7f7, 0xfddbc7, 0xef8a62, 0xb2182b,
 ];
 
-fn lerp_table(table: &[(u8, u8, u8)], t: f64) -> RGBColor {
+fn lerp_table(table: &[u32], t: f64) -> RGBColor {
     let t = if t.is_nan() { 0.0 } else { t.clamp(0.0, 1.0) };
     let x = t * (table.len() - 1) as f64;
     let i = (x.floor() as usize).min(table.len() - 2);
     let f = x - i as f64;
     let (a, b) = (table[i], table[i + 1]);
-    let mix = |p: u8, q: u8| (p as f64 + f * (q as f64 - p as f64)).round() as u8;
-    RGBColor(mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
+    let mix = |shift: u32| {
+        let (p, q) = ((a >> shift) & 0xff, (b >> shift) & 0xff);
+        (p as f64 + f * (q as f64 - p as f64)).round() as u8
+    };
+    RGBColor(mix(16), mix(8), mix(0))
 }
 
 /// Sequential map for t ∈ [0, 1].
@@ -89,73 +78,77 @@ pub struct Frame {
     pub x_label: u32,
 }
 
-/// Draws `bar` into `area`; its plotting region lines up with a chart built with the same `frame`.
-pub fn draw_bar<DB: DrawingBackend>(
-    area: &DrawingArea<DB, Shift>,
-    frame: Frame,
-    bar: &Bar,
-) -> Result<()>
-where
-    DB::ErrorType: 'static,
-{
-    let (lo, hi) = if bar.hi > bar.lo {
-        (bar.lo, bar.hi)
-    } else {
-        (bar.lo - 0.5, bar.lo + 0.5)
-    };
-    // Plotting region: the bar (22 px) and, when there are marks, room for their text on its left.
-    let (w, _) = area.dim_in_pixel();
-    let plot_w: i32 = if bar.marks.is_empty() { 22 } else { 58 };
-    let x_lo = if bar.marks.is_empty() {
-        0.0
-    } else {
-        -(plot_w as f64 / 22.0 - 1.0)
-    };
-    let right = (w as i32 - plot_w - 4 - frame.margin as i32).max(10);
-    let mut b = ChartBuilder::on(area);
-    b.margin(frame.margin)
-        .margin_left(4)
-        .x_label_area_size(frame.x_label)
-        .right_y_label_area_size(right);
-    let steps = 256;
-    let cells = (0..steps).map(|k| {
-        let a = lo + (hi - lo) * k as f64 / steps as f64;
-        let b = lo + (hi - lo) * (k + 1) as f64 / steps as f64;
-        Rectangle::new([(0.0, a), (1.0, b)], (bar.colour)(0.5 * (a + b)).filled())
-    });
-    let ticks = bar.ticks.clone().unwrap_or_else(|| auto_ticks(lo, hi));
-    let mut chart = b.build_cartesian_2d(x_lo..1.0f64, Ticked::new(lo..hi, ticks))?;
-    chart.draw_series(cells)?;
-    chart
-        .configure_mesh()
-        .disable_mesh()
-        .disable_x_axis()
-        .y_label_style(label_font())
-        .y_label_formatter(&|v| (bar.label)(*v))
-        .y_desc(bar.desc.as_str())
-        .axis_desc_style(desc_font())
-        .draw()?;
-    chart.draw_series(std::iter::once(Rectangle::new(
-        [(0.0, lo), (1.0, hi)],
-        BLACK.stroke_width(1),
-    )))?;
-    let mark_font = ("sans-serif", 12)
-        .into_font()
-        .color(&BLACK)
-        .pos(Pos::new(HPos::Right, VPos::Center));
-    for (y, text) in &bar.marks {
-        let y = y.clamp(lo, hi);
-        chart.draw_series(std::iter::once(PathElement::new(
-            vec![(-0.25, y), (1.0, y)],
-            BLACK.stroke_width(2),
+impl Bar<'_> {
+    /// Draws the bar into `area`; its plotting region lines up with a chart built with the same
+    /// `frame`.
+    pub fn draw<DB: DrawingBackend>(
+        &self,
+        area: &DrawingArea<DB, Shift>,
+        frame: Frame,
+    ) -> Result<()>
+    where
+        DB::ErrorType: 'static,
+    {
+        let bar = self;
+        let (lo, hi) = if bar.hi > bar.lo {
+            (bar.lo, bar.hi)
+        } else {
+            (bar.lo - 0.5, bar.lo + 0.5)
+        };
+        // Plotting region: the bar (22 px) and, when there are marks, room for their text on its left.
+        let (w, _) = area.dim_in_pixel();
+        let plot_w: i32 = if bar.marks.is_empty() { 22 } else { 58 };
+        let x_lo = if bar.marks.is_empty() {
+            0.0
+        } else {
+            -(plot_w as f64 / 22.0 - 1.0)
+        };
+        let right = (w as i32 - plot_w - 4 - frame.margin as i32).max(10);
+        let mut b = ChartBuilder::on(area);
+        b.margin(frame.margin)
+            .margin_left(4)
+            .x_label_area_size(frame.x_label)
+            .right_y_label_area_size(right);
+        let steps = 256;
+        let cells = (0..steps).map(|k| {
+            let a = lo + (hi - lo) * k as f64 / steps as f64;
+            let b = lo + (hi - lo) * (k + 1) as f64 / steps as f64;
+            Rectangle::new([(0.0, a), (1.0, b)], (bar.colour)(0.5 * (a + b)).filled())
+        });
+        let ticks = bar.ticks.clone().unwrap_or_else(|| auto_ticks(lo, hi));
+        let mut chart = b.build_cartesian_2d(x_lo..1.0f64, Ticked::new(lo..hi, ticks))?;
+        chart.draw_series(cells)?;
+        chart
+            .configure_mesh()
+            .disable_mesh()
+            .disable_x_axis()
+            .y_label_style(label_font())
+            .y_label_formatter(&|v| (bar.label)(*v))
+            .y_desc(bar.desc.as_str())
+            .axis_desc_style(desc_font())
+            .draw()?;
+        chart.draw_series(std::iter::once(Rectangle::new(
+            [(0.0, lo), (1.0, hi)],
+            BLACK.stroke_width(1),
         )))?;
-        chart.draw_series(std::iter::once(Text::new(
-            text.clone(),
-            (-0.35, y),
-            mark_font.clone(),
-        )))?;
+        let mark_font = ("sans-serif", 12)
+            .into_font()
+            .color(&BLACK)
+            .pos(Pos::new(HPos::Right, VPos::Center));
+        for (y, text) in &bar.marks {
+            let y = y.clamp(lo, hi);
+            chart.draw_series(std::iter::once(PathElement::new(
+                vec![(-0.25, y), (1.0, y)],
+                BLACK.stroke_width(2),
+            )))?;
+            chart.draw_series(std::iter::once(Text::new(
+                text.clone(),
+                (-0.35, y),
+                mark_font.clone(),
+            )))?;
+        }
+        Ok(())
     }
-    Ok(())
 }
 
 /// About 6 evenly spaced "nice" ticks covering [lo, hi].

@@ -2,10 +2,10 @@
 //! (observed − expected) / √expected, each on the equal-area rectangle with its colour bar (pdf and
 //! histogram on one shared scale).
 
-use super::colour::{diverging, draw_bar, viridis, Bar, IMPOSSIBLE};
+use super::colour::{diverging, viridis, Bar, IMPOSSIBLE};
 use super::grid::{draw_border, draw_cells, rect_chart, Grid, FRAME};
-use super::{fmt_num, titled, Ctx, PlotInput};
-use anyhow::{bail, Result};
+use super::{fmt_num, titled, PlotInput};
+use anyhow::Result;
 use gonio::sampler::{sample_batch_par, Sample};
 use gonio::sequence::{Sequence, SequenceKind};
 use gonio::Point2;
@@ -106,18 +106,15 @@ pub fn bins_for(n: usize, svg: bool) -> (usize, usize) {
 
 pub fn draw<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
-    ctx: Ctx,
+    svg: bool,
     input: &PlotInput,
     n: usize,
 ) -> Result<()>
 where
     DB::ErrorType: 'static,
 {
-    if n == 0 {
-        bail!("the density plot needs at least one sample");
-    }
     let domain = input.sampler.domain();
-    let (nx, ny) = bins_for(n, ctx.svg);
+    let (nx, ny) = bins_for(n, svg);
     let h = histogram(input, n, nx, ny);
     let grid = h.grid;
     let omega = grid.cell_solid_angle();
@@ -187,7 +184,7 @@ where
         label: &seq_label,
         marks: vec![],
     };
-    draw_bar(&r, FRAME, &bar)?;
+    bar.draw(&r, FRAME)?;
 
     // histogram
     let mut cap = "histogram of the samples: count / (N · cell solid angle)".to_string();
@@ -199,7 +196,7 @@ where
     let mut chart = rect_chart(&l, domain, input, false)?;
     draw_cells(&mut chart, &grid, &hist, &seq)?;
     draw_border(&mut chart, &grid)?;
-    draw_bar(&r, FRAME, &bar)?;
+    bar.draw(&r, FRAME)?;
 
     // difference
     let mut cap = format!(
@@ -228,18 +225,15 @@ where
     draw_border(&mut chart, &grid)?;
     let div_bar = |v: f64| diverging(v / Z_CLIP);
     let z_label = |v: f64| format!("{v:+.0}");
-    draw_bar(
-        &r,
-        FRAME,
-        &Bar {
-            lo: -Z_CLIP,
-            hi: Z_CLIP,
-            colour: &div_bar,
-            desc: "standardised difference (σ)".into(),
-            ticks: Some((-4..=4).map(f64::from).collect()),
-            label: &z_label,
-            marks: vec![],
-        },
-    )?;
+    Bar {
+        lo: -Z_CLIP,
+        hi: Z_CLIP,
+        colour: &div_bar,
+        desc: "standardised difference (σ)".into(),
+        ticks: Some((-4..=4).map(f64::from).collect()),
+        label: &z_label,
+        marks: vec![],
+    }
+    .draw(&r, FRAME)?;
     Ok(())
 }

@@ -199,24 +199,35 @@ pub fn render(
     width: u32,
     height: u32,
 ) -> Result<()> {
+    write_picture(&Chart { kind, input }, out, width, height)
+}
+
+/// A picture of `gonio plot`, drawn alike on the bitmap backend (PNG) and the vector one (SVG).
+pub trait Picture {
+    /// Draws the picture on `root`; `svg`: vector output, where every raster cell is an element,
+    /// so their number should stay modest.
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>, svg: bool) -> Result<()>
+    where
+        DB::ErrorType: 'static;
+}
+
+/// Draws `picture` into `out` (.png or .svg, by extension) at `width` × `height` pixels. Like
+/// every command's output: written to a temporary file next to `out`, renamed onto it only on
+/// success.
+pub fn write_picture(picture: &impl Picture, out: &Path, width: u32, height: u32) -> Result<()> {
     let format = format_of(out)?;
     if !(200..=10_000).contains(&width) || !(150..=10_000).contains(&height) {
         bail!("picture size {width}×{height} is out of range (200–10000 × 150–10000 pixels)");
     }
     ensure_font()?;
-    // Like every command's output: a temporary file next to OUT, renamed onto it only on success.
     let mut file = crate::output::Output::create(Some(out))?;
-    let ctx = Ctx {
-        kind,
-        svg: format == Format::Svg,
-    };
     let bytes = match format {
         Format::Png => {
             let mut rgb = vec![0u8; width as usize * height as usize * 3];
             {
                 let root =
                     BitMapBackend::with_buffer(&mut rgb, (width, height)).into_drawing_area();
-                draw(&root, ctx, input)?;
+                picture.draw(&root, false)?;
                 root.present()?;
             }
             encode_png(&rgb, width, height)?
@@ -225,7 +236,7 @@ pub fn render(
             let mut svg = String::new();
             {
                 let root = SVGBackend::with_string(&mut svg, (width, height)).into_drawing_area();
-                draw(&root, ctx, input)?;
+                picture.draw(&root, true)?;
                 root.present()?;
             }
             svg.into_bytes()
@@ -322,28 +333,29 @@ impl From<crate::args::PlotKind> for PlotKind {
     }
 }
 
-/// What the drawing functions need to know besides the input.
-#[derive(Debug, Clone, Copy)]
-struct Ctx {
+/// One of the four pictures of a luminaire's (or sky's) map.
+struct Chart<'a> {
     kind: PlotKind,
-    /// Vector output: keep the number of raster cells modest (every cell is an SVG element).
-    svg: bool,
+    input: &'a PlotInput<'a>,
 }
 
-fn draw<DB: DrawingBackend>(
-    root: &DrawingArea<DB, Shift>,
-    ctx: Ctx,
-    input: &PlotInput,
-) -> Result<()>
-where
-    DB::ErrorType: 'static,
-{
-    root.fill(&WHITE)?;
-    match ctx.kind {
-        PlotKind::Polar => polar::draw(root, input),
-        PlotKind::Warp => warp::draw(root, input, input.samples_or_default(ctx.kind)),
-        PlotKind::Density => density::draw(root, ctx, input, input.samples_or_default(ctx.kind)),
-        PlotKind::Ratio => ratio::draw(root, ctx, input),
+impl Picture for Chart<'_> {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>, svg: bool) -> Result<()>
+    where
+        DB::ErrorType: 'static,
+    {
+        let (kind, input) = (self.kind, self.input);
+        let n = input.samples_or_default(kind);
+        if n == 0 && matches!(kind, PlotKind::Warp | PlotKind::Density) {
+            bail!("the {kind} plot needs at least one sample");
+        }
+        root.fill(&WHITE)?;
+        match kind {
+            PlotKind::Polar => polar::draw(root, input),
+            PlotKind::Warp => warp::draw(root, input, n),
+            PlotKind::Density => density::draw(root, svg, input, n),
+            PlotKind::Ratio => ratio::draw(root, svg, input),
+        }
     }
 }
 

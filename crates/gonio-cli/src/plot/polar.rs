@@ -216,16 +216,7 @@ where
             .map(|(&t, &v)| px(t, v, -1.0))
             .collect();
         path.extend(thetas.iter().zip(right).map(|(&t, &v)| px(t, v, 1.0)));
-        if k == 0 {
-            area.draw(&PathElement::new(path, PLANE_COLOURS[k].stroke_width(3)))?;
-        } else {
-            area.draw(&DashedPathElement::new(
-                path,
-                12,
-                6,
-                PLANE_COLOURS[k].stroke_width(3),
-            ))?;
-        }
+        draw_plane_line(&area, k, path)?;
     }
 
     // Legend, top left.
@@ -254,16 +245,7 @@ where
     for (k, name) in names.iter().enumerate() {
         let y = ly + 10 + 24 * k as i32;
         let sample = vec![(lx, y), (lx + 36, y)];
-        if k == 0 {
-            area.draw(&PathElement::new(sample, PLANE_COLOURS[k].stroke_width(3)))?;
-        } else {
-            area.draw(&DashedPathElement::new(
-                sample,
-                12,
-                6,
-                PLANE_COLOURS[k].stroke_width(3),
-            ))?;
-        }
+        draw_plane_line(&area, k, sample)?;
         area.draw(&Text::new(
             name.to_string(),
             (lx + 46, y),
@@ -316,5 +298,23 @@ where
             .color(&BLACK)
             .pos(Pos::new(HPos::Center, VPos::Center)),
     ))?;
+    Ok(())
+}
+
+/// The line of plane `k` through `points`: plane 0 solid, the other dashed, both 3 px wide.
+fn draw_plane_line<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    k: usize,
+    points: Vec<(i32, i32)>,
+) -> Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    let style = PLANE_COLOURS[k].stroke_width(3);
+    if k == 0 {
+        area.draw(&PathElement::new(points, style))?;
+    } else {
+        area.draw(&DashedPathElement::new(points, 12, 6, style))?;
+    }
     Ok(())
 }

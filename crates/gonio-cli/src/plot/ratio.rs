@@ -1,9 +1,9 @@
 //! `ratio`: pdf / target over the domain on the equal-area rectangle, diverging colours centred at
 //! 1 (log scale), grey where the target is 0, the guaranteed bound marked on the colour bar.
 
-use super::colour::{diverging, draw_bar, Bar, IMPOSSIBLE};
+use super::colour::{diverging, Bar, IMPOSSIBLE};
 use super::grid::{cells_for, draw_border, draw_cells, rect_chart, Grid, FRAME, Y_LABEL};
-use super::{fmt_num, titled, Ctx, PlotInput};
+use super::{fmt_num, titled, PlotInput};
 use anyhow::Result;
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -40,7 +40,7 @@ pub fn ratio_grid(input: &PlotInput, grid: &Grid) -> Vec<f64> {
 
 pub fn draw<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
-    ctx: Ctx,
+    svg: bool,
     input: &PlotInput,
 ) -> Result<()>
 where
@@ -48,7 +48,7 @@ where
 {
     let domain = input.sampler.domain();
     let (w, h) = root.dim_in_pixel();
-    let (nx, ny) = if ctx.svg {
+    let (nx, ny) = if svg {
         cells_for(w - BAR_AREA - Y_LABEL, h - 150, 7.0, 12_000)
     } else {
         cells_for(w - BAR_AREA - Y_LABEL, h - 150, 2.0, 200_000)
@@ -146,23 +146,20 @@ where
             marks.push((y.min(extent), text.to_string()));
         }
     }
-    draw_bar(
-        &right,
-        FRAME,
-        &Bar {
-            lo: -extent,
-            hi: extent,
-            colour: &bar_colour,
-            desc: if marks.is_empty() {
-                "pdf / target (log scale)".into()
-            } else {
-                "pdf / target (lines: guaranteed bound)".into()
-            },
-            ticks: Some(ticks),
-            label: &label,
-            marks,
+    Bar {
+        lo: -extent,
+        hi: extent,
+        colour: &bar_colour,
+        desc: if marks.is_empty() {
+            "pdf / target (log scale)".into()
+        } else {
+            "pdf / target (lines: guaranteed bound)".into()
         },
-    )?;
+        ticks: Some(ticks),
+        label: &label,
+        marks,
+    }
+    .draw(&right, FRAME)?;
     Ok(())
 }
 

@@ -45,7 +45,10 @@ fn png_size(bytes: &[u8]) -> (u32, u32) {
     (be(&bytes[16..20]), be(&bytes[20..24]))
 }
 
-fn check_all_kinds(dir: &Path, tag: &str, input: &PlotInput) {
+/// Renders every kind of `input` as PNG and SVG in a fresh directory named after `tag`, checks
+/// the files, and removes the directory.
+fn check_all_kinds(tag: &str, input: &PlotInput) {
+    let dir = temp_dir(tag);
     for kind in PlotKind::ALL {
         let (w, h) = (640, 480);
         let png = dir.join(format!("{tag}-{kind}.png"));
@@ -62,37 +65,32 @@ fn check_all_kinds(dir: &Path, tag: &str, input: &PlotInput) {
         );
         assert!(text.contains("</svg>"));
     }
+    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
 fn every_kind_renders_a_hemisphere_map() {
-    let dir = temp_dir("hemi");
     let (d, m) = hemisphere();
     let inp = input("tiny-hemi", &d, &m, Some(MapRef::Hemisphere(&m)), false);
-    check_all_kinds(&dir, "hemi", &inp);
-    std::fs::remove_dir_all(&dir).unwrap();
+    check_all_kinds("hemi", &inp);
 }
 
 #[test]
 fn every_kind_renders_a_sphere_map_photometric() {
-    let dir = temp_dir("sphere");
     let d = example_luminaire();
     let m = SphereMap::new(&d).unwrap();
     let inp = input("tiny-sphere", &d, &m, Some(MapRef::Sphere(&m)), true);
-    check_all_kinds(&dir, "sphere", &inp);
-    std::fs::remove_dir_all(&dir).unwrap();
+    check_all_kinds("sphere", &inp);
 }
 
 #[test]
 fn every_kind_renders_a_baseline() {
-    let dir = temp_dir("baseline");
     let (d, _) = hemisphere();
     let b = gonio::Method::Bilinear
         .build(&d, gonio::Domain::Hemisphere)
         .unwrap();
     let inp = input("tiny-bilinear", &d, b.as_ref(), None, false);
-    check_all_kinds(&dir, "baseline", &inp);
-    std::fs::remove_dir_all(&dir).unwrap();
+    check_all_kinds("baseline", &inp);
 }
 
 #[test]

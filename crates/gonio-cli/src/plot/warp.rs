@@ -12,7 +12,7 @@
 use super::colour::stratum;
 use super::grid::{rect_chart, z_range};
 use super::{desc_font, label_font, titled, PlotInput};
-use anyhow::{bail, Result};
+use anyhow::Result;
 use gonio::sequence::{Sequence, SequenceKind};
 use gonio::{Domain, MapRef, Point2, Vec3};
 use plotters::coord::Shift;
@@ -225,9 +225,6 @@ pub fn draw<DB: DrawingBackend>(
 where
     DB::ErrorType: 'static,
 {
-    if n == 0 {
-        bail!("the warp plot needs at least one point");
-    }
     let requested = n;
     let n = n.min(MAX_POINTS);
     let mut u: Vec<Point2> = vec![[0.0; 2]; n];

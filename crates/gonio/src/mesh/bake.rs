@@ -158,30 +158,8 @@ pub fn render_preview(mesh: &UvMesh, width: usize, shade: &dyn Fn([f64; 2]) -> [
             if area == 0.0 || !area.is_finite() {
                 continue;
             }
-            let minx = q
-                .iter()
-                .map(|v| v.0)
-                .fold(f64::INFINITY, f64::min)
-                .floor()
-                .max(0.0) as usize;
-            let maxx = (q
-                .iter()
-                .map(|v| v.0)
-                .fold(f64::NEG_INFINITY, f64::max)
-                .ceil() as usize)
-                .min(half - 1);
-            let miny = q
-                .iter()
-                .map(|v| v.1)
-                .fold(f64::INFINITY, f64::min)
-                .floor()
-                .max(0.0) as usize;
-            let maxy = (q
-                .iter()
-                .map(|v| v.1)
-                .fold(f64::NEG_INFINITY, f64::max)
-                .ceil() as usize)
-                .min(h - 1);
+            let (minx, maxx) = pixel_span(q.map(|v| v.0), half);
+            let (miny, maxy) = pixel_span(q.map(|v| v.1), h);
             for py in miny..=maxy {
                 for px in minx..=maxx {
                     let (x, y) = (px as f64 + 0.5, py as f64 + 0.5);
@@ -212,6 +190,14 @@ pub fn render_preview(mesh: &UvMesh, width: usize, shade: &dyn Fn([f64; 2]) -> [
         height: h,
         rgb,
     }
+}
+
+/// The pixels `first..=last` along one axis of a `size`-pixel raster that a triangle whose
+/// corners stand at `x` (pixel units) may cover, clamped to the raster.
+fn pixel_span(x: [f64; 3], size: usize) -> (usize, usize) {
+    let lo = x.into_iter().fold(f64::INFINITY, f64::min).floor().max(0.0) as usize;
+    let hi = x.into_iter().fold(f64::NEG_INFINITY, f64::max).ceil() as usize;
+    (lo, hi.min(size - 1))
 }
 
 fn norm3(a: Vec3) -> Vec3 {
