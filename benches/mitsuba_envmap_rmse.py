@@ -31,6 +31,7 @@ Maps: the shared ones ($GONIO_ENVMAPS or ../shared/data/envmaps), or paths.
 import argparse
 import os
 import pathlib
+import sys
 import time
 
 import numpy as np
@@ -59,30 +60,14 @@ def main():
     gm.register()
     here = pathlib.Path(__file__).resolve().parents[1]
     envs = pathlib.Path(os.environ.get("GONIO_ENVMAPS") or here.parent / "shared" / "data" / "envmaps")
-    T = mi.ScalarTransform4f
+
+    sys.path.insert(0, str(here / "crates" / "gonio-py" / "tests"))
+    from test_drjit_emitters import _ball_scene
 
     def scene(kind, path, glossy):
-        em = {"type": kind, "filename": str(path),
-              "to_world": T().rotate([0, 0, 1], 30) @ T().rotate([1, 0, 0], 90)}
-        if kind == "gonio_envmap":
-            em["lookup"] = a.lookup
-        if glossy:
-            ball = {"type": "roughconductor", "material": "Al", "distribution": "ggx", "alpha": 0.2}
-            floor = {"type": "roughplastic", "distribution": "ggx", "alpha": 0.15,
-                     "diffuse_reflectance": {"type": "rgb", "value": [0.5] * 3}}
-        else:
-            ball = {"type": "diffuse", "reflectance": {"type": "rgb", "value": [0.7] * 3}}
-            floor = {"type": "diffuse"}
-        return gm.prepare(mi.load_dict({
-            "type": "scene", "integrator": {"type": "path", "max_depth": 3},
-            "sensor": {"type": "perspective", "fov": 40,
-                       "to_world": T().look_at(origin=[0, -5, 1.5], target=[0, 0, 0], up=[0, 0, 1]),
-                       "film": {"type": "hdrfilm", "width": a.size, "height": a.size, "rfilter": {"type": "box"}},
-                       "sampler": {"type": "independent", "sample_count": a.spp}},
-            "ball": {"type": "sphere", "bsdf": ball},
-            "floor": {"type": "rectangle", "to_world": T().translate([0, 0, -1]) @ T().scale(3), "bsdf": floor},
-            "env": em,
-        }))
+        """The ball scene of the test suite (test_drjit_emitters.py) at this run's size and spp."""
+        lookup = a.lookup if kind == "gonio_envmap" else None
+        return _ball_scene(mi, kind, path, "path", spp=a.spp, res=a.size, lookup=lookup, glossy=glossy)
 
     def render(sc, seed, spp):
         img = mi.render(sc, seed=seed, spp=spp)

@@ -50,30 +50,25 @@ int main(int argc, char **argv) {
     u32[i] = (float)u[i];
     v32[i] = (float)v[i];
   }
-  double best[6] = {1e30, 1e30, 1e30, 1e30, 1e30, 1e30};
-  for (int r = 0; r < rep; r++) {
-    double t;
-    t = now();
-    check(gonio_sample_batch_soa(s, u, v, n, x, y, z, p), "sample");
-    t = now() - t; if (t < best[0]) best[0] = t;
-    t = now();
-    check(gonio_pdf_batch_soa(s, x, y, z, n, p), "pdf");
-    t = now() - t; if (t < best[1]) best[1] = t;
-    t = now();
-    check(gonio_invert_batch_soa(s, x, y, z, n, iu, iv), "invert");
-    t = now() - t; if (t < best[2]) best[2] = t;
-    t = now();
-    check(gonio_sample_batch_soa_f32(s, u32, v32, n, x32, y32, z32, p32), "sample_f32");
-    t = now() - t; if (t < best[3]) best[3] = t;
-    t = now();
-    check(gonio_pdf_batch_soa_f32(s, x32, y32, z32, n, p32), "pdf_f32");
-    t = now() - t; if (t < best[4]) best[4] = t;
-    t = now();
-    check(gonio_invert_batch_soa_f32(s, x32, y32, z32, n, iu32, iv32), "invert_f32");
-    t = now() - t; if (t < best[5]) best[5] = t;
-  }
   const char *names[6] = {"sample_soa", "pdf_soa", "invert_soa", "sample_soa_f32", "pdf_soa_f32",
                           "invert_soa_f32"};
+  double best[6] = {1e30, 1e30, 1e30, 1e30, 1e30, 1e30};
+/* Runs CALL, stops on an error, and keeps its best wall time in best[K]. */
+#define TIMED(K, CALL)                   \
+  do {                                   \
+    double t = now();                    \
+    check(CALL, names[K]);               \
+    t = now() - t;                       \
+    if (t < best[K]) best[K] = t;        \
+  } while (0)
+  for (int r = 0; r < rep; r++) {
+    TIMED(0, gonio_sample_batch_soa(s, u, v, n, x, y, z, p));
+    TIMED(1, gonio_pdf_batch_soa(s, x, y, z, n, p));
+    TIMED(2, gonio_invert_batch_soa(s, x, y, z, n, iu, iv));
+    TIMED(3, gonio_sample_batch_soa_f32(s, u32, v32, n, x32, y32, z32, p32));
+    TIMED(4, gonio_pdf_batch_soa_f32(s, x32, y32, z32, n, p32));
+    TIMED(5, gonio_invert_batch_soa_f32(s, x32, y32, z32, n, iu32, iv32));
+  }
   for (int k = 0; k < 6; k++) printf("%-15s %7.2f ns per point\n", names[k], 1e9 * best[k] / n);
   /* A checksum so that nothing is optimised away and two builds can be compared. */
   double sum = 0, sum32 = 0;

@@ -77,25 +77,25 @@ def time_mitsuba(values, u, v, repeats, threads):
     pts = mi.Point2f(u.astype(np.float32), v.astype(np.float32))
     dr.eval(pts)
     out = {}
-    for label, t in (("one", 1), ("all", threads)):
-        dr.set_thread_count(t)
-        res = {}
 
-        def sample():
-            res["s"] = dist.sample(pts)
-            dr.eval(res["s"])
-            dr.sync_thread()
+    def timed(f):
+        """The best wall time of running f's Dr.Jit graph to the end, and f's result."""
+        last = []
 
-        ts = best_of(repeats, sample)
-        sampled = mi.Point2f(res["s"][0])
-        dr.eval(sampled)
-
-        def invert():
-            r = dist.invert(sampled)
+        def run():
+            r = f()
             dr.eval(r)
             dr.sync_thread()
+            last[:] = [r]
 
-        ti = best_of(repeats, invert)
+        return best_of(repeats, run), last[0]
+
+    for label, t in (("one", 1), ("all", threads)):
+        dr.set_thread_count(t)
+        ts, (s, _) = timed(lambda: dist.sample(pts))
+        sampled = mi.Point2f(s)
+        dr.eval(sampled)
+        ti, _ = timed(lambda: dist.invert(sampled))
 
         # Like for like: Mitsuba's sample lifted to a unit direction with its pdf per steradian, and
         # a direction mapped back to the square before invert. The grid's columns are φ = 2πx and
@@ -104,24 +104,18 @@ def time_mitsuba(values, u, v, repeats, threads):
             p, pdf = dist.sample(pts)
             st, ct = dr.sincos(p.y * (dr.pi / 2))
             sp, cp = dr.sincos(p.x * (2 * dr.pi))
-            d = mi.Vector3f(st * cp, st * sp, ct)
-            res["d"] = (d, pdf / (dr.pi * dr.pi * st))
-            dr.eval(res["d"])
-            dr.sync_thread()
+            return mi.Vector3f(st * cp, st * sp, ct), pdf / (dr.pi * dr.pi * st)
 
-        tsd = best_of(repeats, sample_dir)
-        dirs = mi.Vector3f(res["d"][0])
+        tsd, (d, _) = timed(sample_dir)
+        dirs = mi.Vector3f(d)
         dr.eval(dirs)
 
         def invert_dir():
             phi = dr.atan2(dirs.y, dirs.x)
             phi = dr.select(phi < 0, phi + 2 * dr.pi, phi)
-            q = mi.Point2f(phi / (2 * dr.pi), dr.acos(dirs.z) / (dr.pi / 2))
-            r = dist.invert(q)
-            dr.eval(r)
-            dr.sync_thread()
+            return dist.invert(mi.Point2f(phi / (2 * dr.pi), dr.acos(dirs.z) / (dr.pi / 2)))
 
-        tid = best_of(repeats, invert_dir)
+        tid, _ = timed(invert_dir)
         n = len(u)
         out[label] = {"sample_ns": ts / n * 1e9, "invert_ns": ti / n * 1e9,
                       "sample_dir_ns": tsd / n * 1e9, "invert_dir_ns": tid / n * 1e9}

@@ -168,6 +168,16 @@ static unsigned char *sampler_blob(const GonioSampler *s, const GonioDiagram *ta
   return b;
 }
 
+/* An array of n floats; stops the test when memory runs out. */
+static float *floats(size_t n) {
+  float *p = (float *)malloc((n ? n : 1) * sizeof *p);
+  if (!p) {
+    fprintf(stderr, "device_test: out of memory (%lu floats)\n", (unsigned long)n);
+    exit(1);
+  }
+  return p;
+}
+
 /* Compares the header with the library on n points of the square and on directions. */
 static void compare(const char *name, const Lib *lib, const GonioDeviceView *view,
                     const GonioDiagram *target, size_t n, Stats *st) {
@@ -175,13 +185,12 @@ static void compare(const char *name, const Lib *lib, const GonioDeviceView *vie
   float *u, *v, *x, *y, *z, *pdf, *rgb, *dx, *dy, *dz, *lp, *lu, *lv;
   double t0, max_target = 0.0;
   if (n < 4 * n_edge + 1) n = 4 * n_edge + 1;
-  u = (float *)malloc(n * sizeof *u);
-  v = (float *)malloc(n * sizeof *v);
-  x = (float *)malloc(n * sizeof *x);
-  y = (float *)malloc(n * sizeof *y);
-  z = (float *)malloc(n * sizeof *z);
-  pdf = (float *)malloc(n * sizeof *pdf);
-  rgb = (float *)malloc(3 * n * sizeof *rgb);
+  /* One allocation for the points u, v and the library's x, y, z, pdf (n each) and rgb (3n). */
+  u = floats(9 * n);
+  v = u + n;
+  x = v + n; y = x + n; z = y + n;
+  pdf = z + n;
+  rgb = pdf + n;
   n_halton = n - 4 * n_edge - 1;
   /* Points: the centre, the four edges (corners included), Halton. */
   u[k] = 0.5f;
@@ -229,12 +238,10 @@ static void compare(const char *name, const Lib *lib, const GonioDeviceView *vie
   /* Directions: the samples', poles, seam, horizon, random. */
   n_rand = n / 4;
   nd = n + 6 + 4 * n_seam + 64 + n_rand;
-  dx = (float *)malloc(nd * sizeof *dx);
-  dy = (float *)malloc(nd * sizeof *dy);
-  dz = (float *)malloc(nd * sizeof *dz);
-  lp = (float *)malloc(nd * sizeof *lp);
-  lu = (float *)malloc(nd * sizeof *lu);
-  lv = (float *)malloc(nd * sizeof *lv);
+  /* One allocation for the directions dx, dy, dz and the library's pdf, u, v (nd each). */
+  dx = floats(6 * nd);
+  dy = dx + nd; dz = dy + nd;
+  lp = dz + nd; lu = lp + nd; lv = lu + nd;
   memcpy(dx, x, n * sizeof *x);
   memcpy(dy, y, n * sizeof *y);
   memcpy(dz, z, n * sizeof *z);
@@ -346,8 +353,8 @@ static void compare(const char *name, const Lib *lib, const GonioDeviceView *vie
   st->cases++;
   st->points += (double)n;
   st->dirs += (double)nd;
-  free(u); free(v); free(x); free(y); free(z); free(pdf); free(rgb);
-  free(dx); free(dy); free(dz); free(lp); free(lu); free(lv);
+  free(u);
+  free(dx);
 }
 
 /* One sampler case: blob, view, rebase, comparison. */

@@ -29,13 +29,20 @@ def run_child(code, timeout=120):
 # 1. Aliasing is decided by address range, whatever object owns the memory.
 
 
+def _buffer_with_points(u, floats):
+    """A buffer of ``floats`` float64 values and a view of its first bytes, shaped as the points
+    ``u`` and holding them."""
+    buf = bytearray(8 * floats)
+    ua = np.frombuffer(buf, np.float64, count=u.size).reshape(u.shape)
+    ua[:] = u
+    return buf, ua
+
+
 def test_out_sharing_memory_with_the_input_through_another_base_is_refused():
     s = gonio.example().sampler()
     n = 100
     u = gonio.sequence(n, "halton", start=1)
-    buf = bytearray(8 * 5 * n)
-    ua = np.frombuffer(buf, np.float64, count=2 * n).reshape(n, 2)
-    ua[:] = u
+    buf, ua = _buffer_with_points(u, 5 * n)
     da = np.frombuffer(buf, np.float64, count=3 * n).reshape(n, 3)  # a second view, same bytes
     assert ua.base is not da.base and np.shares_memory(ua, da)
     p = np.zeros(n)
@@ -98,9 +105,7 @@ def test_adjacent_views_of_one_buffer_are_accepted():
     s = gonio.example().sampler()
     n = 50
     u = gonio.sequence(n, "sobol", seed=3)
-    buf = bytearray(8 * 6 * n)
-    ua = np.frombuffer(buf, np.float64, count=2 * n).reshape(n, 2)
-    ua[:] = u
+    buf, ua = _buffer_with_points(u, 6 * n)
     da = np.frombuffer(buf, np.float64, count=3 * n, offset=8 * 2 * n).reshape(n, 3)
     pa = np.frombuffer(buf, np.float64, count=n, offset=8 * 5 * n)
     d, p = s.sample(ua, out=(da, pa))

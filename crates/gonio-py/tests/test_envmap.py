@@ -17,6 +17,16 @@ def write_pfm(path, img):
         f.write(np.ascontiguousarray(img[::-1], dtype="<f4").tobytes())
 
 
+def random_sky(path, rng, shape, floor, spike, rgb):
+    """A float32 RGB image of ``shape`` (height, width) with values in [floor, floor + 1) from
+    ``rng`` and one bright pixel ``spike`` = (row, column) of colour ``rgb``, written as PFM to
+    ``path``; returns the image."""
+    img = (rng.random((*shape, 3)) + floor).astype(np.float32)
+    img[spike] = rgb
+    write_pfm(path, img)
+    return img
+
+
 def test_constant_sky_is_uniform(tmp_path):
     p = tmp_path / "sky.pfm"
     write_pfm(p, np.full((8, 16, 3), 0.5, np.float32))
@@ -66,6 +76,11 @@ def test_black_map_and_bad_input(tmp_path):
 
 
 def test_frame_matches_mitsuba(tmp_path):
+    """docs/ENVMAPS.md "The frame": under to_world = rows (0,0,1), (1,0,0), (0,1,0), Mitsuba 3's
+    ``envmap`` and gonio read the same pixel at every Mitsuba texel node off the poles (column
+    centre u = (c + 1/2)/W, row r at theta = pi r/(H - 1)): Mitsuba's ``emitter.eval``, gonio's
+    ``eval``, and gonio's map to the square and back (``invert`` then ``sample``, which carries
+    the radiance of the direction's pixel)."""
     mi = pytest.importorskip("mitsuba")
     mi.set_variant("scalar_rgb")
     w, h = 16, 8
@@ -74,7 +89,7 @@ def test_frame_matches_mitsuba(tmp_path):
     mi.Bitmap(img).write(path)
     m = mi.ScalarTransform4f([[0, 0, 1, 0], [1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 0, 1]])
     emitter = mi.load_dict({"type": "envmap", "filename": path, "to_world": m})
-    env = gonio.EnvMap(path)
+    dirs, want = [], []
     for r in range(1, h - 1):
         theta = math.pi * r / (h - 1)
         for c in range(w):
@@ -85,7 +100,14 @@ def test_frame_matches_mitsuba(tmp_path):
             si = mi.SurfaceInteraction3f()
             si.wi = mi.Vector3f(-g[0], -g[1], -g[2])
             assert np.allclose(np.array(emitter.eval(si)), img[r, c], rtol=1e-4)  # Mitsuba interpolates in float32
-            assert np.allclose(env.eval([g])[0], img[r, c], rtol=1e-6)
+            dirs.append(g)
+            want.append(img[r, c])
+    assert len(dirs) == w * (h - 2)
+    env = gonio.EnvMap(path)
+    assert np.allclose(env.eval(dirs), want, rtol=1e-6)
+    back, _, rgb = env.sample(env.invert(dirs))
+    assert np.allclose(back, dirs, atol=1e-6)
+    assert np.allclose(rgb, want, rtol=1e-6)
 
 
 def test_peers_script_smoke(tmp_path):
@@ -133,10 +155,8 @@ def test_batch_equals_single_points(tmp_path):
     (directions 1e-15, densities 1e-12 relative), the radiance exactly eval() of the batch
     direction, pdf and invert batches against one-direction calls the same way."""
     rng = np.random.default_rng(3)
-    img = (rng.random((8, 16, 3)) + 0.1).astype(np.float32)
-    img[2, 5] = [100.0, 50.0, 10.0]
     p = tmp_path / "b.pfm"
-    write_pfm(p, img)
+    img = random_sky(p, rng, (8, 16), 0.1, (2, 5), [100.0, 50.0, 10.0])
     for lookup in ("nearest", "bilinear"):
         env = gonio.EnvMap(p, lookup=lookup)
         u = np.vstack([rng.random((1001, 2)), [[0, 0], [1, 1], [0.5, 0.5]]])
@@ -163,10 +183,9 @@ def test_weight_options(tmp_path):
     (height, width) array; an array equal to the luminance (computed in float32 in the library's
     order) gives the default map bit for bit; bad weights are InputErrors."""
     rng = np.random.default_rng(4)
-    img = (rng.random((8, 16, 3)) + 0.05).astype(np.float32)
-    img[3, 9] = [40.0, 0.1, 0.1]  # a red source: the red weight puts its mass there
     p = tmp_path / "w.pfm"
-    write_pfm(p, img)
+    # A red source: the red weight puts its mass there.
+    img = random_sky(p, rng, (8, 16), 0.05, (3, 9), [40.0, 0.1, 0.1])
     u = rng.random((3000, 2))
     lum = (np.float32(0.2126) * img[..., 0] + np.float32(0.7152) * img[..., 1]) + np.float32(0.0722) * img[..., 2]
     default = gonio.EnvMap(p)
@@ -205,10 +224,8 @@ def test_samplers_of_an_envmap(tmp_path):
     its float32 map; the lat-long and pbrt-v4-style peers keep the sampler contract (pdf agrees
     with the sample, the inverse round-trips, the density integrates to 1)."""
     rng = np.random.default_rng(5)
-    img = (rng.random((16, 32, 3)) + 0.05).astype(np.float32)
-    img[5, 20] = [300.0, 200.0, 100.0]
     p = tmp_path / "s.pfm"
-    write_pfm(p, img)
+    img = random_sky(p, rng, (16, 32), 0.05, (5, 20), [300.0, 200.0, 100.0])
     env = gonio.EnvMap(p)
     u = rng.random((4000, 2))
     d, pdf, _ = env.sample(u)
@@ -252,10 +269,8 @@ def test_float32_envmap(tmp_path):
     samples bit for bit (EnvMap().sampler() on float32 points), its contract (pdf agrees with the
     sample, the inverse round-trips to 1e-5), the radiance of its directions, fewer bytes."""
     rng = np.random.default_rng(6)
-    img = (rng.random((32, 64, 3)) + 0.05).astype(np.float32)
-    img[7, 40] = [500.0, 400.0, 300.0]
     p = tmp_path / "f.pfm"
-    write_pfm(p, img)
+    img = random_sky(p, rng, (32, 64), 0.05, (7, 40), [500.0, 400.0, 300.0])
     e64 = gonio.EnvMap(p)
     e32 = gonio.EnvMap(p, precision="float32", lookup="bilinear")
     assert (e64.precision, e32.precision) == ("float64", "float32")
@@ -295,10 +310,8 @@ def test_batches_do_not_depend_on_the_split(tmp_path):
     """EnvMap batches run on all rayon threads in chunks: a batch of several chunks gives the
     bits of the same rows sent in pieces, for both precisions and every call."""
     rng = np.random.default_rng(8)
-    img = (rng.random((16, 32, 3)) + 0.05).astype(np.float32)
-    img[3, 7] = [400.0, 100.0, 50.0]
     p = tmp_path / "t.pfm"
-    write_pfm(p, img)
+    img = random_sky(p, rng, (16, 32), 0.05, (3, 7), [400.0, 100.0, 50.0])
     n = 3 * 4096 + 77
     u = rng.random((n, 2))
     for env in (gonio.EnvMap(p), gonio.EnvMap(p, precision="float32", lookup="bilinear")):

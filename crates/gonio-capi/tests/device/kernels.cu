@@ -44,14 +44,19 @@ extern "C" __global__ void brdf_sample(const __grid_constant__ GonioDeviceBrdf b
   f[3 * i + 2] = rgb[2];
 }
 
-extern "C" __global__ void soa_pdf(const __grid_constant__ GonioDeviceView v,
-                                   const float *__restrict__ x, const float *__restrict__ y,
-                                   const float *__restrict__ z, float *__restrict__ pdf,
-                                   long long n) {
-  GONIO_T_INDEX
-  float d[3] = {x[i], y[i], z[i]};
-  pdf[i] = gonio_device_pdf(&v, d);
-}
+/* A kernel NAME writing FN(view, direction) of each direction (x[i], y[i], z[i]) to out[i]. */
+#define GONIO_SOA_OF_DIRECTION(NAME, FN)                                                        \
+  extern "C" __global__ void NAME(const __grid_constant__ GonioDeviceView v,                     \
+                                  const float *__restrict__ x, const float *__restrict__ y,      \
+                                  const float *__restrict__ z, float *__restrict__ out,          \
+                                  long long n) {                                                 \
+    GONIO_T_INDEX                                                                                \
+    float d[3] = {x[i], y[i], z[i]};                                                             \
+    out[i] = FN(&v, d);                                                                          \
+  }
+
+GONIO_SOA_OF_DIRECTION(soa_pdf, gonio_device_pdf)
+GONIO_SOA_OF_DIRECTION(soa_target, gonio_device_target)
 
 extern "C" __global__ void soa_invert(const __grid_constant__ GonioDeviceView v,
                                       const float *__restrict__ x, const float *__restrict__ y,
@@ -62,15 +67,6 @@ extern "C" __global__ void soa_invert(const __grid_constant__ GonioDeviceView v,
   gonio_device_invert(&v, d, uv);
   u[i] = uv[0];
   w[i] = uv[1];
-}
-
-extern "C" __global__ void soa_target(const __grid_constant__ GonioDeviceView v,
-                                      const float *__restrict__ x, const float *__restrict__ y,
-                                      const float *__restrict__ z, float *__restrict__ out,
-                                      long long n) {
-  GONIO_T_INDEX
-  float d[3] = {x[i], y[i], z[i]};
-  out[i] = gonio_device_target(&v, d);
 }
 
 /* ---- Light tracing (docs/GPU.md): the floor irradiance under a luminaire at the origin. ----

@@ -138,14 +138,19 @@ extern "C" __global__ void gonio_k_sample(const GonioDeviceView *__restrict__ v,
   pdf[i] = p;
 }
 
-extern "C" __global__ void gonio_k_pdf(const GonioDeviceView *__restrict__ v,
-                                       const float *__restrict__ x, const float *__restrict__ y,
-                                       const float *__restrict__ z, long long sd,
-                                       float *__restrict__ pdf, long long n) {
-  GONIO_CU_INDEX
-  float d[3] = {x[i * sd], y[i * sd], z[i * sd]};
-  pdf[i] = gonio_device_pdf(v, d);
-}
+/* A kernel NAME writing FN(view, direction) of each direction (x, y, z with stride sd) to out. */
+#define GONIO_CU_OF_DIRECTION(NAME, FN)                                                          \
+  extern "C" __global__ void NAME(const GonioDeviceView *__restrict__ v,                        \
+                                  const float *__restrict__ x, const float *__restrict__ y,      \
+                                  const float *__restrict__ z, long long sd,                     \
+                                  float *__restrict__ out, long long n) {                        \
+    GONIO_CU_INDEX                                                                               \
+    float d[3] = {x[i * sd], y[i * sd], z[i * sd]};                                              \
+    out[i] = FN(v, d);                                                                           \
+  }
+
+GONIO_CU_OF_DIRECTION(gonio_k_pdf, gonio_device_pdf)
+GONIO_CU_OF_DIRECTION(gonio_k_target, gonio_device_target)
 
 extern "C" __global__ void gonio_k_invert(const GonioDeviceView *__restrict__ v,
                                           const float *__restrict__ x, const float *__restrict__ y,
@@ -159,14 +164,6 @@ extern "C" __global__ void gonio_k_invert(const GonioDeviceView *__restrict__ v,
   w[i * su] = uv[1];
 }
 
-extern "C" __global__ void gonio_k_target(const GonioDeviceView *__restrict__ v,
-                                          const float *__restrict__ x, const float *__restrict__ y,
-                                          const float *__restrict__ z, long long sd,
-                                          float *__restrict__ out, long long n) {
-  GONIO_CU_INDEX
-  float d[3] = {x[i * sd], y[i * sd], z[i * sd]};
-  out[i] = gonio_device_target(v, d);
-}
 #endif
 """
 

@@ -55,6 +55,7 @@ them); magic, version, layout, precision (float32 only) and sizes are checked.
 """
 
 import contextlib
+import functools
 import math
 import os
 import shutil
@@ -91,6 +92,17 @@ PI = math.pi
 TAU = 2.0 * math.pi
 FRAC_PI_2 = 0.5 * math.pi
 FRAC_PI_4 = 0.25 * math.pi
+
+
+def _under_scope(call):
+    """A public call of the tables that runs under their float flags (``Tables._scope``)."""
+
+    @functools.wraps(call)
+    def scoped(self, *args):
+        with self._scope():
+            return call(self, *args)
+
+    return scoped
 
 
 class BlobError(ValueError):
@@ -677,11 +689,8 @@ class Tables:
 
     # -- the public calls -----------------------------------------------------------------------
 
+    @_under_scope
     def sample(self, u):
-        with self._scope():
-            return self._sample_impl(u)
-
-    def _sample_impl(self, u):
         """Points u (Point2f, in [0, 1]²) → (unit directions Vector3f, pdf Float per sr)."""
         dr, mi = self.dr, self.mi
         x, y = self._in(u.x), self._in(u.y)
@@ -706,11 +715,8 @@ class Tables:
             return z <= 0
         return z < 0
 
+    @_under_scope
     def pdf(self, d):
-        with self._scope():
-            return self._pdf_impl(d)
-
-    def _pdf_impl(self, d):
         """The density per steradian at unit directions d (Vector3f)."""
         return self._out(self._pdf(self._in(d.x), self._in(d.y), self._in(d.z)))
 
@@ -729,11 +735,8 @@ class Tables:
             dens = dr.select(low if self.has_lower else self._not(low), dens, 0.0)
         return dens * self.inv_2t
 
+    @_under_scope
     def invert(self, d):
-        with self._scope():
-            return self._invert_impl(d)
-
-    def _invert_impl(self, d):
         """The points of the square (Point2f) that ``sample`` maps to unit directions d; NaN
         where none does."""
         dr, mi = self.dr, self.mi
@@ -773,11 +776,8 @@ class Tables:
         phi = dr.select(phi >= TAU, 0.0, phi)
         return theta, dr.select((x == 0) & (y == 0), 0.0, phi)
 
+    @_under_scope
     def target(self, d):
-        with self._scope():
-            return self._target_impl(d)
-
-    def _target_impl(self, d):
         """The grid target's bilinear interpolant at directions d (``Diagram.intensity``)."""
         if self.target_kind != 1:
             raise ValueError("this table blob has no grid target")
@@ -816,11 +816,8 @@ class Tables:
         value = (1.0 - e) * row(i0) + e * row(i1)
         return self._out(dr.select(inside, value, 0.0))
 
+    @_under_scope
     def radiance(self, d):
-        with self._scope():
-            return self._radiance_impl(d)
-
-    def _radiance_impl(self, d):
         """The image target's RGB radiance (Color3f) at unit directions d, by the blob's lookup."""
         if self.target_kind != 2:
             raise ValueError("this table blob has no image target")

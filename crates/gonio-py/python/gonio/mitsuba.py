@@ -493,6 +493,19 @@ def _resolve(mi, name):
     return str(resolver.resolve(str(name)))
 
 
+def _file_and_scale(mi, props, plugin, kinds):
+    """A plugin's two common properties: the required ``filename`` (resolved by Mitsuba's file
+    resolver; ``kinds`` words what it may be) and ``scale`` (default 1, finite and >= 0)."""
+    name = props.get("filename", None)
+    if name is None:
+        raise ValueError(f'{plugin}: the property "filename" ({kinds}) is required')
+    path = _resolve(mi, name)
+    scale = float(props.get("scale", 1.0))
+    if not (scale >= 0.0 and math.isfinite(scale)):
+        raise ValueError(f"{plugin} {path}: scale must be finite and >= 0, not {scale}")
+    return path, scale
+
+
 _TABLES = {}
 _TABLES_MAX = 8
 
@@ -534,17 +547,11 @@ def _make_classes(mi, dr, scalar):
 
         def __init__(self, props):
             super().__init__(props)
-            name = props.get("filename", None)
-            if name is None:
-                raise ValueError('gonio emitter: the property "filename" (an .ies or .ldt file) is required')
-            path = _resolve(mi, name)
+            path, self.scale = _file_and_scale(mi, props, "gonio emitter", "an .ies or .ldt file")
             self.filename = path
             # The diagram, its map and the map's tables on the device: shared by the emitters of one
             # file (an opening's parts) through a small cache.
             self.diagram, self.sampler, self.tables = _luminaire_tables(mi, path)
-            self.scale = float(props.get("scale", 1.0))
-            if not (self.scale >= 0.0 and math.isfinite(self.scale)):
-                raise ValueError(f"gonio emitter {path}: scale must be finite and >= 0, not {self.scale}")
             m = np.array(props.get("to_world", mi.ScalarTransform4f()).matrix, dtype=np.float64)
             self.to_world_matrix = m
             self.R, self.t = m[:3, :3].copy(), m[:3, 3].copy()
@@ -767,14 +774,8 @@ def _make_classes(mi, dr, scalar):
 
         def __init__(self, props):
             super().__init__(props)
-            name = props.get("filename", None)
-            if name is None:
-                raise ValueError('gonio_envmap emitter: the property "filename" (.hdr, .exr or .pfm) is required')
-            path = _resolve(mi, name)
+            path, self.scale = _file_and_scale(mi, props, "gonio_envmap emitter", ".hdr, .exr or .pfm")
             self.filename = path
-            self.scale = float(props.get("scale", 1.0))
-            if not (self.scale >= 0.0 and math.isfinite(self.scale)):
-                raise ValueError(f"gonio_envmap {path}: scale must be finite and >= 0, not {self.scale}")
             weight = props.get("weight", "luminance")
             weight = {0: "red", 1: "green", 2: "blue"}.get(weight, weight) if isinstance(weight, int) else str(weight)
             if weight not in ("luminance", "red", "green", "blue"):
@@ -964,14 +965,8 @@ def _make_bsdf(mi, dr, scalar):
 
         def __init__(self, props):
             super().__init__(props)
-            name = props.get("filename", None)
-            if name is None:
-                raise ValueError('gonio_brdf: the property "filename" (a MERL, UTIA or gonio BRDF JSON file) '
-                                 "is required")
-            self.filename = _resolve(mi, name)
-            self.scale = float(props.get("scale", 1.0))
-            if not (math.isfinite(self.scale) and self.scale >= 0):
-                raise ValueError(f"gonio_brdf {self.filename}: scale must be finite and >= 0, not {self.scale}")
+            self.filename, self.scale = _file_and_scale(
+                mi, props, "gonio_brdf", "a MERL, UTIA or gonio BRDF JSON file")
             opts = {}
             for k, d in (("merl_theta", 46), ("merl_phi", 90), ("theta_o", 46), ("phi_o", 90)):
                 v = props.get(k, d)
