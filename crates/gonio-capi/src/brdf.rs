@@ -238,7 +238,7 @@ unsafe fn merl_options(options: *const GonioBrdfReadOptions) -> Result<MerlOptio
 
 fn brdf_failure(name: &str, e: BrdfError) -> Failure {
     let status = match e {
-        BrdfError::Io { .. } => GONIO_ERR_IO,
+        BrdfError::File(_) => GONIO_ERR_IO,
         _ => GONIO_ERR_PARSE,
     };
     Failure::new(status, format!("{name}: {e}"))

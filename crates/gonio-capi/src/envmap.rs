@@ -175,7 +175,7 @@ fn build_env(
 ) -> Result<GonioEnvMap, Failure> {
     let image = Image::from_bytes(bytes, format).map_err(|e| {
         let msg = match e {
-            ImageError::Io { .. } => e.to_string(),
+            ImageError::File(_) => e.to_string(),
             other => format!("{name}: {other}"),
         };
         Failure::new(GONIO_ERR_PARSE, msg)

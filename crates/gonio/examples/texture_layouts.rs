@@ -9,7 +9,7 @@
 //! is the one to read).
 
 use gonio::mesh::generate::{frequency_for_faces, named_shapes, shape_mesh, Shape};
-use gonio::mesh::metrics::{measure, surface_target};
+use gonio::mesh::metrics::{measure, surface_target, Metrics};
 use gonio::mesh::param::{area3, signed_area};
 use gonio::mesh::{parameterise, Layout, UvMesh, UvOptions};
 use std::time::Instant;
@@ -54,24 +54,26 @@ fn main() {
                 vec![layout.native_aspect()]
             };
             for aspect in aspects {
-                let m = measure(&r.mesh, &surface_target, aspect);
+                let Metrics {
+                    triangles,
+                    flipped,
+                    degenerate,
+                    ratio_range: (lo, hi),
+                    ratio_p01_p99: (p01, p99),
+                    outside_10_percent: outside,
+                    histogram,
+                    l2,
+                    linf,
+                    seam_length,
+                    area,
+                    ..
+                } = measure(&r.mesh, &surface_target, aspect);
                 // Share of the surface with ratio in [0.9, 1.1]: bins 0.9–0.95, 0.95–1.05, 1.05–1.1.
-                let within = m.histogram[3] + m.histogram[4] + m.histogram[5];
+                let within = 100.0 * (histogram[3] + histogram[4] + histogram[5]);
+                let seam = seam_length / area.sqrt();
+                let layout = layout.name();
                 println!(
-                    "| {name} | {} | {aspect} | {} | {} | {} | {:.3} | {:.3} | {:.3} | {:.3} | {:.1} % | {} | {:.3} | {:.2} | {:.2} | {secs:.3} |",
-                    layout.name(),
-                    m.triangles,
-                    m.flipped,
-                    m.degenerate,
-                    m.ratio_range.0,
-                    m.ratio_range.1,
-                    m.ratio_p01_p99.0,
-                    m.ratio_p01_p99.1,
-                    100.0 * within,
-                    m.outside_10_percent,
-                    m.l2,
-                    m.linf,
-                    m.seam_length / m.area.sqrt(),
+                    "| {name} | {layout} | {aspect} | {triangles} | {flipped} | {degenerate} | {lo:.3} | {hi:.3} | {p01:.3} | {p99:.3} | {within:.1} % | {outside} | {l2:.3} | {linf:.2} | {seam:.2} | {secs:.3} |",
                 );
             }
             if worst && layout == Layout::Hds {

@@ -76,12 +76,14 @@ fn assert_nodes_kept(input: &Diagram, refined: &Diagram) {
     }
 }
 
+/// Point k of the additive recurrence start + k·step (mod 1): well-spread points of the square.
+fn recurrence(k: usize, step: [f64; 2], start: [f64; 2]) -> [f64; 2] {
+    [0, 1].map(|c| (k as f64 * step[c] + start[c]) % 1.0)
+}
+
 fn assert_exact(map: &dyn Sampler) {
     for k in 0..400 {
-        let u = [
-            (k as f64 * 0.618_034 + 0.01) % 1.0,
-            (k as f64 * 0.414_214 + 0.3) % 1.0,
-        ];
+        let u = recurrence(k, [0.618_034, 0.414_214], [0.01, 0.3]);
         let s = map.sample(u);
         if s.pdf > 0.0 {
             assert!((map.pdf(s.direction) - s.pdf).abs() <= 1e-9 * s.pdf);
@@ -324,11 +326,7 @@ fn map_intensity_is_exact_at_nodes_and_gives_constant_weights() {
             }
         }
         for k in 0..200 {
-            let u = [
-                (k as f64 * 0.7548 + 0.1) % 1.0,
-                (k as f64 * 0.5698 + 0.2) % 1.0,
-            ];
-            let s = map.sample(u);
+            let s = map.sample(recurrence(k, [0.7548, 0.5698], [0.1, 0.2]));
             if s.pdf > 0.0 {
                 let w = map.map_intensity(s.direction) / s.pdf;
                 assert!((w - map.map_power()).abs() <= 1e-9 * map.map_power());

@@ -365,17 +365,21 @@ class DeviceSampler:
         )
         return _back(u, d), _back(u, pdf)
 
-    def pdf(self, directions):
-        """The density (n,) per steradian at unit ``directions`` (n, 3) float32."""
+    def _of_direction(self, name, directions):
+        """Kernel ``gonio_k_<name>``: one float32 (n,) of the unit ``directions`` (n, 3)."""
         import numpy as np
 
         cp = self._cp
-        a = _as_device(cp, directions, 3, "pdf")
+        a = _as_device(cp, directions, 3, name)
         n = a.shape[0]
         out = cp.empty((n,), dtype=cp.float32)
         p = self._ptr
-        self._launch("gonio_k_pdf", n, (p(a), p(a, 1), p(a, 2), np.int64(3), p(out)))
+        self._launch(f"gonio_k_{name}", n, (p(a), p(a, 1), p(a, 2), np.int64(3), p(out)))
         return _back(directions, out)
+
+    def pdf(self, directions):
+        """The density (n,) per steradian at unit ``directions`` (n, 3) float32."""
+        return self._of_direction("pdf", directions)
 
     def invert(self, directions):
         """The points (n, 2) of the square of unit ``directions`` (n, 3); NaN rows where none."""
@@ -394,15 +398,7 @@ class DeviceSampler:
     def target(self, directions):
         """The grid target's value (n,) at ``directions`` (n, 3) (candela for a photometric
         blob); 0 without a grid target."""
-        import numpy as np
-
-        cp = self._cp
-        a = _as_device(cp, directions, 3, "target")
-        n = a.shape[0]
-        out = cp.empty((n,), dtype=cp.float32)
-        p = self._ptr
-        self._launch("gonio_k_target", n, (p(a), p(a, 1), p(a, 2), np.int64(3), p(out)))
-        return _back(directions, out)
+        return self._of_direction("target", directions)
 
 
 def _check_1d(cp, a, n):

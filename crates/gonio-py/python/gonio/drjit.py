@@ -114,9 +114,10 @@ def _bits(n):
     return int(n).bit_length()
 
 
-def parse(data):
-    """The blob's header, map slots and target as Python values and numpy views (no copy)."""
-    b = bytes(data)
+def _head(b):
+    """The checks every blob's first bytes must pass (magic, version 1, a 256-byte header, the
+    stated size): the stated size and the eight u32 fields at offset 32 (precision, layout,
+    frame, target, table count, reserved, maps present, lookup)."""
     if len(b) < 256 or b[:8] != MAGIC:
         raise BlobError("not a gonio table blob (magic GONIOTAB missing)")
     version, header_bytes, total = struct.unpack_from("<IIQ", b, 8)
@@ -124,7 +125,25 @@ def parse(data):
         raise BlobError(f"table blob version {version} (header {header_bytes} bytes): this reader takes version 1")
     if total != len(b) or total % 64:
         raise BlobError(f"table blob of {len(b)} bytes says it has {total}")
-    prec, layout, frame, target, count, _res, maps, lookup = struct.unpack_from("<8I", b, 32)
+    return total, struct.unpack_from("<8I", b, 32)
+
+
+def _directory(b, count, total):
+    """The blob's tables by id: numpy views of ``b`` (no copy), each entry checked (a known
+    element type, 64-byte aligned, inside the ``total`` bytes)."""
+    tables = {}
+    for k in range(count):
+        tid, elem, off, cnt = struct.unpack_from("<IIQQ", b, 256 + 32 * k)
+        if elem not in _ELEM or off % 64 or off + cnt * np.dtype(_ELEM[elem]).itemsize > total:
+            raise BlobError(f"table blob directory entry {k} (id {tid}) is malformed")
+        tables[tid] = np.frombuffer(b, dtype=_ELEM[elem], count=cnt, offset=off)
+    return tables
+
+
+def parse(data):
+    """The blob's header, map slots and target as Python values and numpy views (no copy)."""
+    b = bytes(data)
+    total, (prec, layout, frame, target, count, _res, maps, lookup) = _head(b)
     if prec != 4:
         raise BlobError(f"table blob of precision {prec} bytes: gonio.drjit reads float32 tables "
                         "(write them with precision='float32' / --precision f32)")
@@ -132,12 +151,7 @@ def parse(data):
         raise BlobError(f"table blob layout {layout}, frame {frame}, target {target}: unknown")
     p_lower, inv_2t, target_integral = struct.unpack_from("<3d", b, 64)
     target_a, target_b = struct.unpack_from("<2I", b, 88)
-    tables = {}
-    for k in range(count):
-        tid, elem, off, cnt = struct.unpack_from("<IIQQ", b, 256 + 32 * k)
-        if elem not in _ELEM or off % 64 or off + cnt * np.dtype(_ELEM[elem]).itemsize > total:
-            raise BlobError(f"table blob directory entry {k} (id {tid}) is malformed")
-        tables[tid] = np.frombuffer(b, dtype=_ELEM[elem], count=cnt, offset=off)
+    tables = _directory(b, count, total)
     slots = []
     for s in range(2):
         if not (maps >> s) & 1:
@@ -877,23 +891,13 @@ def parse_family(data):
     """A family blob's (docs/TABLES.md, "Families") header, shared grid, stacked tables, incident
     grid and BRDF table as Python values and numpy views (no copy). float32 tables only."""
     b = bytes(data)
-    if len(b) < 256 or b[:8] != MAGIC:
-        raise BlobError("not a gonio table blob (magic GONIOTAB missing)")
-    version, header_bytes, total = struct.unpack_from("<IIQ", b, 8)
-    if version != 1 or header_bytes != 256 or total != len(b) or total % 64:
-        raise BlobError(f"table blob version {version}, {len(b)} bytes (says {total}): not a version-1 blob")
-    prec, layout, frame, target, count, _res, maps, _lookup = struct.unpack_from("<8I", b, 32)
+    total, (prec, layout, frame, target, count, _res, maps, _lookup) = _head(b)
     if layout != 3 or target != 3:
         raise BlobError(f"table blob of layout {layout}, target {target}: not a BRDF family (layout 3); "
                         "write one with Brdf.tables() or `gonio tables BRDF_FILE`")
     if prec != 4:
         raise BlobError(f"family blob of precision {prec} bytes: gonio.drjit reads float32 tables")
-    tables = {}
-    for k in range(count):
-        tid, elem, off, cnt = struct.unpack_from("<IIQQ", b, 256 + 32 * k)
-        if elem not in _ELEM or off % 64 or off + cnt * np.dtype(_ELEM[elem]).itemsize > total:
-            raise BlobError(f"family blob directory entry {k} (id {tid}) is malformed")
-        tables[tid] = np.frombuffer(b, dtype=_ELEM[elem], count=cnt, offset=off)
+    tables = _directory(b, count, total)
     m, n, k_rad, g, g_r = struct.unpack_from("<5I", b, 96)
     inv_ub, _kappa, guide_scale, radius_scale, _edge = struct.unpack_from("<5d", b, 128)
     a, bb, aniso, channels, n_to, n_po = struct.unpack_from("<6I", b, 176)

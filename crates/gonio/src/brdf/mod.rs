@@ -143,14 +143,6 @@ pub enum BrdfError {
     /// reader's message, [`crate::input::file`]).
     #[error(transparent)]
     File(#[from] crate::input::file::ReadFileError),
-    /// An I/O error reading or writing a file.
-    #[error("{path}: {message}")]
-    Io {
-        /// The file.
-        path: String,
-        /// The system's message.
-        message: String,
-    },
     /// A family blob ([`from_tables`]) refused: the table reader's message.
     #[error("{0}")]
     Tables(String),

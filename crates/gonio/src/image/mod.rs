@@ -116,14 +116,6 @@ pub enum ImageError {
     /// reader's message, [`crate::input::file`]).
     #[error(transparent)]
     File(#[from] crate::input::file::ReadFileError),
-    /// The file could not be read.
-    #[error("{path}: {message}")]
-    Io {
-        /// The path.
-        path: String,
-        /// What the system said.
-        message: String,
-    },
     /// Neither the extension nor the first bytes name a known format.
     #[error("not a Radiance .hdr, PFM or OpenEXR file (first bytes {first:02x?})")]
     UnknownFormat {
@@ -367,7 +359,7 @@ impl Image {
     /// Reads an image file, the format chosen by its first bytes (else by its extension).
     ///
     /// # Errors
-    /// [`ImageError::Io`] if the file cannot be read, [`ImageError::UnknownFormat`], or the
+    /// [`ImageError::File`] if the file cannot be read, [`ImageError::UnknownFormat`], or the
     /// reader's error.
     pub fn read(path: &Path) -> Result<Self, ImageError> {
         let bytes = crate::input::file::read_file(path, crate::input::file::FileKind::Image)?;

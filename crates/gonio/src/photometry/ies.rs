@@ -526,34 +526,24 @@ fn intensity_scale(
     warnings: &mut Vec<Warning>,
 ) -> Result<(f64, Vec<f64>), ParseError> {
     let mut scale = f.multiplier;
-    if f.ballast_factor > 0.0 {
-        scale *= f.ballast_factor;
-    } else {
-        warnings.push(Warning {
-            line: f.bt.line,
-            column: f.bt.column,
-            message: format!(
-                "ballast factor {} is not positive; 1 used",
-                f.ballast_factor
-            ),
-        });
-    }
+    // A factor that is not positive counts as 1, with a warning at its token.
+    let mut apply = |factor: f64, at: &Token, what: &str| {
+        if factor > 0.0 {
+            scale *= factor;
+        } else {
+            warnings.push(Warning {
+                line: at.line,
+                column: at.column,
+                message: format!("{what} {factor} is not positive; 1 used"),
+            });
+        }
+    };
+    apply(f.ballast_factor, &f.bt, "ballast factor");
     if matches!(
         head.version,
         Version::Ies1986 | Version::Ies1991 | Version::Ies1995
     ) {
-        if f.second > 0.0 {
-            scale *= f.second;
-        } else {
-            warnings.push(Warning {
-                line: f.st.line,
-                column: f.st.column,
-                message: format!(
-                    "ballast-lamp photometric factor {} is not positive; 1 used",
-                    f.second
-                ),
-            });
-        }
+        apply(f.second, &f.st, "ballast-lamp photometric factor");
     }
     if let Some(t) = tilt.table() {
         // The file's factor is kept, 0 included: replacing it would change the light. A factor
