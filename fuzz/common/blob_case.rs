@@ -3,10 +3,14 @@
 //! checksum are reached.
 
 use gonio::mapping::blob;
+use std::sync::OnceLock;
 
 /// The seed picked by the input's first byte with sparse (position, xor) mutations from the
 /// rest, its checksum recomputed; and the bytes after the first (the target's own extra input).
-pub fn mutated<'a>(seeds: &[Vec<u8>], data: &'a [u8]) -> Option<(Vec<u8>, &'a [u8])> {
+/// The seeds are made by `make` on the first call and kept (one set per fuzz target process).
+pub fn mutated<'a>(make: fn() -> Vec<Vec<u8>>, data: &'a [u8]) -> Option<(Vec<u8>, &'a [u8])> {
+    static SEEDS: OnceLock<Vec<Vec<u8>>> = OnceLock::new();
+    let seeds = SEEDS.get_or_init(make);
     let (&pick, rest) = data.split_first()?;
     let mut b = seeds[pick as usize % seeds.len()].clone();
     for c in rest.chunks_exact(3) {

@@ -12,50 +12,47 @@ use libfuzzer_sys::fuzz_target;
 
 #[path = "../common/blob_case.rs"]
 mod blob_case;
-use std::sync::OnceLock;
 
-fn seeds() -> &'static Vec<Vec<u8>> {
-    static S: OnceLock<Vec<Vec<u8>>> = OnceLock::new();
-    S.get_or_init(|| {
-        let h = Diagram::from_degrees(
-            &[0.0, 30.0, 60.0, 90.0],
-            &[0.0, 120.0, 240.0],
-            &[
-                vec![1.0, 2.0, 0.5, 0.0],
-                vec![1.0, 0.1, 3.0, 1.0],
-                vec![1.0, 1.0, 1.0, 1.0],
-            ],
-        )
-        .unwrap();
-        let s = Diagram::from_degrees(
-            &[0.0, 60.0, 120.0, 180.0],
-            &[0.0, 90.0],
-            &[vec![1.0, 2.0, 0.5, 0.2], vec![1.0, 0.1, 3.0, 0.2]],
-        )
-        .unwrap();
-        let hm = HemisphereMap::new(&h).unwrap();
-        let split = SphereMap::with_layout(&s, SphereLayout::Split).unwrap();
-        let lambert = SphereMap::with_layout(&s, SphereLayout::Lambert).unwrap();
-        let mut v = Vec::new();
-        for p in [Precision::F32, Precision::F64] {
-            let cases = [
-                (MapRef::Hemisphere(&hm), Frame::Generic, Target::Grid(&h)),
-                (MapRef::Sphere(&split), Frame::Photometric, Target::Grid(&s)),
-            ];
-            for (map, frame, target) in cases {
-                v.push(blob::write(map, p, frame, &target).unwrap());
-            }
-            let rgb = vec![0.5f32; 4 * 2 * 3];
-            let img = Target::Image {
-                width: 4,
-                height: 2,
-                rgb: &rgb,
-                lookup: Default::default(),
-            };
-            v.push(blob::write(MapRef::Sphere(&lambert), p, Frame::EnvironmentMap, &img).unwrap());
+/// The blobs the mutations start from.
+fn seeds() -> Vec<Vec<u8>> {
+    let h = Diagram::from_degrees(
+        &[0.0, 30.0, 60.0, 90.0],
+        &[0.0, 120.0, 240.0],
+        &[
+            vec![1.0, 2.0, 0.5, 0.0],
+            vec![1.0, 0.1, 3.0, 1.0],
+            vec![1.0, 1.0, 1.0, 1.0],
+        ],
+    )
+    .unwrap();
+    let s = Diagram::from_degrees(
+        &[0.0, 60.0, 120.0, 180.0],
+        &[0.0, 90.0],
+        &[vec![1.0, 2.0, 0.5, 0.2], vec![1.0, 0.1, 3.0, 0.2]],
+    )
+    .unwrap();
+    let hm = HemisphereMap::new(&h).unwrap();
+    let split = SphereMap::with_layout(&s, SphereLayout::Split).unwrap();
+    let lambert = SphereMap::with_layout(&s, SphereLayout::Lambert).unwrap();
+    let mut v = Vec::new();
+    for p in [Precision::F32, Precision::F64] {
+        let cases = [
+            (MapRef::Hemisphere(&hm), Frame::Generic, Target::Grid(&h)),
+            (MapRef::Sphere(&split), Frame::Photometric, Target::Grid(&s)),
+        ];
+        for (map, frame, target) in cases {
+            v.push(blob::write(map, p, frame, &target).unwrap());
         }
-        v
-    })
+        let rgb = vec![0.5f32; 4 * 2 * 3];
+        let img = Target::Image {
+            width: 4,
+            height: 2,
+            rgb: &rgb,
+            lookup: Default::default(),
+        };
+        v.push(blob::write(MapRef::Sphere(&lambert), p, Frame::EnvironmentMap, &img).unwrap());
+    }
+    v
 }
 
 fn exercise(t: &blob::MapTables, data: &[u8]) {
@@ -114,7 +111,7 @@ fuzz_target!(|data: &[u8]| {
         exercise(&t, data);
     }
     // The input as a mutation of a seed blob, resealed.
-    if let Some((b, rest)) = blob_case::mutated(&seeds(), data) {
+    if let Some((b, rest)) = blob_case::mutated(seeds, data) {
         if let Ok(t) = blob::read(&b) {
             exercise(&t, rest);
         }

@@ -42,6 +42,8 @@ mod tables;
 pub use tables::*;
 
 #[cfg(test)]
+mod test_support;
+#[cfg(test)]
 mod tests;
 #[cfg(test)]
 mod tests_abuse;

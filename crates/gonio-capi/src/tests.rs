@@ -1,22 +1,12 @@
 //! The C ABI called from Rust, as a C caller would: statuses, messages, NULL pointers, batches
 //! against single points, and sharing a sampler between threads.
 
+use super::test_support::{last_error, IES};
 use super::*;
 use gonio::Batches;
 use gonio::Diagram;
 use std::ffi::CStr;
 use std::ptr::{null, null_mut};
-
-/// A type C IES file: 3 vertical angles, 1 plane (rotationally symmetric), a downlight.
-const IES: &str =
-    "IESNA:LM-63-2002\nTILT=NONE\n1 1000 1 3 1 1 2 0 0 0\n1 1 100\n0 45 90\n0\n100 60 0\n";
-
-fn last_error() -> String {
-    unsafe { CStr::from_ptr(gonio_last_error_message()) }
-        .to_str()
-        .unwrap()
-        .to_string()
-}
 
 fn read_ies(text: &str, name: &CStr) -> (GonioStatus, *mut GonioDiagram) {
     let mut d = null_mut();

@@ -1,26 +1,14 @@
 //! The C ABI under abuse (issue 25): NaN points, FIFOs, huge and oddly named files, empty
 //! memory, methods without inverse, tiny numbers in messages.
 
+use super::test_support::{diagram_of, last_error, IES};
 use super::*;
-use std::ffi::{CStr, CString};
+use std::ffi::CString;
 use std::path::PathBuf;
 use std::ptr::{null, null_mut};
 
-const IES: &str =
-    "IESNA:LM-63-2002\nTILT=NONE\n1 1000 1 3 1 1 2 0 0 0\n1 1 100\n0 45 90\n0\n100 60 0\n";
-
-fn last_error() -> String {
-    unsafe { CStr::from_ptr(gonio_last_error_message()) }
-        .to_string_lossy()
-        .into_owned()
-}
-
 fn sampler(method: GonioMethod) -> *mut GonioSampler {
-    let mut d = null_mut();
-    let st = unsafe {
-        gonio_diagram_read_memory(IES.as_ptr(), IES.len(), GONIO_FORMAT_IES, null(), &mut d)
-    };
-    assert_eq!(st, GONIO_OK, "{}", last_error());
+    let d = diagram_of(IES, GONIO_FORMAT_IES);
     let mut s = null_mut();
     let st = unsafe { gonio_sampler_build(d, method, GONIO_DOMAIN_AUTO, &mut s) };
     assert_eq!(st, GONIO_OK, "{}", last_error());
@@ -211,11 +199,7 @@ fn issue_40_reproducers() {
     // Item 1: a diagram whose power overflows f64.
     let json =
         "{\"theta_deg\": [0, 90, 180], \"phi_deg\": [0], \"values\": [[1e308, 1e308, 1e308]]}";
-    let mut d = null_mut();
-    let st = unsafe {
-        gonio_diagram_read_memory(json.as_ptr(), json.len(), GONIO_FORMAT_JSON, null(), &mut d)
-    };
-    assert_eq!(st, GONIO_OK, "{}", last_error());
+    let d = diagram_of(json, GONIO_FORMAT_JSON);
     let mut s = null_mut();
     let st = unsafe { gonio_sampler_build(d, GONIO_METHOD_HDS, GONIO_DOMAIN_AUTO, &mut s) };
     assert_eq!(st, GONIO_ERR_BUILD);

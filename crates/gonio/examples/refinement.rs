@@ -24,7 +24,7 @@ use gonio::photometry::{read, DirTiltResolver, FileFormat};
 use gonio::sampler::spherical;
 use gonio::sequence::{Halton, Random};
 use gonio::Batches;
-use gonio::{Diagram, HemisphereMap, Point2, Sample, Sampler, SphereMap, Vec3};
+use gonio::{BuildOptions, Diagram, Domain, Method, Point2, Sample, Sampler, SphereMap, Vec3};
 use rayon::prelude::*;
 use std::time::Instant;
 
@@ -42,12 +42,11 @@ struct Build {
     secs_plain: f64,
 }
 
-fn sampled_ratio(s: &dyn Sampler, pts: &[Point2], d: &Diagram) -> (f64, f64) {
+fn sampled_ratio(s: &dyn Sampler, pts: &[Point2]) -> (f64, f64) {
     let mut out = vec![Sample::default(); pts.len()];
     s.sample_batch(pts, &mut out);
     // Directions drawn from the map itself (not the grid nodes: a node next to a zero cell can land
     // in either cell by round-off in θ, see tests/refine.rs).
-    let _ = d;
     let dirs: Vec<Vec3> = out.iter().map(|s| s.direction).collect();
     let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
     for w in dirs {
@@ -74,29 +73,16 @@ fn time_build<T>(f: impl Fn() -> T) -> (T, f64) {
     (out.unwrap(), best)
 }
 
-fn build_hemi(d: &Diagram, tol: f64, pts: &[Point2]) -> Build {
-    let (plain, secs_plain) = time_build(|| HemisphereMap::new(d).unwrap());
-    let (map, secs) = time_build(|| HemisphereMap::with_tolerance(d, tol).unwrap());
+/// The HDS map of `d` on `domain` (the sphere: split layout) unrefined and refined to `tol`.
+fn build(d: &Diagram, domain: Domain, tol: f64, pts: &[Point2]) -> Build {
+    let refined = BuildOptions::default().tolerance(Some(tol));
+    let (plain, secs_plain) = time_build(|| Method::Hds.build(d, domain).unwrap());
+    let (map, secs) = time_build(|| Method::Hds.build_with(d, domain, &refined).unwrap());
     let r = map.refinement().unwrap();
     Build {
         reached: r.reached,
         bound: r.bound,
-        sampled: sampled_ratio(&map, pts, map.diagram()),
-        parallels: (r.parallels_before, r.parallels_after),
-        bytes: (plain.memory_bytes(), r.memory_after),
-        secs,
-        secs_plain,
-    }
-}
-
-fn build_sphere(d: &Diagram, tol: f64, pts: &[Point2]) -> Build {
-    let (plain, secs_plain) = time_build(|| SphereMap::new(d).unwrap());
-    let (map, secs) = time_build(|| SphereMap::with_tolerance(d, tol).unwrap());
-    let r = map.refinement().unwrap();
-    Build {
-        reached: r.reached,
-        bound: r.bound,
-        sampled: sampled_ratio(&map, pts, d),
+        sampled: sampled_ratio(&*map, pts),
         parallels: (r.parallels_before, r.parallels_after),
         bytes: (plain.memory_bytes(), r.memory_after),
         secs,
@@ -295,14 +281,14 @@ fn main() {
     for tol in TOLS {
         let b: Vec<Build> = set
             .par_iter()
-            .map(|s| build_hemi(&s.diagram, tol, &pts))
+            .map(|s| build(&s.diagram, Domain::Hemisphere, tol, &pts))
             .collect();
         t.push(summary_row(format!("{count} random"), count, tol, &b));
         println!("random tol {tol}: {}", t.csv().lines().last().unwrap());
         if !files.is_empty() {
             let b: Vec<Build> = files
                 .par_iter()
-                .map(|(_, d)| build_sphere(d, tol, &pts))
+                .map(|(_, d)| build(d, Domain::Sphere, tol, &pts))
                 .collect();
             t.push(summary_row(
                 format!("corpus ({} files)", files.len()),

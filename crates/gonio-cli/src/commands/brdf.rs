@@ -411,40 +411,41 @@ pub fn sample(b: &Input, a: &SampleArgs, settings: &Settings) -> Result<()> {
 
 /// `gonio pdf BRDF --incident …`: the pdf of each outgoing direction, as for every input.
 pub fn pdf(b: &Input, a: &DirectionsArgs) -> Result<()> {
-    let method = brdf_method(a.run.method)?;
-    let l = load(b)?;
-    let s = sampler_of(b, l.brdf)?;
-    with_method(method, &s, |m| {
-        super::directions::write_pdf(&IncidentSampler::of(m, s.brdf(), incident(b)), a)
-    })
+    at_incident(b, a.run.method, |s| super::directions::write_pdf(s, a))
 }
 
 /// `gonio invert BRDF --incident …`: the point of the square of each outgoing direction, as for
 /// every input (empty fields and a warning where there is none).
 pub fn invert(b: &Input, a: &DirectionsArgs) -> Result<()> {
-    let method = brdf_method(a.run.method)?;
-    let l = load(b)?;
-    let s = sampler_of(b, l.brdf)?;
-    with_method(method, &s, |m| {
-        super::directions::write_invert(&IncidentSampler::of(m, s.brdf(), incident(b)), a)
-    })
+    at_incident(b, a.run.method, |s| super::directions::write_invert(s, a))
 }
 
 /// `gonio check BRDF --incident …`: the battery on the method at ω_i (its flux check integrates
 /// the albedo), reported as for every input after a line with the incident direction and albedo.
 pub fn check(b: &Input, a: &CheckArgs, settings: &Settings) -> Result<bool> {
-    let method = brdf_method(a.method)?;
-    let l = load(b)?;
-    let s = sampler_of(b, l.brdf)?;
-    with_method(method, &s, |m| {
-        let at = IncidentSampler::of(m, s.brdf(), incident(b));
+    at_incident(b, a.method, |at| {
         let head = format!("incident {:?}: albedo {:.6}\n", b.incident, at.albedo());
         let extra = serde_json::json!({
             "incident_deg": [b.incident.0, b.incident.1],
             "albedo": at.albedo(),
         });
         let opts = super::check::options(a)?;
-        super::check::report(&at, opts, a, settings, None, &head, extra)
+        super::check::report(at, opts, a, settings, None, &head, extra)
+    })
+}
+
+/// Runs `f` on the sampler of the BRDF file `b` at its incident direction, by the command's
+/// `--method` (a sampler over directions, as any input's).
+fn at_incident<T>(
+    b: &Input,
+    method: MethodName,
+    f: impl FnOnce(&IncidentSampler) -> Result<T>,
+) -> Result<T> {
+    let method = brdf_method(method)?;
+    let l = load(b)?;
+    let s = sampler_of(b, l.brdf)?;
+    with_method(method, &s, |m| {
+        f(&IncidentSampler::of(m, s.brdf(), incident(b)))
     })
 }
 

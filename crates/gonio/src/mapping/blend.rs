@@ -28,7 +28,7 @@ use super::angular::{forward_on, inverse_on, Angular, Wedges};
 use super::concentric::{disk_to_square, square_to_disk};
 use super::hds::HdsCore;
 use super::lift::{disk_to_sphere, sphere_to_disk_azimuth, sphere_to_disk_radius};
-use super::radial::{self, Radial, RadialRow};
+use super::radial::{self, Radial, RadialRow, RadialView};
 use super::HemisphereMap;
 use crate::sampler::{Point2, Sample, Vec3};
 
@@ -288,26 +288,28 @@ struct BlendRow<'m, 'a> {
     len: usize,
 }
 
-impl RadialRow for BlendRow<'_, '_> {
+impl BlendRow<'_, '_> {
+    /// Entry j of the blended row of one table (u or d): Σ a · table[r][j] over the 2K rows.
     #[inline]
-    fn u(&self, j: usize) -> f64 {
+    fn mix(&self, j: usize, table: impl Fn(RadialView<'_, f64>) -> &[f64]) -> f64 {
         self.rows[..self.len]
             .iter()
             .map(|&(k, r, a)| {
-                let rad = self.map.radial(k);
-                a * rad.view().u[r * rad.view().n + j]
+                let v = self.map.radial(k).view();
+                a * table(v)[r * v.n + j]
             })
             .sum()
     }
+}
+
+impl RadialRow for BlendRow<'_, '_> {
+    #[inline]
+    fn u(&self, j: usize) -> f64 {
+        self.mix(j, |v| v.u)
+    }
     #[inline]
     fn d(&self, j: usize) -> f64 {
-        self.rows[..self.len]
-            .iter()
-            .map(|&(k, r, a)| {
-                let rad = self.map.radial(k);
-                a * rad.view().d[r * rad.view().n + j]
-            })
-            .sum()
+        self.mix(j, |v| v.d)
     }
     /// Every row's own radial guide bracket, united (a convex combination, as in M_D).
     #[inline]
