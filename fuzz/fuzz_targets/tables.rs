@@ -61,16 +61,8 @@ fn exercise(t: &blob::MapTables, data: &[u8]) {
         pts.push([c[0] as f64 / 255.0, c[1] as f64 / 255.0]);
     }
     for u in pts {
-        let s = t.sample(u);
-        assert!(s.pdf.is_finite() && s.pdf >= 0.0, "pdf {s:?} at {u:?}");
-        let n = s.direction.iter().map(|c| c * c).sum::<f64>().sqrt();
-        assert!((n - 1.0).abs() < 1e-3, "direction {s:?} at {u:?}");
-        let p = t.pdf(s.direction);
-        assert!(p.is_finite() && p >= 0.0);
-        if let Ok(b) = t.invert(s.direction) {
-            assert!(b.iter().all(|x| (0.0..=1.0).contains(x)), "invert {b:?}");
-        }
-        let _ = t.target_pdf(s.direction);
+        blob_case::assert_sane_sample(t, u);
+        let _ = t.target_pdf(t.sample(u).direction);
     }
     for d in [
         [0.0, 0.0, 1.0],
@@ -79,9 +71,7 @@ fn exercise(t: &blob::MapTables, data: &[u8]) {
         [0.0, 0.0, 0.0],
         [f64::NAN, 0.0, 1.0],
     ] {
-        let p = t.pdf(d);
-        assert!(p.is_finite() && p >= 0.0);
-        let _ = t.invert(d);
+        blob_case::assert_sane_direction(t, d);
     }
     if let ReadMap::F32(f) = &t.map {
         let target = match &t.target {

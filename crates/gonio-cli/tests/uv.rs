@@ -89,34 +89,23 @@ fn uv_and_bake_write_what_they_say() {
             .collect();
         enc.write_header().unwrap().write_image_data(&data).unwrap();
     }
-    let o = run(&[
+    ok(&[
         "bake",
         p,
         "--texture",
         eq.to_str().unwrap(),
-        "--resolution",
-        "16",
+        "--resolution=16",
         "-o",
         tex.to_str().unwrap(),
     ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     // A constant high-dynamic-range lat-long image (PFM, linear values) bakes to a constant texture
     // everywhere (0.502, 0.254 and 2.0 clamped: 128, 65, 255 in 8 bits).
     let pfm = dir.join("sky.pfm");
     let sky = gonio::image::Image::constant(8, 4, [0.502, 0.254, 2.0]).unwrap();
     std::fs::write(&pfm, gonio::image::write_pfm(&sky, false, false)).unwrap();
     let hdr_tex = dir.join("sky.png");
-    let o = run(&[
-        "bake",
-        p,
-        "--texture",
-        pfm.to_str().unwrap(),
-        "--resolution",
-        "8",
-        "-o",
-        hdr_tex.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let (texture, out) = (pfm.to_str().unwrap(), hdr_tex.to_str().unwrap());
+    ok(&["bake", p, "--texture", texture, "--resolution=8", "-o", out]);
     {
         let dec = png::Decoder::new(std::io::BufReader::new(
             std::fs::File::open(&hdr_tex).unwrap(),

@@ -235,6 +235,23 @@ pub fn lowercase_extension(name: &str) -> Option<String> {
         .map(str::to_ascii_lowercase)
 }
 
+/// The member of `all` whose `name` is `text`, by the one rule for every name gonio parses
+/// (methods, sequences, plot kinds; issue 25): ASCII letter case and surrounding blanks do not
+/// matter. `None` when no member has that name.
+///
+/// ```
+/// use gonio::{input::find_by_name, Method};
+/// assert_eq!(find_by_name(Method::ALL, Method::as_str, " HDS "), Some(Method::Hds));
+/// ```
+pub fn find_by_name<T: Copy>(
+    all: impl IntoIterator<Item = T>,
+    name: impl Fn(T) -> &'static str,
+    text: &str,
+) -> Option<T> {
+    let t = text.trim();
+    all.into_iter().find(|&m| name(m).eq_ignore_ascii_case(t))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -281,12 +281,7 @@ pub struct ParseMethodError(pub String);
 impl FromStr for Method {
     type Err = ParseMethodError;
     fn from_str(s: &str) -> Result<Self, Self::Err> {
-        // One rule for every name gonio parses (issue 25; sequences, formats and domains too):
-        // ASCII letter case and surrounding blanks do not matter.
-        let t = s.trim();
-        Method::ALL
-            .into_iter()
-            .find(|m| m.as_str().eq_ignore_ascii_case(t))
+        crate::input::find_by_name(Method::ALL, Method::as_str, s)
             .ok_or_else(|| ParseMethodError(s.to_owned()))
     }
 }

@@ -5,6 +5,9 @@
 //! truncation, forged headers with huge counts, and flips with the checksum recomputed (which
 //! reach the field and content checks) — never a panic.
 
+#[path = "../../../fuzz/common/blob_case.rs"]
+#[allow(dead_code)] // the fuzz targets' mutation is not used here
+mod blob_case;
 #[path = "common/corpus.rs"]
 mod corpus;
 
@@ -421,31 +424,15 @@ fn the_shared_environment_maps_round_trip() {
     }
 }
 
-/// Recomputes the checksum of a modified blob.
-fn reseal(b: &mut [u8]) {
-    let c = blob::checksum(b);
-    b[blob::CHECKSUM_OFFSET..blob::CHECKSUM_OFFSET + 8].copy_from_slice(&c.to_le_bytes());
-}
-
 /// A blob that reads must sample, evaluate and invert without panicking, with unit directions and
 /// finite densities ≥ 0 (the reader's checks are the kernels' preconditions).
 fn exercise(t: &MapTables) {
     let (u, v) = points(64);
     for k in 0..u.len() {
-        let s = t.sample([u[k], v[k]]);
-        assert!(s.pdf.is_finite() && s.pdf >= 0.0, "{s:?}");
-        let n = s.direction.iter().map(|c| c * c).sum::<f64>().sqrt();
-        assert!((n - 1.0).abs() < 1e-3, "{s:?}");
-        let p = t.pdf(s.direction);
-        assert!(p.is_finite() && p >= 0.0);
-        if let Ok(b) = t.invert(s.direction) {
-            assert!(b.iter().all(|x| (0.0..=1.0).contains(x)), "{b:?}");
-        }
+        blob_case::assert_sane_sample(t, [u[k], v[k]]);
     }
     for d in extra_dirs() {
-        let p = t.pdf(d);
-        assert!(p.is_finite() && p >= 0.0);
-        let _ = t.invert(d);
+        blob_case::assert_sane_direction(t, d);
     }
 }
 
@@ -497,7 +484,7 @@ fn flipped_bytes_with_a_valid_checksum_never_panic() {
             for pat in [0x01u8, 0x80, 0xff] {
                 let mut c = b.clone();
                 c[k] ^= pat;
-                reseal(&mut c);
+                blob_case::reseal(&mut c);
                 match std::panic::catch_unwind(|| blob::read(&c)) {
                     Err(_) => panic!("{what}: byte {k} ^ {pat:#x}: the reader panicked"),
                     Ok(Err(_)) => refused += 1,
@@ -551,7 +538,7 @@ fn forged_headers_with_huge_counts_are_refused_before_allocating() {
     ] {
         let mut c = b.clone();
         c[at..at + 4].copy_from_slice(&v.to_le_bytes());
-        reseal(&mut c);
+        blob_case::reseal(&mut c);
         let e = blob::read(&c).expect_err("a forged count");
         let msg = e.to_string();
         assert!(msg.starts_with("table blob: "), "{msg}");
@@ -561,7 +548,7 @@ fn forged_headers_with_huge_counts_are_refused_before_allocating() {
         let mut c = b.clone();
         let at = blob::HEADER_BYTES + field;
         c[at..at + 8].copy_from_slice(&v.to_le_bytes());
-        reseal(&mut c);
+        blob_case::reseal(&mut c);
         assert!(
             matches!(blob::read(&c), Err(TablesError::Entry { .. })),
             "{field} {v}"
@@ -572,7 +559,7 @@ fn forged_headers_with_huge_counts_are_refused_before_allocating() {
     for (at, v) in [(96usize + 40, 1e-40f64), (96 + 40, 3.0)] {
         let mut c = b.clone();
         c[at..at + 8].copy_from_slice(&v.to_le_bytes());
-        reseal(&mut c);
+        blob_case::reseal(&mut c);
         assert!(
             matches!(
                 blob::read(&c),
@@ -590,7 +577,7 @@ fn forged_headers_with_huge_counts_are_refused_before_allocating() {
     assert_eq!(blob::read(&c).unwrap_err(), TablesError::Magic);
     let mut c = b.clone();
     c[8] = 2;
-    reseal(&mut c);
+    blob_case::reseal(&mut c);
     assert_eq!(
         blob::read(&c).unwrap_err(),
         TablesError::Version { found: 2 }

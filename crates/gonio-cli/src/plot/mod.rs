@@ -115,9 +115,7 @@ impl std::error::Error for UnknownPlotKind {}
 impl FromStr for PlotKind {
     type Err = UnknownPlotKind;
     fn from_str(s: &str) -> Result<Self, Self::Err> {
-        PlotKind::ALL
-            .into_iter()
-            .find(|k| k.as_str().eq_ignore_ascii_case(s.trim()))
+        gonio::input::find_by_name(PlotKind::ALL, PlotKind::as_str, s)
             .ok_or_else(|| UnknownPlotKind(s.to_string()))
     }
 }

@@ -76,10 +76,7 @@ pub struct UnknownSequence(pub String);
 impl FromStr for SequenceKind {
     type Err = UnknownSequence;
     fn from_str(s: &str) -> Result<Self, Self::Err> {
-        let t = s.trim();
-        SequenceKind::ALL
-            .into_iter()
-            .find(|k| k.name().eq_ignore_ascii_case(t))
+        crate::input::find_by_name(SequenceKind::ALL, SequenceKind::name, s)
             .ok_or_else(|| UnknownSequence(s.to_string()))
     }
 }

@@ -104,6 +104,21 @@ const ATAN_K8: [(f64, f64); 9] = [
     (0.718_829_999_621_624_5, -2.147_838_844_445_698_3e-17),
     (std::f64::consts::FRAC_PI_4, 3.061_616_997_868_383e-17),
 ];
+/// [`ATAN_K8`] as the kernels' (hi, lo) tables: f64 hi, f64 lo, f32 hi (hi rounded), f32 lo
+/// (what hi's rounding lost plus lo, rounded).
+const ATAN_PARTS: ([f64; 9], [f64; 9], [f32; 9], [f32; 9]) = {
+    let (mut h64, mut l64, mut h32, mut l32) = ([0.0; 9], [0.0; 9], [0.0f32; 9], [0.0f32; 9]);
+    let mut k = 0;
+    while k < 9 {
+        let (hi, lo) = ATAN_K8[k];
+        h64[k] = hi;
+        l64[k] = lo;
+        h32[k] = hi as f32;
+        l32[k] = ((hi - hi as f32 as f64) + lo) as f32;
+        k += 1;
+    }
+    (h64, l64, h32, l32)
+};
 /// The series of [`atan_unit`] after z + z³·(…): −1/3, 1/5, …, 1/17 (Horner in z²).
 pub(crate) const ATAN_TAYLOR: [f64; 8] = [
     -1.0 / 3.0,
@@ -206,24 +221,8 @@ impl Precision for f64 {
     const SIN_SERIES: &'static [f64] = &SIN_TAYLOR;
     const COS_SERIES: &'static [f64] = &COS_TAYLOR;
     const ATAN_SERIES: &'static [f64] = &ATAN_TAYLOR;
-    const ATAN_HI: [f64; 9] = {
-        let mut a = [0.0; 9];
-        let mut k = 0;
-        while k < 9 {
-            a[k] = ATAN_K8[k].0;
-            k += 1;
-        }
-        a
-    };
-    const ATAN_LO: [f64; 9] = {
-        let mut a = [0.0; 9];
-        let mut k = 0;
-        while k < 9 {
-            a[k] = ATAN_K8[k].1;
-            k += 1;
-        }
-        a
-    };
+    const ATAN_HI: [f64; 9] = ATAN_PARTS.0;
+    const ATAN_LO: [f64; 9] = ATAN_PARTS.1;
     const HALF_PI_LO: f64 = PIO2_LO;
     const PI_LO_PART: f64 = PI_LO;
     /// ≈ 9 u₆₄.
@@ -256,24 +255,8 @@ impl Precision for f32 {
         &[COS_TAYLOR[0], COS_TAYLOR[1], COS_TAYLOR[2], COS_TAYLOR[3]];
     /// To z⁷: the truncation z⁹/9 is below 8⁻⁸/9 = 6.7·10⁻⁹ relative for z < 1/8 (0.11 u₃₂).
     const ATAN_SERIES: &'static [f64] = &[ATAN_TAYLOR[0], ATAN_TAYLOR[1], ATAN_TAYLOR[2]];
-    const ATAN_HI: [f32; 9] = {
-        let mut a = [0.0; 9];
-        let mut k = 0;
-        while k < 9 {
-            a[k] = ATAN_K8[k].0 as f32;
-            k += 1;
-        }
-        a
-    };
-    const ATAN_LO: [f32; 9] = {
-        let mut a = [0.0; 9];
-        let mut k = 0;
-        while k < 9 {
-            a[k] = ((ATAN_K8[k].0 - ATAN_K8[k].0 as f32 as f64) + ATAN_K8[k].1) as f32;
-            k += 1;
-        }
-        a
-    };
+    const ATAN_HI: [f32; 9] = ATAN_PARTS.2;
+    const ATAN_LO: [f32; 9] = ATAN_PARTS.3;
     const HALF_PI_LO: f64 = ((FRAC_PI_2 - FRAC_PI_2 as f32 as f64) + PIO2_LO) as f32 as f64;
     const PI_LO_PART: f64 = ((PI - PI as f32 as f64) + PI_LO) as f32 as f64;
     /// 2⁻²¹ = 8 u₃₂ (the f64 rule's ≈ 9 u₆₄, as a power of two).
