@@ -634,6 +634,18 @@ pub enum ReadMap {
     F64(Float64Map),
 }
 
+impl From<Maps<f32>> for ReadMap {
+    fn from(maps: Maps<f32>) -> Self {
+        ReadMap::F32(Float32Map { maps })
+    }
+}
+
+impl From<Maps<f64>> for ReadMap {
+    fn from(maps: Maps<f64>) -> Self {
+        ReadMap::F64(Float64Map { maps })
+    }
+}
+
 /// A validated blob, read back ([`read`]).
 #[derive(Debug, Clone)]
 pub struct MapTables {
@@ -713,6 +725,8 @@ struct Expect {
 trait ReadFloat: BlobFloat + PartialOrd + Default {
     const SIZE: usize;
     fn get(b: &[u8]) -> Self;
+    /// `v` rounded to this type.
+    fn of_f64(v: f64) -> Self;
     /// `v` as this type, when it is exactly representable.
     fn exact(v: f64) -> Option<Self>;
 }
@@ -720,6 +734,9 @@ impl ReadFloat for f32 {
     const SIZE: usize = 4;
     fn get(b: &[u8]) -> Self {
         f32::from_le_bytes(b.try_into().expect("4 bytes"))
+    }
+    fn of_f64(v: f64) -> Self {
+        v as f32
     }
     fn exact(v: f64) -> Option<Self> {
         let f = v as f32;
@@ -730,6 +747,9 @@ impl ReadFloat for f64 {
     const SIZE: usize = 8;
     fn get(b: &[u8]) -> Self {
         f64::from_le_bytes(b.try_into().expect("8 bytes"))
+    }
+    fn of_f64(v: f64) -> Self {
+        v
     }
     fn exact(v: f64) -> Option<Self> {
         Some(v)
@@ -894,6 +914,61 @@ struct Scalars<T> {
 
 /// The scalars of slot `slot`'s descriptor; `family`: κ and the edge are the slices' own (in
 /// their table) and these fields must be 0.
+/// What reading a blob's map needs besides the element type: its bytes, slots, placed tables
+/// (each present slot's 12 in slot order), layout, split rule, largest disk radius and 1/(2T).
+struct SlotsRead<'a> {
+    bytes: &'a [u8],
+    slots: &'a [Option<Slot>; 2],
+    placed: &'a [Placed<'a>],
+    layout: BlobLayout,
+    rule: SplitRule,
+    max_radius: f64,
+    inv_2t: f64,
+}
+
+impl SlotsRead<'_> {
+    /// The map in element type `T`: each present slot's scalars and tables, checked, in the
+    /// blob's layout, 1/(2T) rounded to `T`.
+    fn read<T: ReadFloat>(&self) -> Result<ReadMap, TablesError>
+    where
+        Maps<T>: Into<ReadMap>,
+    {
+        let mut t: [Option<Tables<T>>; 2] = [None, None];
+        let mut first = 0;
+        for s in 0..2 {
+            if let Some(sl) = &self.slots[s] {
+                let pre = if s == 0 { "map0." } else { "map1." };
+                let sc = read_scalars::<T>(self.bytes, s, false)?;
+                let placed = &self.placed[first..first + 12];
+                t[s] = Some(read_tables::<T>(
+                    pre,
+                    sl,
+                    sc,
+                    placed,
+                    self.max_radius,
+                    self.inv_2t,
+                )?);
+                first += 12;
+            }
+        }
+        let [t0, t1] = t;
+        let layout = match self.layout {
+            BlobLayout::Hemisphere => Layout::Hemisphere(t0.expect("slot 0")),
+            BlobLayout::SphereLambert => Layout::Lambert(t0.expect("slot 0")),
+            BlobLayout::SphereSplit => Layout::Split {
+                lower: t0,
+                upper: t1,
+                rule: self.rule,
+            },
+        };
+        Ok(Maps {
+            layout,
+            inv_2t: T::of_f64(self.inv_2t),
+        }
+        .into())
+    }
+}
+
 fn read_scalars<T: ReadFloat>(
     b: &[u8],
     slot: usize,
@@ -1412,79 +1487,28 @@ pub fn read(bytes: &[u8]) -> Result<MapTables, TablesError> {
             grids[s] = Some((sl.m as usize, sl.n as usize));
         }
     }
-    let mut cursor = 0usize;
-    let mut next_slot = || {
-        let r = cursor..cursor + 12;
-        cursor += 12;
-        r
-    };
     let max_radius = if layout == BlobLayout::SphereLambert {
         std::f64::consts::SQRT_2
     } else {
         1.0
     };
-    let rule = |present: u32| match present {
+    let rule = match present {
         1 => SplitRule::lower_only(),
         2 => SplitRule::upper_only(),
         _ => SplitRule::both(p_lower),
     };
+    let maps = SlotsRead {
+        bytes,
+        slots: &slots,
+        placed: &placed,
+        layout,
+        rule,
+        max_radius,
+        inv_2t,
+    };
     let map = match precision {
-        Precision::F32 => {
-            let mut t: [Option<Tables<f32>>; 2] = [None, None];
-            for s in 0..2 {
-                if let Some(sl) = &slots[s] {
-                    let r = next_slot();
-                    let pre = if s == 0 { "map0." } else { "map1." };
-                    let sc = read_scalars::<f32>(bytes, s, false)?;
-                    t[s] = Some(read_tables::<f32>(
-                        pre, sl, sc, &placed[r], max_radius, inv_2t,
-                    )?);
-                }
-            }
-            let inv = inv_2t as f32;
-            let [t0, t1] = t;
-            let layout = match layout {
-                BlobLayout::Hemisphere => Layout::Hemisphere(t0.expect("slot 0")),
-                BlobLayout::SphereLambert => Layout::Lambert(t0.expect("slot 0")),
-                BlobLayout::SphereSplit => Layout::Split {
-                    lower: t0,
-                    upper: t1,
-                    rule: rule(present),
-                },
-            };
-            ReadMap::F32(Float32Map {
-                maps: Maps {
-                    layout,
-                    inv_2t: inv,
-                },
-            })
-        }
-        Precision::F64 => {
-            let mut t: [Option<Tables<f64>>; 2] = [None, None];
-            for s in 0..2 {
-                if let Some(sl) = &slots[s] {
-                    let r = next_slot();
-                    let pre = if s == 0 { "map0." } else { "map1." };
-                    let sc = read_scalars::<f64>(bytes, s, false)?;
-                    t[s] = Some(read_tables::<f64>(
-                        pre, sl, sc, &placed[r], max_radius, inv_2t,
-                    )?);
-                }
-            }
-            let [t0, t1] = t;
-            let layout = match layout {
-                BlobLayout::Hemisphere => Layout::Hemisphere(t0.expect("slot 0")),
-                BlobLayout::SphereLambert => Layout::Lambert(t0.expect("slot 0")),
-                BlobLayout::SphereSplit => Layout::Split {
-                    lower: t0,
-                    upper: t1,
-                    rule: rule(present),
-                },
-            };
-            ReadMap::F64(Float64Map {
-                maps: Maps { layout, inv_2t },
-            })
-        }
+        Precision::F32 => maps.read::<f32>()?,
+        Precision::F64 => maps.read::<f64>()?,
     };
     let first_target = 12 * slots_present.len();
     let target = match target_kind {

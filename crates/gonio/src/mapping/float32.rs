@@ -224,6 +224,16 @@ pub(super) struct Maps<T> {
     pub(super) inv_2t: T,
 }
 
+impl<T> Maps<T> {
+    /// The hemisphere map of `tables` with 1/(2T) = `inv_2t`.
+    pub(super) fn hemisphere(tables: Tables<T>, inv_2t: T) -> Self {
+        Maps {
+            layout: Layout::Hemisphere(tables),
+            inv_2t,
+        }
+    }
+}
+
 impl<T: TablesElem> Maps<T> {
     /// The layout as a [`Shape`] over its tables' views on backend `b` (or the fastest below it
     /// that the CPU has): the one layout driver of every map (`soa_maps.rs`).
@@ -364,10 +374,7 @@ impl HemisphereMap {
     /// This map's tables alone in f64 ([`Float64Map`]).
     pub fn float64_map(&self) -> Float64Map {
         Float64Map {
-            maps: Maps {
-                layout: Layout::Hemisphere(self.core().tables().clone()),
-                inv_2t: self.inv_2t(),
-            },
+            maps: Maps::hemisphere(self.core().tables().clone(), self.inv_2t()),
         }
     }
 
@@ -377,10 +384,7 @@ impl HemisphereMap {
     /// [`Float32MapError::TooLarge`] for a grid beyond the float32 kernels' index limits.
     pub fn float32_map(&self) -> Result<Float32Map, Float32MapError> {
         Ok(Float32Map {
-            maps: Maps {
-                layout: Layout::Hemisphere(Tables::of(self.core())?),
-                inv_2t: self.inv_2t() as f32,
-            },
+            maps: Maps::hemisphere(Tables::of(self.core())?, self.inv_2t() as f32),
         })
     }
 }

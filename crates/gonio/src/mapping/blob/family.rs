@@ -497,32 +497,8 @@ pub fn read_family(bytes: &[u8]) -> Result<FamilyTables, TablesError> {
     }
     non_negative(&vals, "brdf.values")?;
     let slices = match precision {
-        Precision::F32 => read_slices::<f32>(bytes, &slot, &placed, s as usize)?
-            .into_iter()
-            .map(|t| {
-                t.map(|(t, inv)| {
-                    ReadMap::F32(Float32Map {
-                        maps: Maps {
-                            layout: Layout::Hemisphere(t),
-                            inv_2t: inv,
-                        },
-                    })
-                })
-            })
-            .collect(),
-        Precision::F64 => read_slices::<f64>(bytes, &slot, &placed, s as usize)?
-            .into_iter()
-            .map(|t| {
-                t.map(|(t, inv_2t)| {
-                    ReadMap::F64(Float64Map {
-                        maps: Maps {
-                            layout: Layout::Hemisphere(t),
-                            inv_2t,
-                        },
-                    })
-                })
-            })
-            .collect(),
+        Precision::F32 => read_slices::<f32>(bytes, &slot, &placed, s as usize)?,
+        Precision::F64 => read_slices::<f64>(bytes, &slot, &placed, s as usize)?,
     };
     Ok(FamilyTables {
         precision,
@@ -546,7 +522,10 @@ fn read_slices<T: ReadFloat>(
     slot: &Slot,
     placed: &[Placed<'_>],
     s: usize,
-) -> Result<Vec<Option<(Tables<T>, T)>>, TablesError> {
+) -> Result<Vec<Option<ReadMap>>, TablesError>
+where
+    Maps<T>: Into<ReadMap>,
+{
     let rows = read_floats::<T>(&placed[12], "family.slice")?;
     let counts = map_counts(slot.m, slot.n, slot.k, slot.g, slot.rg);
     let mut out = Vec::with_capacity(s);
@@ -609,7 +588,7 @@ fn read_slices<T: ReadFloat>(
             1.0,
             inv_2t.as_f64(),
         )?;
-        out.push(Some((t, inv_2t)));
+        out.push(Some(Maps::hemisphere(t, inv_2t).into()));
     }
     Ok(out)
 }
