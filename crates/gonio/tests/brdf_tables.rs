@@ -54,79 +54,49 @@ fn tables() -> Vec<(String, TabulatedBrdf)> {
     out
 }
 
+/// Asserts that the maps `$w` (the writer's) and `$f` (read back) sample, evaluate and invert
+/// the points (`$u`, `$v`), rounded to their element type `$t`, to the same bits.
+macro_rules! assert_same_bits {
+    ($what:expr, $w:expr, $f:expr, $u:expr, $v:expr, $t:ty) => {{
+        #[allow(clippy::unnecessary_cast)] // the f64 expansion
+        let (u, v): (Vec<$t>, Vec<$t>) = (
+            $u.iter().map(|&x| x as $t).collect(),
+            $v.iter().map(|&x| x as $t).collect(),
+        );
+        let (n, what, t) = (u.len(), $what, stringify!($t));
+        let same = |a: &[$t], b: &[$t]| a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits());
+        let mut a: [Vec<$t>; 4] = std::array::from_fn(|_| vec![0.0; n]);
+        let mut b = a.clone();
+        let [x, y, z, p] = &mut a;
+        $w.sample_soa(&u, &v, [x, y, z], p);
+        let [x, y, z, p] = &mut b;
+        $f.sample_soa(&u, &v, [x, y, z], p);
+        for k in 0..4 {
+            assert!(same(&a[k], &b[k]), "{what}: {t} sample column {k}");
+        }
+        let d = [&a[0][..], &a[1][..], &a[2][..]];
+        let (mut pa, mut pb): (Vec<$t>, Vec<$t>) = (vec![0.0; n], vec![0.0; n]);
+        $w.pdf_soa(d, &mut pa);
+        $f.pdf_soa(d, &mut pb);
+        assert!(same(&pa, &pb), "{what}: {t} pdf");
+        let mut ia: [Vec<$t>; 2] = std::array::from_fn(|_| vec![0.0; n]);
+        let mut ib = ia.clone();
+        let [iu, iv] = &mut ia;
+        $w.invert_soa(d, [iu, iv]);
+        let [iu, iv] = &mut ib;
+        $f.invert_soa(d, [iu, iv]);
+        for k in 0..2 {
+            assert!(same(&ia[k], &ib[k]), "{what}: {t} invert {k}");
+        }
+    }};
+}
+
 /// Bit-identity of the slice `read` read back against the writer's slice map `map`.
 fn same_slice(what: &str, map: &gonio::HemisphereMap, read: &ReadMap) {
     let (u, v) = points(500);
-    let n = u.len();
     match read {
-        ReadMap::F32(f) => {
-            let w = map.float32_map().unwrap();
-            let (u, v): (Vec<f32>, Vec<f32>) = (
-                u.iter().map(|&x| x as f32).collect(),
-                v.iter().map(|&x| x as f32).collect(),
-            );
-            let mut a = [vec![0f32; n], vec![0f32; n], vec![0f32; n], vec![0f32; n]];
-            let mut b = a.clone();
-            let [x, y, z, p] = &mut a;
-            w.sample_soa(&u, &v, [x, y, z], p);
-            let [x, y, z, p] = &mut b;
-            f.sample_soa(&u, &v, [x, y, z], p);
-            for k in 0..4 {
-                let (ba, bb): (Vec<u32>, Vec<u32>) = (
-                    a[k].iter().map(|x| x.to_bits()).collect(),
-                    b[k].iter().map(|x| x.to_bits()).collect(),
-                );
-                assert_eq!(ba, bb, "{what}: f32 sample column {k}");
-            }
-            let d = [&a[0][..], &a[1][..], &a[2][..]];
-            let (mut pa, mut pb) = (vec![0f32; n], vec![0f32; n]);
-            w.pdf_soa(d, &mut pa);
-            f.pdf_soa(d, &mut pb);
-            assert!(
-                pa.iter().zip(&pb).all(|(x, y)| x.to_bits() == y.to_bits()),
-                "{what}: f32 pdf"
-            );
-            let mut ia = [vec![0f32; n], vec![0f32; n]];
-            let mut ib = ia.clone();
-            let [iu, iv] = &mut ia;
-            w.invert_soa(d, [iu, iv]);
-            let [iu, iv] = &mut ib;
-            f.invert_soa(d, [iu, iv]);
-            for k in 0..2 {
-                assert!(
-                    ia[k]
-                        .iter()
-                        .zip(&ib[k])
-                        .all(|(x, y)| x.to_bits() == y.to_bits()),
-                    "{what}: f32 invert {k}"
-                );
-            }
-        }
-        ReadMap::F64(f) => {
-            let w = map.float64_map();
-            let mut a = [vec![0f64; n], vec![0f64; n], vec![0f64; n], vec![0f64; n]];
-            let mut b = a.clone();
-            let [x, y, z, p] = &mut a;
-            w.sample_soa(&u, &v, [x, y, z], p);
-            let [x, y, z, p] = &mut b;
-            f.sample_soa(&u, &v, [x, y, z], p);
-            for k in 0..4 {
-                assert!(
-                    a[k].iter()
-                        .zip(&b[k])
-                        .all(|(x, y)| x.to_bits() == y.to_bits()),
-                    "{what}: f64 sample column {k}"
-                );
-            }
-            let d = [&a[0][..], &a[1][..], &a[2][..]];
-            let (mut pa, mut pb) = (vec![0f64; n], vec![0f64; n]);
-            w.pdf_soa(d, &mut pa);
-            f.pdf_soa(d, &mut pb);
-            assert!(
-                pa.iter().zip(&pb).all(|(x, y)| x.to_bits() == y.to_bits()),
-                "{what}: f64 pdf"
-            );
-        }
+        ReadMap::F32(f) => assert_same_bits!(what, map.float32_map().unwrap(), f, u, v, f32),
+        ReadMap::F64(f) => assert_same_bits!(what, map.float64_map(), f, u, v, f64),
     }
 }
 

@@ -466,12 +466,18 @@ class Tables:
         eps = self._clamp((p - phi0) / beta, 0.0, 1.0)
         return i, i1, eps
 
+    def _cell(self, c, x, y, z):
+        """Where the density and the inverse of a direction start: its disk radius, its wedge
+        (sectors i, i + 1 and the fraction between them) and its parallel segment j."""
+        xr, p = self._radius_azimuth(x, y, z)
+        i, i1, e = self._sectors(c, p)
+        j = self._guided(c, "x", "radius_guide", c.radius_scale, xr, c.n - 2, c.kmax_r, self.steps["steps_r"])
+        return xr, i, i1, e, j
+
     def _density(self, c, x, y, z):
         dr = self.dr
         n = c.n
-        xr, p = self._radius_azimuth(x, y, z)
-        i, i1, eps = self._sectors(c, p)
-        j = self._guided(c, "x", "radius_guide", c.radius_scale, xr, n - 2, c.kmax_r, self.steps["steps_r"])
+        xr, i, i1, eps, j = self._cell(c, x, y, z)
         t = self._clamp((xr - self._map_f(c, "x", j)) * self._map_f(c, "inv_dx", j), 0.0, 1.0)
         a, bb = i * n + j, i1 * n + j
         a0, a1 = self._map_f(c, "d", a), self._map_f(c, "d", a + 1)
@@ -484,9 +490,7 @@ class Tables:
     def _invert(self, c, x, y, z):
         dr = self.dr
         n = c.n
-        xr, p = self._radius_azimuth(x, y, z)
-        i, i1, e = self._sectors(c, p)
-        j = self._guided(c, "x", "radius_guide", c.radius_scale, xr, n - 2, c.kmax_r, self.steps["steps_r"])
+        xr, i, i1, e, j = self._cell(c, x, y, z)
         x0, x1 = self._map_f(c, "x", j), self._map_f(c, "x", j + 1)
         idx = self._map_f(c, "inv_dx", j)
         a, bb = i * n + j, i1 * n + j
