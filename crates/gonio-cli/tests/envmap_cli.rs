@@ -63,17 +63,14 @@ fn convert_writes_pbrt_v4s_equal_area_image() {
         write_hdr(&Image::constant(16, 8, [0.5, 1.0, 2.0]).unwrap()),
     );
     let exr = dir.join("const.exr");
-    let out = ok(&[
-        "convert",
-        hdr.to_str().unwrap(),
-        exr.to_str().unwrap(),
-        "--to",
-        "pbrt-v4",
-        "--resolution",
-        "12",
-    ]);
+    // `gonio convert HDR EXR --to pbrt-v4 --resolution N`: what it prints and the image.
+    let to_pbrt = |n: usize| {
+        let (from, to, n) = (hdr.to_str().unwrap(), exr.to_str().unwrap(), n.to_string());
+        let out = ok(&["convert", from, to, "--to", "pbrt-v4", "--resolution", &n]);
+        (out, Image::read(&exr).unwrap())
+    };
+    let (out, img) = to_pbrt(12);
     assert!(out.contains("LightSource \"infinite\""), "{out}");
-    let img = Image::read(&exr).unwrap();
     assert_eq!((img.width(), img.height()), (12, 12));
     assert!(img.rgb().chunks(3).all(|p| p == [0.5, 1.0, 2.0]));
     // A bright pixel at the zenith row lands in the centre of the octahedral square (+z).
@@ -82,16 +79,7 @@ fn convert_writes_pbrt_v4s_equal_area_image() {
         top.set_pixel(x, 0, [1.0, 1.0, 1.0]);
     }
     std::fs::write(&hdr, write_hdr(&top)).unwrap();
-    ok(&[
-        "convert",
-        hdr.to_str().unwrap(),
-        exr.to_str().unwrap(),
-        "--to",
-        "pbrt-v4",
-        "--resolution",
-        "16",
-    ]);
-    let img = Image::read(&exr).unwrap();
+    let (_, img) = to_pbrt(16);
     assert!(img.pixel(8, 8)[0] > 0.9 && img.pixel(0, 0)[0] == 0.0);
     // pbrt-v4 reads direction w (light space) at pixel ⌊EqualAreaSphereToSquare(w)·N⌋, y from the
     // top row: a lit cap round an asymmetric direction must come back there, not mirrored or
@@ -117,16 +105,7 @@ fn convert_writes_pbrt_v4s_equal_area_image() {
     }
     std::fs::write(&hdr, write_hdr(&cap)).unwrap();
     let n = 48;
-    ok(&[
-        "convert",
-        hdr.to_str().unwrap(),
-        exr.to_str().unwrap(),
-        "--to",
-        "pbrt-v4",
-        "--resolution",
-        &n.to_string(),
-    ]);
-    let img = Image::read(&exr).unwrap();
+    let (_, img) = to_pbrt(n);
     let pbrt_pixel = |d: [f64; 3]| {
         let uv = gonio::baselines::equal_area::equal_area_sphere_to_square(d);
         let x = ((uv[0] * n as f64) as usize).min(n - 1);

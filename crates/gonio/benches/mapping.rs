@@ -9,7 +9,7 @@
 
 use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use gonio::mapping::batch::{sample_soa_par, SoaSampler};
-use gonio::mapping::simd::Backend;
+use gonio::mapping::simd::{Backend, BatchFloat};
 use gonio::sampler::sample_batch_par;
 use gonio::sequence::Halton;
 use gonio::synthetic::{random_hemisphere, Family};
@@ -108,6 +108,36 @@ fn batch(c: &mut Criterion) {
     g.finish();
 }
 
+/// `sample-T`, `pdf-T` and `invert-T` of `map`'s structure-of-arrays batches on backend `b`
+/// over the points (`u`, `v`) in element type T (`tag`), pdf and invert at the sampled directions.
+fn soa_calls<T: BatchFloat + Copy + Default>(
+    g: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
+    map: &HemisphereMap,
+    b: Backend,
+    u: &[T],
+    v: &[T],
+    tag: &str,
+) {
+    let n = u.len();
+    let id = |call: &str| BenchmarkId::new(format!("{call}-{tag}"), b.as_str());
+    let mut o = vec![vec![T::default(); n]; 4];
+    let [x, y, z, p] = &mut o[..] else {
+        unreachable!()
+    };
+    g.bench_function(id("sample"), |bch| {
+        bch.iter(|| map.sample_soa_with(b, black_box(u), v, [x, y, z], p))
+    });
+    let d = [&o[0][..], &o[1][..], &o[2][..]];
+    let mut pdf = vec![T::default(); n];
+    g.bench_function(id("pdf"), |bch| {
+        bch.iter(|| map.pdf_soa_with(b, black_box(d), &mut pdf))
+    });
+    let (mut wu, mut wv) = (vec![T::default(); n], vec![T::default(); n]);
+    g.bench_function(id("invert"), |bch| {
+        bch.iter(|| map.invert_soa_with(b, black_box(d), [&mut wu, &mut wv]))
+    });
+}
+
 /// The SoA batch paths of the HDS map (`mapping::batch`), f64 and f32, on every backend this CPU
 /// runs, one thread, per point over 4096 Halton points; and the f64 forward on 1 vs all threads.
 fn soa(c: &mut Criterion) {
@@ -126,38 +156,8 @@ fn soa(c: &mut Criterion) {
             .measurement_time(Duration::from_secs(1))
             .throughput(Throughput::Elements(BATCH as u64));
         for b in Backend::available() {
-            let mut o = vec![vec![0.0f64; BATCH]; 4];
-            let [x, y, z, p] = &mut o[..] else {
-                unreachable!()
-            };
-            g.bench_function(BenchmarkId::new("sample-f64", b.as_str()), |bch| {
-                bch.iter(|| map.sample_soa_with(b, black_box(&u), &v, [x, y, z], p))
-            });
-            let d = [o[0].clone(), o[1].clone(), o[2].clone()];
-            let mut pdf = vec![0.0f64; BATCH];
-            g.bench_function(BenchmarkId::new("pdf-f64", b.as_str()), |bch| {
-                bch.iter(|| map.pdf_soa_with(b, [black_box(&d[0]), &d[1], &d[2]], &mut pdf))
-            });
-            let (mut wu, mut wv) = (vec![0.0f64; BATCH], vec![0.0f64; BATCH]);
-            g.bench_function(BenchmarkId::new("invert-f64", b.as_str()), |bch| {
-                bch.iter(|| {
-                    map.invert_soa_with(b, [black_box(&d[0]), &d[1], &d[2]], [&mut wu, &mut wv])
-                })
-            });
-            let mut o = vec![vec![0.0f32; BATCH]; 4];
-            let [x, y, z, p] = &mut o[..] else {
-                unreachable!()
-            };
-            g.bench_function(BenchmarkId::new("sample-f32", b.as_str()), |bch| {
-                bch.iter(|| map.sample_soa_with(b, black_box(&u32s), &v32s, [x, y, z], p))
-            });
-            let d = [o[0].clone(), o[1].clone(), o[2].clone()];
-            let (mut wu, mut wv) = (vec![0.0f32; BATCH], vec![0.0f32; BATCH]);
-            g.bench_function(BenchmarkId::new("invert-f32", b.as_str()), |bch| {
-                bch.iter(|| {
-                    map.invert_soa_with(b, [black_box(&d[0]), &d[1], &d[2]], [&mut wu, &mut wv])
-                })
-            });
+            soa_calls(&mut g, &map, b, &u, &v, "f64");
+            soa_calls(&mut g, &map, b, &u32s, &v32s, "f32");
         }
         g.finish();
     }
