@@ -77,24 +77,41 @@ fn per_method(c: &mut Criterion) {
     }
 }
 
-fn batch(c: &mut Criterion) {
-    let count = 1 << 18;
-    let pts = points(count);
-    let d = random_hemisphere(Family::Lobes, 181, 361, false, 7);
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let mut g = c.benchmark_group("batch/181x361");
+/// The group of a thread-scaling run over batches of `count` points: 10 samples of 2 s.
+fn scaling_group<'a>(
+    c: &'a mut Criterion,
+    name: &str,
+    count: usize,
+) -> criterion::BenchmarkGroup<'a, criterion::measurement::WallTime> {
+    let mut g = c.benchmark_group(name);
     g.sample_size(10)
         .warm_up_time(Duration::from_millis(200))
         .measurement_time(Duration::from_secs(2))
         .throughput(Throughput::Elements(count as u64));
+    g
+}
+
+/// Rayon pools of one thread and of all the machine's threads, with their thread counts.
+fn pools() -> Vec<(usize, rayon::ThreadPool)> {
+    let all = std::thread::available_parallelism().map_or(1, |n| n.get());
+    [1, all]
+        .into_iter()
+        .map(|t| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(t).build();
+            (t, pool.unwrap())
+        })
+        .collect()
+}
+
+fn batch(c: &mut Criterion) {
+    let count = 1 << 18;
+    let pts = points(count);
+    let d = random_hemisphere(Family::Lobes, 181, 361, false, 7);
+    let mut g = scaling_group(c, "batch/181x361", count);
     for method in [Method::Hds, Method::PiecewiseConstant, Method::Bilinear] {
         let Some(s) = build(method, &d) else { continue };
         let mut out = vec![Sample::default(); count];
-        for t in [1, threads] {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(t)
-                .build()
-                .unwrap();
+        for (t, pool) in pools() {
             g.bench_function(
                 BenchmarkId::new(method.as_str(), format!("{t}-threads")),
                 |b| {
@@ -166,21 +183,12 @@ fn soa(c: &mut Criterion) {
     let u: Vec<f64> = pts.iter().map(|p| p[0]).collect();
     let v: Vec<f64> = pts.iter().map(|p| p[1]).collect();
     let map = HemisphereMap::new(&random_hemisphere(Family::Lobes, 181, 361, false, 7)).unwrap();
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let mut g = c.benchmark_group("soa-batch/181x361");
-    g.sample_size(10)
-        .warm_up_time(Duration::from_millis(200))
-        .measurement_time(Duration::from_secs(2))
-        .throughput(Throughput::Elements(count as u64));
+    let mut g = scaling_group(c, "soa-batch/181x361", count);
     let mut o = vec![vec![0.0f64; count]; 4];
     let [x, y, z, p] = &mut o[..] else {
         unreachable!()
     };
-    for t in [1, threads] {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(t)
-            .build()
-            .unwrap();
+    for (t, pool) in pools() {
         g.bench_function(
             BenchmarkId::new("sample-f64", format!("{t}-threads")),
             |b| {
