@@ -545,11 +545,19 @@ macro_rules! vector_kernels {
                 sub(one, z),
             );
             let xr = sqrt(clamp(r2, z0, two));
+            (xr, unsafe { azimuth(x, y) })
+        }
+
+        /// The azimuth φ = atan2(y, x) of a block of directions moved into [0, 2π), φ = 0
+        /// where x = y = 0.
+        #[inline(always)]
+        unsafe fn azimuth(x: F, y: F) -> F {
+            let z0 = zero();
             let phi = unsafe { atan2(y, x) };
             let phi = sel(lt(phi, z0), add(phi, splat(TAU)), phi);
             let phi = sel(ge(phi, splat(TAU)), z0, phi);
             let pole = and(eq(x, z0), eq(y, z0));
-            (xr, sel(pole, z0, phi))
+            sel(pole, z0, phi)
         }
 
         /// Sector, next meridian and ε of a block of azimuths (`Angular::sector`).
@@ -724,14 +732,9 @@ macro_rules! vector_kernels {
         #[allow(dead_code)]
         #[inline(always)]
         unsafe fn angles_block(x: F, y: F, z: F) -> (F, F) {
-            let z0 = zero();
             let rho = sqrt(add(mul(x, x), mul(y, y)));
             let theta = unsafe { atan2(rho, z) };
-            let phi = unsafe { atan2(y, x) };
-            let phi = sel(lt(phi, z0), add(phi, splat(TAU)), phi);
-            let phi = sel(ge(phi, splat(TAU)), z0, phi);
-            let pole = and(eq(x, z0), eq(y, z0));
-            (theta, sel(pole, z0, phi))
+            (theta, unsafe { azimuth(x, y) })
         }
 
         /// [`angles_block`] over slices: θ to `out[0]`, φ to `out[1]`.
