@@ -667,6 +667,19 @@ macro_rules! vector_kernels {
             }
         }
 
+        /// The blocks of directions `dir[·][s..s + cnt]` (cnt ≤ BLOCK), lanes beyond `cnt` set to
+        /// +z. Three calls, not `array::map` (whose closure the portable build left out of line).
+        #[inline(always)]
+        unsafe fn load_directions(dir: [&[E]; 3], s: usize, cnt: usize) -> (F, F, F) {
+            unsafe {
+                (
+                    load_block(dir[0], s, cnt, 0.0),
+                    load_block(dir[1], s, cnt, 0.0),
+                    load_block(dir[2], s, cnt, 1.0),
+                )
+            }
+        }
+
         /// Writes the first `cnt` lanes of `x` to `col[s..s + cnt]` (cnt ≤ BLOCK).
         #[inline(always)]
         unsafe fn store_block(col: &mut [E], s: usize, cnt: usize, x: F) {
@@ -686,14 +699,7 @@ macro_rules! vector_kernels {
             let mut start = 0;
             while start < len {
                 let cnt = (len - start).min(BLOCK);
-                // Three calls, not `array::map` (whose closure the portable build left out of line).
-                let (x, y, z) = unsafe {
-                    (
-                        load_block(dir[0], start, cnt, 0.0),
-                        load_block(dir[1], start, cnt, 0.0),
-                        load_block(dir[2], start, cnt, 1.0),
-                    )
-                };
+                let (x, y, z) = unsafe { load_directions(dir, start, cnt) };
                 unsafe { store_block(out, start, cnt, density_block(c, x, y, z)) };
                 start += cnt;
             }
@@ -708,14 +714,7 @@ macro_rules! vector_kernels {
             let mut start = 0;
             while start < len {
                 let cnt = (len - start).min(BLOCK);
-                // Three calls, not `array::map` (whose closure the portable build left out of line).
-                let (x, y, z) = unsafe {
-                    (
-                        load_block(dir[0], start, cnt, 0.0),
-                        load_block(dir[1], start, cnt, 0.0),
-                        load_block(dir[2], start, cnt, 1.0),
-                    )
-                };
+                let (x, y, z) = unsafe { load_directions(dir, start, cnt) };
                 let (ou, ov) = invert_block(c, x, y, z);
                 unsafe {
                     store_block(u, start, cnt, ou);
@@ -747,8 +746,7 @@ macro_rules! vector_kernels {
             let mut start = 0;
             while start < len {
                 let cnt = (len - start).min(BLOCK);
-                let [x, y, z] = [(0, 0.0), (1, 0.0), (2, 1.0)]
-                    .map(|(k, pad)| unsafe { load_block(dir[k], start, cnt, pad) });
+                let (x, y, z) = unsafe { load_directions(dir, start, cnt) };
                 let (ot, op) = unsafe { angles_block(x, y, z) };
                 unsafe {
                     store_block(t, start, cnt, ot);
