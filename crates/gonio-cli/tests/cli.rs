@@ -812,18 +812,10 @@ fn tables_writes_a_blob_that_samples_as_the_map() {
 /// library's family of the same table; a broken BRDF file gets its reader's message.
 #[test]
 fn tables_of_a_brdf_file_is_its_family() {
-    use gonio::brdf::{self, Analytic, BrdfSampler, SamplerOptions};
+    use gonio::brdf::{self, BrdfSampler, SamplerOptions};
     use gonio::mapping::blob::Precision;
     let dir = temp_dir("tables-brdf");
-    let table = Analytic::Ggx {
-        alpha_x: 0.3,
-        alpha_y: 0.3,
-        f0: [0.9, 0.6, 0.3],
-    }
-    .table(7, 12)
-    .unwrap();
-    let path = dir.join("ggx.json");
-    std::fs::write(&path, brdf::write_json(&table)).unwrap();
+    let (_, path) = ggx_file(&dir);
     let out = dir.join("ggx.bin");
     let o = run(&["tables", s(&path), "-o", s(&out)]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
@@ -845,17 +837,9 @@ fn tables_of_a_brdf_file_is_its_family() {
 /// anything is written) and `-o`; each row is the library's sample of its point.
 #[test]
 fn brdf_sample_takes_sequences_points_and_an_output() {
-    use gonio::brdf::{self, Analytic, BrdfSampler, SamplerOptions};
+    use gonio::brdf::{BrdfSampler, SamplerOptions};
     let dir = temp_dir("brdf-sample-points");
-    let table = Analytic::Ggx {
-        alpha_x: 0.3,
-        alpha_y: 0.3,
-        f0: [0.9, 0.6, 0.3],
-    }
-    .table(7, 12)
-    .unwrap();
-    let path = dir.join("ggx.json");
-    std::fs::write(&path, brdf::write_json(&table)).unwrap();
+    let (table, path) = ggx_file(&dir);
     let sampler = BrdfSampler::new(table, &SamplerOptions::default()).unwrap();
     let wi = gonio::sampler::direction(30f64.to_radians(), 0.0);
     let check_rows = |csv: &str, n: usize| {

@@ -145,6 +145,31 @@ fn unit(d: Vec3) -> Vec3 {
     normalize(d).unwrap_or(d)
 }
 
+/// `width` values for each outgoing direction of `wo`, `f(ω_i, ω_o, row)` with ω_i the incident
+/// direction of `wi` (one for all, or one per row), both made unit; computed off the GIL in
+/// parallel. `call` = (the call's name for the GIL release, the buffer's name for its allocation
+/// error, `width`).
+fn per_direction<'py>(
+    py: Python<'py>,
+    (wi, wo): (&Bound<'py, PyAny>, &Bound<'py, PyAny>),
+    (call, buf, width): (&'static str, &'static str, usize),
+    f: impl Fn(Vec3, Vec3, &mut [f64]) + Sync,
+) -> PyResult<Vec<f64>> {
+    let rows = arrays::rows::<3>(wo, "wo")?;
+    let wos = rows.as_slice();
+    check_dirs(&wos, "wo")?;
+    let inc = incident(wi, wos.len())?;
+    let wis = inc.slice();
+    detached(py, call, || {
+        let mut out = buffer(width * wos.len(), buf)?;
+        par_fill(&mut out, width, |k, row| {
+            let w = unit(wis[if wis.len() == 1 { 0 } else { k }]);
+            f(w, unit(wos[k]), row)
+        });
+        PyResult::Ok(out)
+    })?
+}
+
 /// Fills `out` (rows of `k` values, one per row k of the batch) in parallel.
 fn par_fill(out: &mut [f64], k: usize, f: impl Fn(usize, &mut [f64]) + Sync) {
     out.par_chunks_mut(k * CHUNK)
@@ -208,21 +233,10 @@ impl PyBrdf {
         wi: &Bound<'py, PyAny>,
         wo: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let rows = arrays::rows::<3>(wo, "wo")?;
-        let wos = rows.as_slice();
-        check_dirs(&wos, "wo")?;
-        let inc = incident(wi, wos.len())?;
-        let wis = inc.slice();
-        let ch = self.brdf.channels();
-        let b = &self.brdf;
-        let f = detached(py, "Brdf.eval", || {
-            let mut f = buffer(ch * wos.len(), "f")?;
-            par_fill(&mut f, ch, |k, row| {
-                let w = unit(wis[if wis.len() == 1 { 0 } else { k }]);
-                row.copy_from_slice(&b.eval(w, unit(wos[k]))[..ch]);
-            });
-            PyResult::Ok(f)
-        })??;
+        let (b, ch) = (&self.brdf, self.brdf.channels());
+        let f = per_direction(py, (wi, wo), ("Brdf.eval", "f", ch), |i, o, row| {
+            row.copy_from_slice(&b.eval(i, o)[..ch])
+        })?;
         arrays::new_2d(py, &f, ch)
     }
 
@@ -475,20 +489,9 @@ impl PyBrdfSampler {
         wi: &Bound<'py, PyAny>,
         wo: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let rows = arrays::rows::<3>(wo, "wo")?;
-        let wos = rows.as_slice();
-        check_dirs(&wos, "wo")?;
-        let inc = incident(wi, wos.len())?;
-        let wis = inc.slice();
-        let p = detached(py, "BrdfSampler.pdf", || {
-            let mut p = buffer(wos.len(), "pdf")?;
-            self.with(|m| {
-                par_fill(&mut p, 1, |k, row| {
-                    row[0] = m.pdf(unit(wis[if wis.len() == 1 { 0 } else { k }]), unit(wos[k]));
-                })
-            });
-            PyResult::Ok(p)
-        })??;
+        let call = ("BrdfSampler.pdf", "pdf", 1);
+        let p =
+            self.with(|m| per_direction(py, (wi, wo), call, |i, o, row| row[0] = m.pdf(i, o)))?;
         arrays::new_1d(py, &p)
     }
 
@@ -500,21 +503,12 @@ impl PyBrdfSampler {
         wi: &Bound<'py, PyAny>,
         wo: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let rows = arrays::rows::<3>(wo, "wo")?;
-        let wos = rows.as_slice();
-        check_dirs(&wos, "wo")?;
-        let inc = incident(wi, wos.len())?;
-        let wis = inc.slice();
-        let u = detached(py, "BrdfSampler.invert", || {
-            let mut u = buffer(2 * wos.len(), "u")?;
-            self.with(|m| {
-                par_fill(&mut u, 2, |k, row| {
-                    let w = unit(wis[if wis.len() == 1 { 0 } else { k }]);
-                    row.copy_from_slice(&m.invert(w, unit(wos[k])).unwrap_or([f64::NAN; 2]));
-                })
-            });
-            PyResult::Ok(u)
-        })??;
+        let call = ("BrdfSampler.invert", "u", 2);
+        let u = self.with(|m| {
+            per_direction(py, (wi, wo), call, |i, o, row| {
+                row.copy_from_slice(&m.invert(i, o).unwrap_or([f64::NAN; 2]))
+            })
+        })?;
         arrays::new_2d(py, &u, 2)
     }
 }

@@ -149,6 +149,21 @@ pub fn rows(text: &str) -> Vec<Vec<f64>> {
         .collect()
 }
 
+/// A GGX table (α = 0.3, F0 = (0.9, 0.6, 0.3); 7 incident θ × 12 outgoing φ) written as gonio
+/// BRDF JSON to `ggx.json` in `dir`: the table and the file.
+pub fn ggx_file(dir: &Path) -> (gonio::brdf::TabulatedBrdf, PathBuf) {
+    let table = gonio::brdf::Analytic::Ggx {
+        alpha_x: 0.3,
+        alpha_y: 0.3,
+        f0: [0.9, 0.6, 0.3],
+    }
+    .table(7, 12)
+    .unwrap();
+    let path = dir.join("ggx.json");
+    std::fs::write(&path, gonio::brdf::write_json(&table)).unwrap();
+    (table, path)
+}
+
 /// The small grids that keep the MERL resampling and the slices quick.
 pub const SMALL_BRDF: [&str; 8] = [
     "--merl-theta",
