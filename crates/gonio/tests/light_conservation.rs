@@ -16,6 +16,18 @@ use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use std::f64::consts::FRAC_PI_2;
 
+/// Methods of [`Map`] that ask the same of either map: `name: call -> type`.
+macro_rules! delegate {
+    ($($name:ident: $f:ident() $(.$g:ident())? -> $t:ty),* $(,)?) => {
+        $(fn $name(&self) -> $t {
+            match self {
+                Map::H(m) => m.$f()$(.$g())?,
+                Map::S(m) => m.$f()$(.$g())?,
+            }
+        })*
+    };
+}
+
 /// The map the domain policy picks: hemisphere when the diagram lies in θ ≤ 90°, else sphere.
 #[allow(clippy::large_enum_variant)]
 enum Map {
@@ -37,47 +49,14 @@ impl Map {
             Map::S(m) => m,
         }
     }
-    fn outside(&self) -> f64 {
-        match self {
-            Map::H(m) => m.probability_outside_measured(),
-            Map::S(m) => m.probability_outside_measured(),
-        }
-    }
-    fn power_ratio(&self) -> f64 {
-        match self {
-            Map::H(m) => m.power_ratio(),
-            Map::S(m) => m.power_ratio(),
-        }
-    }
-    fn target_power(&self) -> f64 {
-        match self {
-            Map::H(m) => m.target_power(),
-            Map::S(m) => m.target_power(),
-        }
-    }
-    fn normalised_target_power(&self) -> f64 {
-        match self {
-            Map::H(m) => m.normalised_target_power(),
-            Map::S(m) => m.normalised_target_power(),
-        }
-    }
-    fn measured(&self) -> (f64, f64) {
-        match self {
-            Map::H(m) => m.measured_theta(),
-            Map::S(m) => m.measured_theta(),
-        }
-    }
-    fn completions(&self) -> usize {
-        match self {
-            Map::H(m) => m.completions().len(),
-            Map::S(m) => m.completions().len(),
-        }
-    }
-    fn bound(&self) -> (f64, f64) {
-        match self {
-            Map::H(m) => m.ratio_bound(),
-            Map::S(m) => m.ratio_bound(),
-        }
+    delegate! {
+        outside: probability_outside_measured() -> f64,
+        power_ratio: power_ratio() -> f64,
+        target_power: target_power() -> f64,
+        normalised_target_power: normalised_target_power() -> f64,
+        measured: measured_theta() -> (f64, f64),
+        completions: completions().len() -> usize,
+        bound: ratio_bound() -> (f64, f64),
     }
 }
 
