@@ -708,17 +708,27 @@ macro_rules! vector_kernels {
         /// [`invert_block`] over slices.
         $(#[target_feature(enable = $feat)])?
         pub(crate) fn invert_slices(c: &TablesView<'_, E>, dir: [&[E]; 3], out: [&mut [E]; 2]) {
-            let [u, v] = out;
-            let len = u.len();
-            assert!(v.len() == len && dir.iter().all(|c| c.len() == len));
+            unsafe { pairs_of_directions(dir, out, |x, y, z| invert_block(c, x, y, z)) }
+        }
+
+        /// `f` of each block of the directions `dir`, its two results to `out[0]` and `out[1]`.
+        #[inline(always)]
+        unsafe fn pairs_of_directions(
+            dir: [&[E]; 3],
+            out: [&mut [E]; 2],
+            f: impl Fn(F, F, F) -> (F, F),
+        ) {
+            let [a, b] = out;
+            let len = a.len();
+            assert!(b.len() == len && dir.iter().all(|c| c.len() == len));
             let mut start = 0;
             while start < len {
                 let cnt = (len - start).min(BLOCK);
                 let (x, y, z) = unsafe { load_directions(dir, start, cnt) };
-                let (ou, ov) = invert_block(c, x, y, z);
+                let (oa, ob) = f(x, y, z);
                 unsafe {
-                    store_block(u, start, cnt, ou);
-                    store_block(v, start, cnt, ov);
+                    store_block(a, start, cnt, oa);
+                    store_block(b, start, cnt, ob);
                 }
                 start += cnt;
             }
@@ -740,20 +750,7 @@ macro_rules! vector_kernels {
         #[allow(dead_code)]
         $(#[target_feature(enable = $feat)])?
         pub(crate) fn angles_slices(dir: [&[E]; 3], out: [&mut [E]; 2]) {
-            let [t, p] = out;
-            let len = t.len();
-            assert!(p.len() == len && dir.iter().all(|c| c.len() == len));
-            let mut start = 0;
-            while start < len {
-                let cnt = (len - start).min(BLOCK);
-                let (x, y, z) = unsafe { load_directions(dir, start, cnt) };
-                let (ot, op) = unsafe { angles_block(x, y, z) };
-                unsafe {
-                    store_block(t, start, cnt, ot);
-                    store_block(p, start, cnt, op);
-                }
-                start += cnt;
-            }
+            unsafe { pairs_of_directions(dir, out, |x, y, z| angles_block(x, y, z)) }
         }
 
         /// [`sample_block`] over slices of any (equal) length; directions to `x, y, z`, the disk
